@@ -1,0 +1,136 @@
+//! Mesh types: flat arrays of vertices and index tuples (cache-friendly, cheap to
+//! share with rayon). Orientation convention: triangles are counter-clockwise seen
+//! from outside, i.e. their normals point towards f > 0; tetrahedra have positive
+//! signed volume.
+use serde::{Deserialize, Serialize};
+
+/// A triangle surface mesh.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TriMesh {
+    pub vertices: Vec<[f64; 3]>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// A tetrahedral volume mesh.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TetMesh {
+    pub vertices: Vec<[f64; 3]>,
+    pub tets: Vec<[u32; 4]>,
+}
+
+/// A set of planar polylines, stored as segments between vertices.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Curve2 {
+    pub vertices: Vec<[f64; 2]>,
+    pub segments: Vec<[u32; 2]>,
+}
+
+impl TriMesh {
+    pub fn new(vertices: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Self {
+        TriMesh {
+            vertices,
+            triangles,
+        }
+    }
+    /// The corners of triangle `t`.
+    #[inline]
+    pub fn corners(&self, t: usize) -> [[f64; 3]; 3] {
+        self.triangles[t].map(|i| self.vertices[i as usize])
+    }
+    /// Drop vertices no triangle uses, renumbering the rest.
+    pub fn compact(&mut self) {
+        let mut map = vec![u32::MAX; self.vertices.len()];
+        let mut verts = Vec::new();
+        for t in &mut self.triangles {
+            for i in t.iter_mut() {
+                if map[*i as usize] == u32::MAX {
+                    map[*i as usize] = verts.len() as u32;
+                    verts.push(self.vertices[*i as usize]);
+                }
+                *i = map[*i as usize];
+            }
+        }
+        self.vertices = verts;
+    }
+    /// Flip every triangle's orientation.
+    pub fn flip(&mut self) {
+        for t in &mut self.triangles {
+            t.swap(1, 2);
+        }
+    }
+}
+
+impl TetMesh {
+    #[inline]
+    pub fn corners(&self, t: usize) -> [[f64; 3]; 4] {
+        self.tets[t].map(|i| self.vertices[i as usize])
+    }
+    /// The boundary surface: faces in exactly one tetrahedron, oriented outward.
+    /// Vertices keep the tetrahedral mesh's numbering (then compacted).
+    pub fn boundary(&self) -> TriMesh {
+        use std::collections::HashMap;
+        // Faces opposite each vertex, oriented outward for a positively oriented tet.
+        const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+        let mut count: HashMap<[u32; 3], (u32, [u32; 3])> = HashMap::new();
+        for t in &self.tets {
+            for f in FACES {
+                let tri = f.map(|k| t[k]);
+                let mut key = tri;
+                key.sort_unstable();
+                count
+                    .entry(key)
+                    .and_modify(|e| e.0 += 1)
+                    .or_insert((1, tri));
+            }
+        }
+        let mut tris: Vec<[u32; 3]> = count
+            .into_values()
+            .filter(|(c, _)| *c == 1)
+            .map(|(_, t)| t)
+            .collect();
+        tris.sort_unstable();
+        let mut m = TriMesh {
+            vertices: self.vertices.clone(),
+            triangles: tris,
+        };
+        m.compact();
+        m
+    }
+}
+
+impl Curve2 {
+    /// The polylines: maximal chains of segments, each with a flag saying whether it closes.
+    pub fn polylines(&self) -> Vec<(Vec<u32>, bool)> {
+        let n = self.vertices.len();
+        let mut adj: Vec<Vec<(u32, usize)>> = vec![Vec::new(); n];
+        for (s, &[a, b]) in self.segments.iter().enumerate() {
+            adj[a as usize].push((b, s));
+            adj[b as usize].push((a, s));
+        }
+        let mut used = vec![false; self.segments.len()];
+        let mut out = Vec::new();
+        // Open chains first (start at vertices of degree != 2), then cycles.
+        let starts: Vec<usize> = (0..n).filter(|&v| adj[v].len() != 2).chain(0..n).collect();
+        for v0 in starts {
+            while let Some(&(_, s0)) = adj[v0].iter().find(|(_, s)| !used[*s]) {
+                let mut chain = vec![v0 as u32];
+                let mut v = v0;
+                let mut s = s0;
+                loop {
+                    used[s] = true;
+                    let [a, b] = self.segments[s];
+                    let w = if a as usize == v { b } else { a } as usize;
+                    chain.push(w as u32);
+                    v = w;
+                    match adj[v].iter().find(|(_, s)| !used[*s]) {
+                        Some(&(_, s2)) if adj[v].len() == 2 => s = s2,
+                        _ => break,
+                    }
+                }
+                let closed = chain.len() > 2 && chain.first() == chain.last();
+                out.push((chain, closed));
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,153 @@
+//! The one small interface every mesher implements, and the honest report it returns.
+//!
+//! A mesher takes the oracle ([`Implicit`]), a domain box and its own parameters (the
+//! fields of the struct implementing [`Mesher`], built like spade's
+//! `RefinementParameters`), and returns a [`MeshOutput`] with a [`Certificate`] saying
+//! exactly what was proven, or where and why nothing was.
+use crate::error::Result;
+use crate::geom::Aabb;
+use crate::implicit::{EvalCounts, Implicit};
+use crate::mesh::{Curve2, TetMesh, TriMesh};
+use serde::{Deserialize, Serialize};
+
+/// What a mesher produced.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub enum Mesh {
+    /// A surface triangulation of f = 0.
+    Surface(TriMesh),
+    /// A tetrahedral mesh of f <= 0... (see the mesher for its sign convention), with
+    /// its boundary surface.
+    Volume { tets: TetMesh, boundary: TriMesh },
+    /// A polyline approximation of the curve f = 0.
+    Curve(Curve2),
+}
+
+impl Mesh {
+    /// The surface to compare against f = 0 (the boundary for a volume mesh).
+    pub fn surface(&self) -> Option<&TriMesh> {
+        match self {
+            Mesh::Surface(m) => Some(m),
+            Mesh::Volume { boundary, .. } => Some(boundary),
+            Mesh::Curve(_) => None,
+        }
+    }
+}
+
+/// A place where nothing could be proven, and why.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Uncertified {
+    /// The region (a box of the subdivision, or a small box around a point).
+    pub region: Aabb,
+    /// Why: "depth limit hit", "grazing intersection", "possible singular point", ...
+    pub reason: String,
+}
+
+/// What was proven about the output.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "status", rename_all = "lowercase")]
+pub enum Certificate {
+    /// Every listed claim was established by interval or exact arithmetic.
+    Certified { claims: Vec<String> },
+    /// Nothing (or only `claims`) was proven; `regions` say where the proof failed.
+    /// `reason` is a one-line summary.
+    Uncertified {
+        reason: String,
+        claims: Vec<String>,
+        regions: Vec<Uncertified>,
+    },
+}
+
+impl Certificate {
+    pub fn is_certified(&self) -> bool {
+        matches!(self, Certificate::Certified { .. })
+    }
+    /// A baseline that proves nothing.
+    pub fn none(reason: impl Into<String>) -> Self {
+        Certificate::Uncertified {
+            reason: reason.into(),
+            claims: Vec::new(),
+            regions: Vec::new(),
+        }
+    }
+    pub fn claims(&self) -> &[String] {
+        match self {
+            Certificate::Certified { claims } | Certificate::Uncertified { claims, .. } => claims,
+        }
+    }
+    pub fn reason(&self) -> Option<&str> {
+        match self {
+            Certificate::Certified { .. } => None,
+            Certificate::Uncertified { reason, .. } => Some(reason),
+        }
+    }
+}
+
+/// A mesher's result: the mesh, the certificate, and algorithm-specific statistics
+/// (boxes per depth, criteria used, ...) as JSON for `--json` reports.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct MeshOutput {
+    pub mesh: Mesh,
+    pub certificate: Certificate,
+    pub stats: serde_json::Map<String, serde_json::Value>,
+}
+
+/// Progress reporting from long runs (the CLI shows an indicatif bar; the library
+/// default does nothing).
+pub trait Progress: Sync {
+    /// Begin a phase of `total` steps (0 if unknown).
+    fn start(&self, _phase: &str, _total: u64) {}
+    fn inc(&self, _n: u64) {}
+    fn finish(&self) {}
+}
+
+/// A [`Progress`] that ignores everything.
+pub struct NoProgress;
+impl Progress for NoProgress {}
+
+/// The interface of every mesher.
+pub trait Mesher: Send + Sync {
+    /// The name used on the command line (`--algo NAME`).
+    fn name(&self) -> &'static str;
+    /// 2 for curve meshers, 3 for surface and volume meshers.
+    fn dim(&self) -> usize;
+    /// Mesh f = 0 inside `domain`.
+    fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput>;
+}
+
+/// A run as the harness reports it: the output plus timing and evaluation counts
+/// measured outside the mesher.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Run {
+    pub algo: String,
+    pub output: MeshOutput,
+    pub seconds: f64,
+    pub evaluations: EvalCounts,
+}
+
+/// Run a mesher with timing and counted evaluations.
+pub fn run(
+    m: &dyn Mesher,
+    f: &dyn Implicit,
+    domain: &Aabb,
+    progress: &dyn Progress,
+) -> Result<Run> {
+    let counted = crate::implicit::Counted::new(f);
+    let t0 = std::time::Instant::now();
+    let output = m.mesh(&counted, domain, progress)?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let mut output = output;
+    // No mesher may claim more than it computed: a non-rigorous oracle certifies nothing.
+    if !f.is_rigorous() && output.certificate.is_certified() {
+        output.certificate = Certificate::Uncertified {
+            reason: "the function has no rigorous interval extension".into(),
+            claims: Vec::new(),
+            regions: Vec::new(),
+        };
+    }
+    Ok(Run {
+        algo: m.name().to_string(),
+        output,
+        seconds,
+        evaluations: counted.counts(),
+    })
+}
