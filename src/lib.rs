@@ -17,3 +17,6 @@ pub use error::{Error, Result};
 pub use geom::Aabb;
 pub use implicit::{Formula, Implicit};
 pub use mesher::{Certificate, MeshOutput, Mesher};
+pub mod options;
+pub mod roots;
+pub use options::MesherOptions;
