@@ -160,7 +160,7 @@ impl Implicit for Formula {
         S_F64.with(|s| self.tape.eval_f64(p, &mut s.borrow_mut()))
     }
     fn eval_interval(&self, b: &IBox) -> Interval {
-        S_IV.with(|s| self.tape.eval(b, &mut s.borrow_mut()))
+        S_IV.with(|s| self.tape.eval_interval(b, &mut s.borrow_mut()))
     }
     fn grad(&self, p: [f64; 3]) -> Dual<f64> {
         let v = [0, 1, 2].map(|k| Dual::var(p[k], k));

@@ -209,12 +209,16 @@ pub fn ipow(x: Interval, n: u32) -> Interval {
     match n {
         0 => point(1.0),
         1 => x,
+        2 => x.sqr(),
         _ if n % 2 == 0 => {
-            // Even power: monotone in |x|.
-            let a = x.abs();
-            let hi = pow_point(a.sup(), n).sup();
-            let lo = pow_point(a.inf(), n).inf().max(0.0);
-            Interval::try_from((lo, hi)).unwrap_or(Interval::ENTIRE)
+            // Even power: (x²)^(n/2); x² is tight and non-negative, and products of
+            // non-negative intervals are tight up to rounding.
+            let s = x.sqr();
+            let mut acc = s;
+            for _ in 1..n / 2 {
+                acc = acc * s;
+            }
+            acc
         }
         _ => {
             // Odd power: monotone increasing.

@@ -2,6 +2,7 @@
 //! with common subexpressions shared. One generic interpreter serves every [`Num`].
 use super::expr::{BinOp, Expr, UnOp};
 use super::number::{Const, Num};
+use inari::Interval;
 use std::collections::HashMap;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -28,8 +29,10 @@ pub enum Op {
 /// The compiled tape.
 #[derive(Clone, Debug, Default)]
 pub struct Tape {
-    pub ops: Vec<Op>,
-    pub consts: Vec<Const>,
+    // Private: the unchecked register reads below rely on the SSA invariant that
+    // `compile` establishes (every operand index is smaller than its instruction's).
+    ops: Vec<Op>,
+    consts: Vec<Const>,
 }
 
 impl Tape {
@@ -43,6 +46,12 @@ impl Tape {
         b.tape
     }
 
+    pub fn ops(&self) -> &[Op] {
+        &self.ops
+    }
+    pub fn consts(&self) -> &[Const] {
+        &self.consts
+    }
     pub fn len(&self) -> usize {
         self.ops.len()
     }
@@ -87,8 +96,8 @@ impl Tape {
         regs.clear();
         regs.reserve(self.ops.len());
         for op in &self.ops {
-            // SAFETY-free indexing: SSA guarantees operands precede their use.
-            let r = |i: &u32| regs[*i as usize];
+            // SAFETY: SSA (see `Tape`): operand i < current length of `regs`.
+            let r = |i: &u32| unsafe { *regs.get_unchecked(*i as usize) };
             let v = match *op {
                 Op::Var(k) => p[k as usize],
                 Op::Const(c) => self.consts[c as usize].value,
@@ -110,6 +119,42 @@ impl Tape {
                 Op::Cos(a) => r(&a).cos(),
                 Op::Exp(a) => r(&a).exp(),
                 Op::Ln(a) => r(&a).ln(),
+            };
+            regs.push(v);
+        }
+        regs[regs.len() - 1]
+    }
+}
+
+impl Tape {
+    /// Specialised interval evaluation (the hot path of every pruning octree): direct
+    /// inari calls, `sqr` for squares (tight), constants converted once per call.
+    #[inline]
+    pub fn eval_interval(&self, b: &[Interval; 3], regs: &mut Vec<Interval>) -> Interval {
+        regs.clear();
+        regs.reserve(self.ops.len());
+        for op in &self.ops {
+            // SAFETY: SSA (see `Tape`): operand i < current length of `regs`.
+            let r = |i: &u32| unsafe { *regs.get_unchecked(*i as usize) };
+            let v = match *op {
+                Op::Var(k) => b[k as usize],
+                Op::Const(c) => Interval::cst(self.consts[c as usize]),
+                Op::Add(a, b) => r(&a) + r(&b),
+                Op::Sub(a, b) => r(&a) - r(&b),
+                Op::Mul(a, b) if a == b => r(&a).sqr(),
+                Op::Mul(a, b) => r(&a) * r(&b),
+                Op::Div(a, b) => r(&a) / r(&b),
+                Op::Min(a, b) => r(&a).min(r(&b)),
+                Op::Max(a, b) => r(&a).max(r(&b)),
+                Op::Neg(a) => -r(&a),
+                Op::Square(a) => r(&a).sqr(),
+                Op::Powi(a, n) => Num::powi(&r(&a), n),
+                Op::Sqrt(a) => r(&a).sqrt(),
+                Op::Abs(a) => r(&a).abs(),
+                Op::Sin(a) => Num::sin(&r(&a)),
+                Op::Cos(a) => Num::cos(&r(&a)),
+                Op::Exp(a) => Num::exp(&r(&a)),
+                Op::Ln(a) => Num::ln(&r(&a)),
             };
             regs.push(v);
         }
