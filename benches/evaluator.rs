@@ -11,7 +11,11 @@ fn bench(c: &mut Criterion) {
     let pts: Vec<[f64; 3]> = (0..n)
         .map(|i| {
             let t = i as f64 / n as f64;
-            [1.4 * (t * 17.0).sin(), 1.4 * (t * 23.0).cos(), 1.4 * (2.0 * t - 1.0)]
+            [
+                1.4 * (t * 17.0).sin(),
+                1.4 * (t * 23.0).cos(),
+                1.4 * (2.0 * t - 1.0),
+            ]
         })
         .collect();
     let boxes: Vec<[Interval; 3]> = pts

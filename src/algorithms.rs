@@ -33,15 +33,31 @@ pub fn build(name: &str, dim: usize, o: &MesherOptions) -> Result<Box<dyn Mesher
     if let Some((_, ctor)) = t.iter().find(|(i, _)| i.name == name && i.dim == dim) {
         return ctor(o);
     }
-    let known: Vec<&str> = t.iter().filter(|(i, _)| i.dim == dim).map(|(i, _)| i.name).collect();
+    let known: Vec<&str> = t
+        .iter()
+        .filter(|(i, _)| i.dim == dim)
+        .map(|(i, _)| i.name)
+        .collect();
     let other = t.iter().any(|(i, _)| i.name == name);
-    let kind = if dim == 2 { "curve algorithm" } else { "surface algorithm" };
+    let kind = if dim == 2 {
+        "curve algorithm"
+    } else {
+        "surface algorithm"
+    };
     if other {
         return Err(Error::Param(format!(
             "algorithm '{name}' does not handle {}; use one of: {}",
-            if dim == 2 { "curves f(x, y)" } else { "surfaces f(x, y, z)" },
+            if dim == 2 {
+                "curves f(x, y)"
+            } else {
+                "surfaces f(x, y, z)"
+            },
             known.join(" ")
         )));
     }
-    Err(Error::Unknown { kind, name: name.to_string(), known: known.join(" ") })
+    Err(Error::Unknown {
+        kind,
+        name: name.to_string(),
+        known: known.join(" "),
+    })
 }

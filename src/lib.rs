@@ -20,5 +20,5 @@ pub use mesher::{Certificate, MeshOutput, Mesher};
 pub mod options;
 pub mod roots;
 pub use options::MesherOptions;
-pub mod plot;
 pub mod algorithms;
+pub mod plot;

@@ -17,7 +17,10 @@ fn parse_err(text: &str) -> (String, usize) {
 fn parse_errors_name_the_column() {
     let (m, c) = parse_err("x^2 + * y");
     assert_eq!((m.as_str(), c), ("unexpected '*'", 7));
-    assert_eq!(Formula::surface("x^2 + * y").unwrap_err().to_string(), "formula error: unexpected '*' at column 7");
+    assert_eq!(
+        Formula::surface("x^2 + * y").unwrap_err().to_string(),
+        "formula error: unexpected '*' at column 7"
+    );
     assert_eq!(parse_err("x + (y").1, 7);
     assert_eq!(parse_err("x^1.5").1, 4);
     assert_eq!(parse_err("2x").1, 2);
@@ -25,7 +28,10 @@ fn parse_errors_name_the_column() {
     assert_eq!(parse_err("").1, 1);
     assert_eq!(parse_err("x + ").1, 5);
     assert_eq!(parse_err("min(x)").1, 6);
-    assert!(matches!(Formula::curve("x + z"), Err(Error::Parse { column: 5, .. })));
+    assert!(matches!(
+        Formula::curve("x + z"),
+        Err(Error::Parse { column: 5, .. })
+    ));
 }
 
 #[cfg(not(feature = "mpfr"))]
@@ -40,7 +46,11 @@ fn transcendental_functions_name_the_feature() {
 #[test]
 fn transcendental_functions_enclose() {
     let f = Formula::surface("sin(x) + cos(y) * exp(z) - ln(x + 2)").unwrap();
-    let b = [Interval::try_from((0.1, 0.3)).unwrap(), point(1.0), Interval::try_from((-1.0, 0.5)).unwrap()];
+    let b = [
+        Interval::try_from((0.1, 0.3)).unwrap(),
+        point(1.0),
+        Interval::try_from((-1.0, 0.5)).unwrap(),
+    ];
     let r = f.eval_interval(&b);
     for i in 0..=20 {
         let x = 0.1 + 0.01 * i as f64;
@@ -101,7 +111,11 @@ fn arb_formula() -> impl Strategy<Value = String> {
     ];
     leaf.prop_recursive(5, 40, 3, |inner| {
         prop_oneof![
-            (inner.clone(), inner.clone(), prop_oneof![Just("+"), Just("-"), Just("*"), Just("/")])
+            (
+                inner.clone(),
+                inner.clone(),
+                prop_oneof![Just("+"), Just("-"), Just("*"), Just("/")]
+            )
                 .prop_map(|(a, b, op)| format!("({a}) {op} ({b})")),
             inner.clone().prop_map(|a| format!("-({a})")),
             (inner.clone(), 0i32..6).prop_map(|(a, n)| format!("({a})^{n}")),
