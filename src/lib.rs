@@ -10,6 +10,7 @@ pub mod catalog;
 pub mod error;
 pub mod geom;
 pub mod implicit;
+pub mod io;
 pub mod mesh;
 pub mod mesher;
 
