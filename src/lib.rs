@@ -6,12 +6,15 @@
 //! * [`metrics`]: angles, topology, fidelity;
 //! * [`mesher`]: the one interface every algorithm implements, and its honest report;
 //! * the meshers, one module per algorithm.
+pub mod bvh;
 pub mod catalog;
 pub mod error;
 pub mod geom;
 pub mod implicit;
+pub mod io;
 pub mod mesh;
 pub mod mesher;
+pub mod metrics;
 
 pub use error::{Error, Result};
 pub use geom::Aabb;

@@ -1,0 +1,606 @@
+//! A bounding volume hierarchy in flat arrays, and exact closest-point queries on
+//! triangle meshes and planar polylines built on it.
+//!
+//! [`Bvh`] knows only boxes: it is built from one [`Aabb`] per primitive (binned SAH,
+//! 16 bins, leaves of at most 4 primitives) and traversed with caller-supplied
+//! primitive tests, so other queries (rays, winding numbers, signed distance) can
+//! reuse it. [`TriBvh`] and [`SegBvh`] add the exact point-triangle (Ericson,
+//! *Real-Time Collision Detection*, §5.1.5) and point-segment routines.
+use crate::error::{Error, Result};
+use crate::geom::{self, Aabb};
+use crate::mesh::{Curve2, TriMesh};
+
+/// A node: `count > 0` is a leaf over `order[start..start + count]`; `count == 0` is an
+/// interior node whose two children are `nodes[start]` and `nodes[start + 1]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Node {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+    pub start: u32,
+    pub count: u32,
+}
+
+impl Node {
+    /// Squared distance from `p` to the node's box (0 inside).
+    #[inline]
+    pub fn dist2(&self, p: [f64; 3]) -> f64 {
+        let mut d2 = 0.0;
+        for k in 0..3 {
+            let d = (self.min[k] - p[k]).max(p[k] - self.max[k]).max(0.0);
+            d2 += d * d;
+        }
+        d2
+    }
+    #[inline]
+    pub fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+}
+
+/// The hierarchy: `nodes[0]` is the root (absent for no primitives), `order` lists the
+/// primitive indices in leaf order.
+#[derive(Clone, Debug, Default)]
+pub struct Bvh {
+    pub nodes: Vec<Node>,
+    pub order: Vec<u32>,
+}
+
+const LEAF_SIZE: usize = 4;
+const BINS: usize = 16;
+/// Below this depth splits are SAH; deeper ones halve the index range, so the depth
+/// stays under `SAH_DEPTH + log2(n)` and the traversal stack fits in [`STACK`].
+const SAH_DEPTH: usize = 40;
+const STACK: usize = 96;
+
+fn half_area(min: [f64; 3], max: [f64; 3]) -> f64 {
+    let d = geom::sub(max, min);
+    // The small perimeter term keeps flat or linear boxes (curves) distinguishable.
+    d[0] * d[1] + d[1] * d[2] + d[2] * d[0] + 1e-9 * (d[0] + d[1] + d[2])
+}
+
+fn grow(min: &mut [f64; 3], max: &mut [f64; 3], b: &Aabb) {
+    for k in 0..3 {
+        min[k] = min[k].min(b.min[k]);
+        max[k] = max[k].max(b.max[k]);
+    }
+}
+
+impl Bvh {
+    /// Build over one box per primitive. Errors on a non-finite box.
+    pub fn build(boxes: &[Aabb]) -> Result<Self> {
+        if boxes.len() >= u32::MAX as usize {
+            return Err(Error::TooLarge(format!("{} primitives", boxes.len())));
+        }
+        if let Some(i) = boxes
+            .iter()
+            .position(|b| !(b.min.iter().chain(&b.max).all(|x| x.is_finite())))
+        {
+            return Err(Error::NotFinite(format!("bounding box of primitive {i}")));
+        }
+        let n = boxes.len();
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        let mut nodes = Vec::with_capacity(if n == 0 { 0 } else { 2 * n / LEAF_SIZE + 1 });
+        if n == 0 {
+            return Ok(Bvh { nodes, order });
+        }
+        let cent: Vec<[f64; 3]> = boxes.iter().map(|b| b.center()).collect();
+        nodes.push(Node {
+            min: [0.0; 3],
+            max: [0.0; 3],
+            start: 0,
+            count: 0,
+        });
+        // (node, start, end, depth): explicit stack, no recursion on deep trees.
+        let mut work = vec![(0usize, 0usize, n, 0usize)];
+        while let Some((ni, s, e, depth)) = work.pop() {
+            let mut min = [f64::INFINITY; 3];
+            let mut max = [f64::NEG_INFINITY; 3];
+            let mut cmin = [f64::INFINITY; 3];
+            let mut cmax = [f64::NEG_INFINITY; 3];
+            for &i in &order[s..e] {
+                grow(&mut min, &mut max, &boxes[i as usize]);
+                let c = cent[i as usize];
+                for k in 0..3 {
+                    cmin[k] = cmin[k].min(c[k]);
+                    cmax[k] = cmax[k].max(c[k]);
+                }
+            }
+            nodes[ni].min = min;
+            nodes[ni].max = max;
+            let count = e - s;
+            let leaf = |nodes: &mut Vec<Node>| {
+                nodes[ni].start = s as u32;
+                nodes[ni].count = count as u32;
+            };
+            if count <= LEAF_SIZE {
+                leaf(&mut nodes);
+                continue;
+            }
+            let ext = geom::sub(cmax, cmin);
+            let axis = if ext[0] >= ext[1] && ext[0] >= ext[2] {
+                0
+            } else if ext[1] >= ext[2] {
+                1
+            } else {
+                2
+            };
+            let mid = if ext[axis] <= 0.0 || depth >= SAH_DEPTH {
+                // All centroids coincide (or the tree is deep): halve the range.
+                if ext[axis] > 0.0 {
+                    let m = (s + e) / 2;
+                    order[s..e].select_nth_unstable_by(m - s, |&a, &b| {
+                        cent[a as usize][axis].total_cmp(&cent[b as usize][axis])
+                    });
+                }
+                (s + e) / 2
+            } else {
+                let scale = BINS as f64 / ext[axis];
+                let bin = |i: u32| {
+                    (((cent[i as usize][axis] - cmin[axis]) * scale) as usize).min(BINS - 1)
+                };
+                let mut bcount = [0usize; BINS];
+                let mut bmin = [[f64::INFINITY; 3]; BINS];
+                let mut bmax = [[f64::NEG_INFINITY; 3]; BINS];
+                for &i in &order[s..e] {
+                    let b = bin(i);
+                    bcount[b] += 1;
+                    grow(&mut bmin[b], &mut bmax[b], &boxes[i as usize]);
+                }
+                // Sweep from the right for suffix areas, then from the left.
+                let mut right_cost = [0.0; BINS];
+                let (mut rmin, mut rmax, mut rc) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
+                for b in (1..BINS).rev() {
+                    rc += bcount[b];
+                    for k in 0..3 {
+                        rmin[k] = rmin[k].min(bmin[b][k]);
+                        rmax[k] = rmax[k].max(bmax[b][k]);
+                    }
+                    right_cost[b] = if rc > 0 {
+                        rc as f64 * half_area(rmin, rmax)
+                    } else {
+                        0.0
+                    };
+                }
+                let (mut lmin, mut lmax, mut lc) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
+                let mut best = (f64::INFINITY, 0usize);
+                for b in 0..BINS - 1 {
+                    lc += bcount[b];
+                    for k in 0..3 {
+                        lmin[k] = lmin[k].min(bmin[b][k]);
+                        lmax[k] = lmax[k].max(bmax[b][k]);
+                    }
+                    if lc == 0 || lc == count {
+                        continue;
+                    }
+                    let cost = lc as f64 * half_area(lmin, lmax) + right_cost[b + 1];
+                    if cost < best.0 {
+                        best = (cost, b);
+                    }
+                }
+                let leaf_cost = count as f64 * half_area(min, max);
+                // A traversal step costs about one primitive test.
+                if count <= 2 * LEAF_SIZE && best.0 + half_area(min, max) >= leaf_cost {
+                    leaf(&mut nodes);
+                    continue;
+                }
+                // Partition order[s..e] so bins <= best.1 come first.
+                let mut i = s;
+                let mut j = e;
+                while i < j {
+                    if bin(order[i]) <= best.1 {
+                        i += 1;
+                    } else {
+                        j -= 1;
+                        order.swap(i, j);
+                    }
+                }
+                i
+            };
+            let c = nodes.len();
+            let blank = Node {
+                min: [0.0; 3],
+                max: [0.0; 3],
+                start: 0,
+                count: 0,
+            };
+            nodes.push(blank);
+            nodes.push(blank);
+            nodes[ni].start = c as u32;
+            nodes[ni].count = 0;
+            work.push((c + 1, mid, e, depth + 1));
+            work.push((c, s, mid, depth + 1));
+        }
+        Ok(Bvh { nodes, order })
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// Depth of the tree (1 for a single leaf, 0 when empty).
+    pub fn depth(&self) -> usize {
+        if self.nodes.is_empty() {
+            return 0;
+        }
+        let mut best = 0;
+        let mut st = vec![(0usize, 1usize)];
+        while let Some((i, d)) = st.pop() {
+            best = best.max(d);
+            let n = &self.nodes[i];
+            if !n.is_leaf() {
+                st.push((n.start as usize, d + 1));
+                st.push((n.start as usize + 1, d + 1));
+            }
+        }
+        best
+    }
+
+    /// Nearest-primitive search. `test(slot, prim, best_d2)` is called for candidate
+    /// primitives (`slot` indexes `order`, `prim = order[slot]`) and returns their squared
+    /// distance and payload; only results below `max_d2` and the current best are kept.
+    /// Children are visited nearer first, and subtrees whose box is farther than the
+    /// best so far are skipped, so the result is exact when `test` is.
+    #[inline]
+    pub fn nearest<R>(
+        &self,
+        p: [f64; 3],
+        max_d2: f64,
+        mut test: impl FnMut(usize, u32, f64) -> Option<(f64, R)>,
+    ) -> Option<(f64, R)> {
+        let mut best: Option<(f64, R)> = None;
+        let mut best_d2 = max_d2;
+        if self.nodes.is_empty() {
+            return None;
+        }
+        let mut stack = [(0u32, 0.0f64); STACK];
+        let mut sp = 1;
+        stack[0] = (0, self.nodes[0].dist2(p));
+        while sp > 0 {
+            sp -= 1;
+            let (ni, d2) = stack[sp];
+            if d2 >= best_d2 {
+                continue;
+            }
+            let n = &self.nodes[ni as usize];
+            if n.is_leaf() {
+                for slot in n.start as usize..(n.start + n.count) as usize {
+                    if let Some((d, r)) = test(slot, self.order[slot], best_d2) {
+                        if d < best_d2 {
+                            best_d2 = d;
+                            best = Some((d, r));
+                        }
+                    }
+                }
+            } else {
+                let a = n.start;
+                let b = a + 1;
+                let da = self.nodes[a as usize].dist2(p);
+                let db = self.nodes[b as usize].dist2(p);
+                let (near, dn, far, df) = if da <= db {
+                    (a, da, b, db)
+                } else {
+                    (b, db, a, da)
+                };
+                if df < best_d2 {
+                    stack[sp] = (far, df);
+                    sp += 1;
+                }
+                if dn < best_d2 {
+                    stack[sp] = (near, dn);
+                    sp += 1;
+                }
+            }
+        }
+        best
+    }
+
+    /// Visit every primitive in leaves whose box passes `keep(min, max)`: the building
+    /// block for ray, segment and range queries.
+    pub fn visit(
+        &self,
+        mut keep: impl FnMut(&[f64; 3], &[f64; 3]) -> bool,
+        mut prim: impl FnMut(usize, u32),
+    ) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack = vec![0u32];
+        while let Some(ni) = stack.pop() {
+            let n = &self.nodes[ni as usize];
+            if !keep(&n.min, &n.max) {
+                continue;
+            }
+            if n.is_leaf() {
+                for slot in n.start as usize..(n.start + n.count) as usize {
+                    prim(slot, self.order[slot]);
+                }
+            } else {
+                stack.push(n.start);
+                stack.push(n.start + 1);
+            }
+        }
+    }
+}
+
+/// Which part of a triangle the closest point lies on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Feature {
+    /// Corner 0, 1 or 2.
+    Vertex(u8),
+    /// Edge k joins corners k and (k + 1) % 3.
+    Edge(u8),
+    Face,
+}
+
+/// The closest point on a triangle, as Ericson's routine finds it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriPoint {
+    pub point: [f64; 3],
+    /// Barycentric coordinates of `point` with respect to the corners.
+    pub bary: [f64; 3],
+}
+
+impl TriPoint {
+    /// The feature, read off the exact zeros Ericson's routine produces.
+    pub fn feature(&self) -> Feature {
+        let z = self.bary.map(|b| b == 0.0);
+        match z {
+            [false, true, true] => Feature::Vertex(0),
+            [true, false, true] => Feature::Vertex(1),
+            [true, true, false] => Feature::Vertex(2),
+            [false, false, true] => Feature::Edge(0),
+            [true, false, false] => Feature::Edge(1),
+            [false, true, false] => Feature::Edge(2),
+            _ => Feature::Face,
+        }
+    }
+}
+
+/// Closest point on segment `ab` to `p` and its parameter t in [0, 1].
+#[inline]
+pub fn closest_on_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> ([f64; 3], f64) {
+    let ab = geom::sub(b, a);
+    let l2 = geom::dot(ab, ab);
+    if l2 <= 0.0 {
+        return (a, 0.0);
+    }
+    let t = (geom::dot(geom::sub(p, a), ab) / l2).clamp(0.0, 1.0);
+    (geom::add(a, geom::scale(ab, t)), t)
+}
+
+/// Closest point on triangle `abc` to `p` (Ericson 2005, §5.1.5: Voronoi regions of the
+/// vertices, then the edges, then the face). Degenerate (collinear) triangles, where the
+/// face-region division is 0/0, fall back to the nearest of the three edges.
+#[inline]
+pub fn closest_on_triangle(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> TriPoint {
+    use geom::{add, dot, scale, sub};
+    let ab = sub(b, a);
+    let ac = sub(c, a);
+    let ap = sub(p, a);
+    let d1 = dot(ab, ap);
+    let d2 = dot(ac, ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return TriPoint {
+            point: a,
+            bary: [1.0, 0.0, 0.0],
+        };
+    }
+    let bp = sub(p, b);
+    let d3 = dot(ab, bp);
+    let d4 = dot(ac, bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return TriPoint {
+            point: b,
+            bary: [0.0, 1.0, 0.0],
+        };
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0 {
+        let v = d1 / (d1 - d3);
+        return TriPoint {
+            point: add(a, scale(ab, v)),
+            bary: [1.0 - v, v, 0.0],
+        };
+    }
+    let cp = sub(p, c);
+    let d5 = dot(ab, cp);
+    let d6 = dot(ac, cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return TriPoint {
+            point: c,
+            bary: [0.0, 0.0, 1.0],
+        };
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0 {
+        let w = d2 / (d2 - d6);
+        return TriPoint {
+            point: add(a, scale(ac, w)),
+            bary: [1.0 - w, 0.0, w],
+        };
+    }
+    let va = d3 * d6 - d5 * d4;
+    let e1 = d4 - d3;
+    let e2 = d5 - d6;
+    if va <= 0.0 && e1 >= 0.0 && e2 >= 0.0 && e1 + e2 > 0.0 {
+        let w = e1 / (e1 + e2);
+        return TriPoint {
+            point: add(b, scale(sub(c, b), w)),
+            bary: [0.0, 1.0 - w, w],
+        };
+    }
+    let den = va + vb + vc;
+    if den > 0.0 && den.is_finite() {
+        let v = vb / den;
+        let w = vc / den;
+        return TriPoint {
+            point: add(a, add(scale(ab, v), scale(ac, w))),
+            bary: [1.0 - v - w, v, w],
+        };
+    }
+    // Degenerate triangle: nearest point of its three edges.
+    let cands = [(a, b, 0usize), (b, c, 1), (c, a, 2)];
+    let mut best = (f64::INFINITY, a, [1.0, 0.0, 0.0]);
+    for (u, v, k) in cands {
+        let (q, t) = closest_on_segment(p, u, v);
+        let d = dot(sub(p, q), sub(p, q));
+        if d < best.0 {
+            let mut bary = [0.0; 3];
+            bary[k] = 1.0 - t;
+            bary[(k + 1) % 3] = t;
+            best = (d, q, bary);
+        }
+    }
+    TriPoint {
+        point: best.1,
+        bary: best.2,
+    }
+}
+
+/// Result of a closest-point query on a triangle mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Closest {
+    pub dist2: f64,
+    pub point: [f64; 3],
+    /// Index into the mesh's `triangles` (or `segments` for [`SegBvh`]).
+    pub index: u32,
+    /// Barycentric coordinates on the triangle (for segments: `[1 - t, t, 0]`).
+    pub bary: [f64; 3],
+}
+
+impl Closest {
+    pub fn feature(&self) -> Feature {
+        TriPoint {
+            point: self.point,
+            bary: self.bary,
+        }
+        .feature()
+    }
+}
+
+fn check_indices(n: usize, what: &str, idx: impl Iterator<Item = (usize, u32)>) -> Result<()> {
+    for (i, v) in idx {
+        if v as usize >= n {
+            return Err(Error::Param(format!(
+                "{what} {i} refers to vertex {v}, but the mesh has {n} vertices"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A BVH over the triangles of a mesh, with the corners stored in leaf order for cache
+/// locality.
+#[derive(Clone, Debug, Default)]
+pub struct TriBvh {
+    pub bvh: Bvh,
+    tris: Vec<[[f64; 3]; 3]>,
+}
+
+impl TriBvh {
+    /// Errors on out-of-range indices or non-finite coordinates.
+    pub fn new(mesh: &TriMesh) -> Result<Self> {
+        let nv = mesh.vertices.len();
+        check_indices(
+            nv,
+            "triangle",
+            mesh.triangles
+                .iter()
+                .enumerate()
+                .flat_map(|(i, t)| t.iter().map(move |&v| (i, v))),
+        )?;
+        let boxes: Vec<Aabb> = (0..mesh.triangles.len())
+            .map(|t| {
+                let c = mesh.corners(t);
+                Aabb::of_points(&c).expect("three corners")
+            })
+            .collect();
+        let bvh = Bvh::build(&boxes)?;
+        let tris = bvh
+            .order
+            .iter()
+            .map(|&t| mesh.corners(t as usize))
+            .collect();
+        Ok(TriBvh { bvh, tris })
+    }
+
+    /// The closest point of the mesh to `p` (`None` for a mesh without triangles).
+    #[inline]
+    pub fn closest(&self, p: [f64; 3]) -> Option<Closest> {
+        self.closest_within(p, f64::INFINITY)
+    }
+
+    /// As [`TriBvh::closest`], but only points with squared distance below `max_d2`.
+    #[inline]
+    pub fn closest_within(&self, p: [f64; 3], max_d2: f64) -> Option<Closest> {
+        self.bvh
+            .nearest(p, max_d2, |slot, prim, _| {
+                let [a, b, c] = self.tris[slot];
+                let q = closest_on_triangle(p, a, b, c);
+                let d = geom::sub(p, q.point);
+                Some((geom::dot(d, d), (q, prim)))
+            })
+            .map(|(dist2, (q, index))| Closest {
+                dist2,
+                point: q.point,
+                index,
+                bary: q.bary,
+            })
+    }
+}
+
+/// A BVH over the segments of a planar curve (z = 0).
+#[derive(Clone, Debug, Default)]
+pub struct SegBvh {
+    pub bvh: Bvh,
+    segs: Vec<[[f64; 3]; 2]>,
+}
+
+impl SegBvh {
+    pub fn new(curve: &Curve2) -> Result<Self> {
+        let nv = curve.vertices.len();
+        check_indices(
+            nv,
+            "segment",
+            curve
+                .segments
+                .iter()
+                .enumerate()
+                .flat_map(|(i, s)| s.iter().map(move |&v| (i, v))),
+        )?;
+        let lift = |v: u32| {
+            let [x, y] = curve.vertices[v as usize];
+            [x, y, 0.0]
+        };
+        let boxes: Vec<Aabb> = curve
+            .segments
+            .iter()
+            .map(|s| Aabb::of_points(&s.map(lift)).expect("two points"))
+            .collect();
+        let bvh = Bvh::build(&boxes)?;
+        let segs = bvh
+            .order
+            .iter()
+            .map(|&s| curve.segments[s as usize].map(lift))
+            .collect();
+        Ok(SegBvh { bvh, segs })
+    }
+
+    /// The closest point of the curve to `p` (z ignored).
+    pub fn closest(&self, p: [f64; 2]) -> Option<Closest> {
+        let p3 = [p[0], p[1], 0.0];
+        self.bvh
+            .nearest(p3, f64::INFINITY, |slot, prim, _| {
+                let [a, b] = self.segs[slot];
+                let (q, t) = closest_on_segment(p3, a, b);
+                let d = geom::sub(p3, q);
+                Some((geom::dot(d, d), (q, t, prim)))
+            })
+            .map(|(dist2, (q, t, index))| Closest {
+                dist2,
+                point: q,
+                index,
+                bary: [1.0 - t, t, 0.0],
+            })
+    }
+}

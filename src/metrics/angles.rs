@@ -1,0 +1,353 @@
+//! Element shape: triangle angles, tetrahedron dihedral and face angles, edge-length
+//! ratios, radius ratios, and histograms of them.
+//!
+//! Angles use the atan2(|u×v|, u·v) form ([`geom::angle_deg`]), accurate near 0° and
+//! 180° where acos loses half the digits.
+use crate::geom::{self, cross, dot, norm, sub};
+use crate::mesh::{TetMesh, TriMesh};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// A triangle counts as degenerate (no meaningful angles) when a vertex index repeats
+/// or its area is below this fraction of its longest edge squared, i.e. the triangle's
+/// height is below ~1e-12 of its size. Degenerate elements are counted, and left out of
+/// the angle ranges and histograms.
+pub const DEGENERATE_REL: f64 = 1e-12;
+
+/// The three angles of triangle `abc` in degrees, at a, b, c.
+pub fn triangle_angles(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
+    [
+        geom::angle_deg(c, a, b),
+        geom::angle_deg(a, b, c),
+        geom::angle_deg(b, c, a),
+    ]
+}
+
+/// Longest over shortest edge (infinite when two corners coincide).
+pub fn edge_ratio(pts: &[[f64; 3]]) -> f64 {
+    let mut lo = f64::INFINITY;
+    let mut hi: f64 = 0.0;
+    for i in 0..pts.len() {
+        for j in i + 1..pts.len() {
+            let l = geom::dist(pts[i], pts[j]);
+            lo = lo.min(l);
+            hi = hi.max(l);
+        }
+    }
+    if lo > 0.0 {
+        hi / lo
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Is the triangle numerically flat (see [`DEGENERATE_REL`])?
+pub fn triangle_is_degenerate(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> bool {
+    let l2 = [sub(b, a), sub(c, b), sub(a, c)]
+        .iter()
+        .map(|e| dot(*e, *e))
+        .fold(0.0, f64::max);
+    let area2 = norm(cross(sub(b, a), sub(c, a)));
+    !(area2 > DEGENERATE_REL * l2)
+}
+
+/// A histogram over `[lo, lo + bin_width * counts.len())`; values outside are clamped
+/// into the first or last bin.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Histogram {
+    pub lo: f64,
+    pub bin_width: f64,
+    pub counts: Vec<u64>,
+}
+
+impl Histogram {
+    /// Bins of width `bin_width` covering `[lo, hi]`.
+    pub fn new(lo: f64, hi: f64, bin_width: f64, values: impl IntoIterator<Item = f64>) -> Self {
+        let bins = if bin_width > 0.0 && hi > lo {
+            ((hi - lo) / bin_width).ceil().max(1.0) as usize
+        } else {
+            1
+        };
+        let bw = if bin_width > 0.0 { bin_width } else { 1.0 };
+        let mut counts = vec![0u64; bins];
+        for v in values {
+            if v.is_nan() {
+                continue;
+            }
+            let k = ((v - lo) / bw).floor();
+            let k = if k < 0.0 {
+                0
+            } else {
+                (k as usize).min(bins - 1)
+            };
+            counts[k] += 1;
+        }
+        Histogram {
+            lo,
+            bin_width: bw,
+            counts,
+        }
+    }
+    pub fn total(&self) -> u64 {
+        self.counts.iter().sum()
+    }
+    /// Fractions of the total per bin (all zero for an empty histogram).
+    pub fn normalized(&self) -> Vec<f64> {
+        let t = self.total().max(1) as f64;
+        self.counts.iter().map(|&c| c as f64 / t).collect()
+    }
+    /// The left edge of bin `k`.
+    pub fn bin_lo(&self, k: usize) -> f64 {
+        self.lo + k as f64 * self.bin_width
+    }
+}
+
+/// Angle and edge-ratio summary of a triangle mesh.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TriangleAngles {
+    pub triangles: usize,
+    /// Triangles left out of the ranges (see [`DEGENERATE_REL`]).
+    pub degenerate: usize,
+    /// `None` when there is no non-degenerate triangle.
+    pub min_angle_deg: Option<f64>,
+    pub max_angle_deg: Option<f64>,
+    pub mean_min_angle_deg: Option<f64>,
+    pub min_edge_ratio: Option<f64>,
+    pub max_edge_ratio: Option<f64>,
+    /// Histogram of all angles, bins of `bin_width` degrees over [0, 180].
+    pub histogram: Histogram,
+}
+
+fn minmax(it: impl Iterator<Item = f64>) -> (Option<f64>, Option<f64>) {
+    let mut lo: Option<f64> = None;
+    let mut hi: Option<f64> = None;
+    for v in it {
+        lo = Some(lo.map_or(v, |l| l.min(v)));
+        hi = Some(hi.map_or(v, |h| h.max(v)));
+    }
+    (lo, hi)
+}
+
+/// The angles of every triangle, `None` for degenerate ones. Out-of-range indices are
+/// the caller's to check (see [`super::check_trimesh`]).
+pub fn per_triangle(mesh: &TriMesh) -> Vec<Option<[f64; 3]>> {
+    mesh.triangles
+        .par_iter()
+        .map(|t| {
+            if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
+                return None;
+            }
+            let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+            if triangle_is_degenerate(a, b, c) {
+                None
+            } else {
+                Some(triangle_angles(a, b, c))
+            }
+        })
+        .collect()
+}
+
+/// Summary of the triangle angles, with a histogram of `bin_width` degrees.
+pub fn triangle_summary(mesh: &TriMesh, bin_width: f64) -> TriangleAngles {
+    let per = per_triangle(mesh);
+    let ok: Vec<(usize, [f64; 3])> = per
+        .iter()
+        .enumerate()
+        .filter_map(|(i, a)| a.map(|a| (i, a)))
+        .collect();
+    let (min_angle_deg, max_angle_deg) = minmax(ok.iter().flat_map(|(_, a)| a.iter().copied()));
+    let mean_min_angle_deg = if ok.is_empty() {
+        None
+    } else {
+        Some(
+            ok.iter()
+                .map(|(_, a)| a[0].min(a[1]).min(a[2]))
+                .sum::<f64>()
+                / ok.len() as f64,
+        )
+    };
+    let ratios: Vec<f64> = ok
+        .par_iter()
+        .map(|(i, _)| edge_ratio(&mesh.corners(*i)))
+        .collect();
+    let (min_edge_ratio, max_edge_ratio) = minmax(ratios.into_iter());
+    TriangleAngles {
+        triangles: mesh.triangles.len(),
+        degenerate: mesh.triangles.len() - ok.len(),
+        min_angle_deg,
+        max_angle_deg,
+        mean_min_angle_deg,
+        min_edge_ratio,
+        max_edge_ratio,
+        histogram: Histogram::new(
+            0.0,
+            180.0,
+            bin_width,
+            ok.iter().flat_map(|(_, a)| a.iter().copied()),
+        ),
+    }
+}
+
+/// The six edges of a tetrahedron as corner pairs; edge `e` is opposite edge `5 - e`.
+pub const TET_EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+
+/// Six times the signed volume: positive for the mesh's orientation convention.
+pub fn signed_volume6(p: &[[f64; 3]; 4]) -> f64 {
+    dot(sub(p[1], p[0]), cross(sub(p[2], p[0]), sub(p[3], p[0])))
+}
+
+/// Outward (away from corner k) normal of the face opposite corner k, unnormalised,
+/// whatever the tetrahedron's orientation.
+fn outward_normal(p: &[[f64; 3]; 4], k: usize) -> [f64; 3] {
+    let f: Vec<usize> = (0..4).filter(|&i| i != k).collect();
+    let n = cross(sub(p[f[1]], p[f[0]]), sub(p[f[2]], p[f[0]]));
+    if dot(n, sub(p[k], p[f[0]])) > 0.0 {
+        geom::scale(n, -1.0)
+    } else {
+        n
+    }
+}
+
+/// The six interior dihedral angles in degrees, at the edges of [`TET_EDGES`].
+///
+/// The dihedral angle at edge ij is 180° minus the angle between the outward normals of
+/// the two faces containing ij (the faces opposite the other two corners k, l); the angle
+/// between normals is taken in atan2 form. Orientation-independent: an inverted
+/// tetrahedron has the same angles as its mirror image.
+pub fn dihedral_angles(p: &[[f64; 3]; 4]) -> [f64; 6] {
+    let n: [[f64; 3]; 4] = [0, 1, 2, 3].map(|k| outward_normal(p, k));
+    TET_EDGES.map(|[i, j]| {
+        let mut kl = (0..4).filter(|&m| m != i && m != j);
+        let k = kl.next().unwrap_or(0);
+        let l = kl.next().unwrap_or(0);
+        let between = norm(cross(n[k], n[l])).atan2(dot(n[k], n[l])).to_degrees();
+        180.0 - between
+    })
+}
+
+/// The twelve face (plane) angles in degrees: three per face, faces opposite corners 0..3.
+pub fn face_angles(p: &[[f64; 3]; 4]) -> [f64; 12] {
+    let mut out = [0.0; 12];
+    for k in 0..4 {
+        let f: Vec<usize> = (0..4).filter(|&i| i != k).collect();
+        let a = triangle_angles(p[f[0]], p[f[1]], p[f[2]]);
+        out[3 * k..3 * k + 3].copy_from_slice(&a);
+    }
+    out
+}
+
+/// Radius ratio 3 r_in / R_circ: 1 for the regular tetrahedron, 0 for a flat one.
+pub fn radius_ratio(p: &[[f64; 3]; 4]) -> f64 {
+    let v6 = signed_volume6(p).abs();
+    let area2: f64 = (0..4).map(|k| norm(outward_normal(p, k))).sum();
+    if !(v6 > 0.0) || !(area2 > 0.0) {
+        return 0.0;
+    }
+    // r_in = 3V / A with V = v6 / 6 and A = area2 / 2 (|n_k| is twice a face's area).
+    // R_circ = |a|²(b×c) + |b|²(c×a) + |c|²(a×b) over 2 a·(b×c), with a, b, c the edges at p0.
+    let r_in = v6 / area2;
+    let a = sub(p[1], p[0]);
+    let b = sub(p[2], p[0]);
+    let c = sub(p[3], p[0]);
+    let num = geom::add(
+        geom::add(
+            geom::scale(cross(b, c), dot(a, a)),
+            geom::scale(cross(c, a), dot(b, b)),
+        ),
+        geom::scale(cross(a, b), dot(c, c)),
+    );
+    let r_circ = norm(num) / (2.0 * signed_volume6(p).abs());
+    (3.0 * r_in / r_circ).min(1.0)
+}
+
+/// Is the tetrahedron numerically flat: repeated corner, or |6V| below
+/// [`DEGENERATE_REL`] times its longest edge cubed?
+pub fn tet_is_degenerate(p: &[[f64; 3]; 4]) -> bool {
+    let l = TET_EDGES
+        .iter()
+        .map(|&[i, j]| geom::dist(p[i], p[j]))
+        .fold(0.0, f64::max);
+    !(signed_volume6(p).abs() > DEGENERATE_REL * l * l * l)
+}
+
+/// Shape summary of a tetrahedral mesh.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TetAngles {
+    pub tets: usize,
+    /// Tetrahedra with negative signed volume (against the mesh convention); their
+    /// angles are still measured.
+    pub inverted: usize,
+    /// Flat or index-repeating tetrahedra, left out of the ranges.
+    pub degenerate: usize,
+    pub min_dihedral_deg: Option<f64>,
+    pub max_dihedral_deg: Option<f64>,
+    pub min_face_angle_deg: Option<f64>,
+    pub max_face_angle_deg: Option<f64>,
+    pub min_edge_ratio: Option<f64>,
+    pub max_edge_ratio: Option<f64>,
+    pub min_radius_ratio: Option<f64>,
+    /// Histogram of dihedral angles, bins of `bin_width` degrees over [0, 180].
+    pub dihedral_histogram: Histogram,
+}
+
+/// Per-tetrahedron measures; `None` for degenerate tetrahedra.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TetShape {
+    pub volume6: f64,
+    pub dihedral: [f64; 6],
+    pub face: [f64; 12],
+    pub edge_ratio: f64,
+    pub radius_ratio: f64,
+}
+
+pub fn tet_shape(p: &[[f64; 3]; 4]) -> TetShape {
+    TetShape {
+        volume6: signed_volume6(p),
+        dihedral: dihedral_angles(p),
+        face: face_angles(p),
+        edge_ratio: edge_ratio(p),
+        radius_ratio: radius_ratio(p),
+    }
+}
+
+pub fn tet_summary(mesh: &TetMesh, bin_width: f64) -> TetAngles {
+    let per: Vec<(f64, Option<TetShape>)> = mesh
+        .tets
+        .par_iter()
+        .map(|t| {
+            let p = t.map(|i| mesh.vertices[i as usize]);
+            let v6 = signed_volume6(&p);
+            let repeated = (0..4).any(|i| (i + 1..4).any(|j| t[i] == t[j]));
+            if repeated || tet_is_degenerate(&p) {
+                (v6, None)
+            } else {
+                (v6, Some(tet_shape(&p)))
+            }
+        })
+        .collect();
+    let ok: Vec<&TetShape> = per.iter().filter_map(|(_, s)| s.as_ref()).collect();
+    let (min_dihedral_deg, max_dihedral_deg) =
+        minmax(ok.iter().flat_map(|s| s.dihedral.iter().copied()));
+    let (min_face_angle_deg, max_face_angle_deg) =
+        minmax(ok.iter().flat_map(|s| s.face.iter().copied()));
+    let (min_edge_ratio, max_edge_ratio) = minmax(ok.iter().map(|s| s.edge_ratio));
+    let (min_radius_ratio, _) = minmax(ok.iter().map(|s| s.radius_ratio));
+    TetAngles {
+        tets: mesh.tets.len(),
+        inverted: per.iter().filter(|(v, _)| *v < 0.0).count(),
+        degenerate: per.iter().filter(|(_, s)| s.is_none()).count(),
+        min_dihedral_deg,
+        max_dihedral_deg,
+        min_face_angle_deg,
+        max_face_angle_deg,
+        min_edge_ratio,
+        max_edge_ratio,
+        min_radius_ratio,
+        dihedral_histogram: Histogram::new(
+            0.0,
+            180.0,
+            bin_width,
+            ok.iter().flat_map(|s| s.dihedral.iter().copied()),
+        ),
+    }
+}

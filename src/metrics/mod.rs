@@ -1,0 +1,266 @@
+//! Mesh metrics: element shape ([`angles`]), combinatorial topology and the topology
+//! verdict ([`topology`]), fidelity to the implicit surface ([`fidelity`]), and the
+//! [`Stats`] summary that `certmesh stats` prints.
+pub mod angles;
+pub mod fidelity;
+pub mod topology;
+
+pub use angles::{Histogram, TetAngles, TriangleAngles};
+pub use fidelity::{Fidelity, FidelityParams};
+pub use topology::{
+    analyze, analyze_curve, analyze_tets, curve_verdict, tet_verdict, verdict, CurveTopology,
+    TetTopology, TopologyReport, Verdict,
+};
+
+use crate::error::{Error, Result};
+use crate::implicit::Implicit;
+use crate::mesh::{Curve2, TetMesh, TriMesh};
+use serde::Serialize;
+
+/// Bin width (degrees) of the angle histograms in [`Stats`].
+pub const ANGLE_BIN_DEG: f64 = 5.0;
+
+fn check_indices<const N: usize>(nv: usize, what: &str, elems: &[[u32; N]]) -> Result<()> {
+    for (i, e) in elems.iter().enumerate() {
+        if let Some(&v) = e.iter().find(|&&v| v as usize >= nv) {
+            return Err(Error::Param(format!(
+                "{what} {i} refers to vertex {v}, but the mesh has {nv} vertices"
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn check_finite<const D: usize>(verts: &[[f64; D]]) -> Result<()> {
+    match verts.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
+        Some(i) => Err(Error::NotFinite(format!(
+            "vertex {i} has coordinates {:?}",
+            verts[i]
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// Every index in range and every coordinate finite: metrics never panic on bad input.
+pub fn check_trimesh(m: &TriMesh) -> Result<()> {
+    check_finite(&m.vertices)?;
+    check_indices(m.vertices.len(), "triangle", &m.triangles)
+}
+pub fn check_tetmesh(m: &TetMesh) -> Result<()> {
+    check_finite(&m.vertices)?;
+    check_indices(m.vertices.len(), "tetrahedron", &m.tets)
+}
+pub fn check_curve(c: &Curve2) -> Result<()> {
+    check_finite(&c.vertices)?;
+    check_indices(c.vertices.len(), "segment", &c.segments)
+}
+
+/// What `certmesh stats MESH [--surface S] --json` prints for a triangle mesh.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Stats {
+    pub vertices: usize,
+    pub isolated_vertices: usize,
+    pub faces: usize,
+    pub edges: usize,
+    pub euler_characteristic: i64,
+    pub components: usize,
+    pub closed: bool,
+    pub manifold: bool,
+    pub orientable: bool,
+    pub consistently_oriented: bool,
+    pub boundary_edges: usize,
+    pub boundary_loops: usize,
+    pub non_manifold_edges: usize,
+    pub non_manifold_vertices: usize,
+    pub degenerate_faces: usize,
+    pub duplicate_faces: usize,
+    /// Genera of the closed orientable manifold components, ascending.
+    pub genus: Vec<usize>,
+    /// Over non-degenerate triangles (`null` when there is none).
+    pub min_angle_deg: Option<f64>,
+    pub max_angle_deg: Option<f64>,
+    pub mean_min_angle_deg: Option<f64>,
+    /// Numerically flat triangles, left out of the angle ranges.
+    pub degenerate_triangles: usize,
+    pub min_edge_ratio: Option<f64>,
+    pub max_edge_ratio: Option<f64>,
+    /// Present when a surface was given.
+    #[serde(flatten)]
+    pub fidelity: Option<Fidelity>,
+}
+
+/// Statistics of a triangle mesh, with fidelity fields when `f` is given (default
+/// sampling; see [`stats_with`]).
+pub fn stats(mesh: &TriMesh, f: Option<&dyn Implicit>) -> Result<Stats> {
+    stats_with(mesh, f, &FidelityParams::default())
+}
+
+pub fn stats_with(
+    mesh: &TriMesh,
+    f: Option<&dyn Implicit>,
+    params: &FidelityParams,
+) -> Result<Stats> {
+    let topo = analyze(mesh)?;
+    let ang = angles::triangle_summary(mesh, ANGLE_BIN_DEG);
+    let fidelity = match f {
+        Some(f) => Some(fidelity::surface_fidelity(mesh, f, params)?),
+        None => None,
+    };
+    Ok(Stats {
+        vertices: topo.vertices,
+        isolated_vertices: topo.isolated_vertices,
+        faces: topo.faces,
+        edges: topo.edges,
+        euler_characteristic: topo.euler_characteristic,
+        components: topo.components,
+        closed: topo.closed,
+        manifold: topo.manifold,
+        orientable: topo.orientable,
+        consistently_oriented: topo.consistently_oriented,
+        boundary_edges: topo.boundary_edges,
+        boundary_loops: topo.boundary_loops,
+        non_manifold_edges: topo.non_manifold_edges,
+        non_manifold_vertices: topo.non_manifold_vertices,
+        degenerate_faces: topo.degenerate_faces,
+        duplicate_faces: topo.duplicate_faces,
+        genus: topo.genus,
+        min_angle_deg: ang.min_angle_deg,
+        max_angle_deg: ang.max_angle_deg,
+        mean_min_angle_deg: ang.mean_min_angle_deg,
+        degenerate_triangles: ang.degenerate,
+        min_edge_ratio: ang.min_edge_ratio,
+        max_edge_ratio: ang.max_edge_ratio,
+        fidelity,
+    })
+}
+
+/// Statistics of a tetrahedral mesh: conformity, its boundary's topology and angles,
+/// dihedral and face angles; fidelity of the boundary when `f` is given.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TetStats {
+    pub vertices: usize,
+    pub isolated_vertices: usize,
+    pub tets: usize,
+    pub components: usize,
+    pub boundary_faces: usize,
+    pub interior_faces: usize,
+    pub nonconforming_faces: usize,
+    pub degenerate_tets: usize,
+    /// Negative signed volume.
+    pub inverted_tets: usize,
+    /// Numerically flat tetrahedra, left out of the angle ranges.
+    pub flat_tets: usize,
+    pub boundary_euler_characteristic: i64,
+    pub boundary_components: usize,
+    pub boundary_closed_manifold: bool,
+    pub boundary_genus: Vec<usize>,
+    pub min_dihedral_deg: Option<f64>,
+    pub max_dihedral_deg: Option<f64>,
+    pub min_face_angle_deg: Option<f64>,
+    pub max_face_angle_deg: Option<f64>,
+    pub min_edge_ratio: Option<f64>,
+    pub max_edge_ratio: Option<f64>,
+    pub min_radius_ratio: Option<f64>,
+    /// Triangle angles of the boundary surface.
+    pub boundary_min_angle_deg: Option<f64>,
+    pub boundary_max_angle_deg: Option<f64>,
+    #[serde(flatten)]
+    pub fidelity: Option<Fidelity>,
+}
+
+pub fn tet_stats(
+    mesh: &TetMesh,
+    f: Option<&dyn Implicit>,
+    params: &FidelityParams,
+) -> Result<TetStats> {
+    let topo = analyze_tets(mesh)?;
+    let ang = angles::tet_summary(mesh, ANGLE_BIN_DEG);
+    let surf = mesh.boundary();
+    let bang = angles::triangle_summary(&surf, ANGLE_BIN_DEG);
+    let fidelity = match f {
+        Some(f) => Some(fidelity::surface_fidelity(&surf, f, params)?),
+        None => None,
+    };
+    Ok(TetStats {
+        vertices: topo.vertices,
+        isolated_vertices: topo.isolated_vertices,
+        tets: topo.tets,
+        components: topo.components,
+        boundary_faces: topo.boundary_faces,
+        interior_faces: topo.interior_faces,
+        nonconforming_faces: topo.nonconforming_faces,
+        degenerate_tets: topo.degenerate_tets,
+        inverted_tets: ang.inverted,
+        flat_tets: ang.degenerate,
+        boundary_euler_characteristic: topo.boundary_euler_characteristic,
+        boundary_components: topo.boundary.components,
+        boundary_closed_manifold: topo.boundary_closed_manifold,
+        boundary_genus: topo.boundary.genus.clone(),
+        min_dihedral_deg: ang.min_dihedral_deg,
+        max_dihedral_deg: ang.max_dihedral_deg,
+        min_face_angle_deg: ang.min_face_angle_deg,
+        max_face_angle_deg: ang.max_face_angle_deg,
+        min_edge_ratio: ang.min_edge_ratio,
+        max_edge_ratio: ang.max_edge_ratio,
+        min_radius_ratio: ang.min_radius_ratio,
+        boundary_min_angle_deg: bang.min_angle_deg,
+        boundary_max_angle_deg: bang.max_angle_deg,
+        fidelity,
+    })
+}
+
+/// Statistics of a planar curve.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CurveStats {
+    #[serde(flatten)]
+    pub topology: CurveTopology,
+    pub min_segment_length: Option<f64>,
+    pub max_segment_length: Option<f64>,
+    /// Smallest angle between consecutive segments at degree-2 vertices (180° is
+    /// straight), a measure of how sharply the polyline turns.
+    pub min_turn_angle_deg: Option<f64>,
+    #[serde(flatten)]
+    pub fidelity: Option<Fidelity>,
+}
+
+pub fn curve_stats(
+    curve: &Curve2,
+    f: Option<&dyn Implicit>,
+    params: &FidelityParams,
+) -> Result<CurveStats> {
+    let topology = analyze_curve(curve)?;
+    let p = |v: u32| {
+        let [x, y] = curve.vertices[v as usize];
+        [x, y, 0.0]
+    };
+    let mut lo: Option<f64> = None;
+    let mut hi: Option<f64> = None;
+    let mut nbrs: Vec<Vec<u32>> = vec![Vec::new(); curve.vertices.len()];
+    for &[a, b] in &curve.segments {
+        let l = crate::geom::dist(p(a), p(b));
+        lo = Some(lo.map_or(l, |x| x.min(l)));
+        hi = Some(hi.map_or(l, |x| x.max(l)));
+        if a != b {
+            nbrs[a as usize].push(b);
+            nbrs[b as usize].push(a);
+        }
+    }
+    let mut turn: Option<f64> = None;
+    for (v, n) in nbrs.iter().enumerate() {
+        if n.len() == 2 {
+            let a = crate::geom::angle_deg(p(n[0]), p(v as u32), p(n[1]));
+            turn = Some(turn.map_or(a, |t| t.min(a)));
+        }
+    }
+    let fidelity = match f {
+        Some(f) => Some(fidelity::curve_fidelity(curve, f, params)?),
+        None => None,
+    };
+    Ok(CurveStats {
+        topology,
+        min_segment_length: lo,
+        max_segment_length: hi,
+        min_turn_angle_deg: turn,
+        fidelity,
+    })
+}

@@ -1,0 +1,784 @@
+//! Combinatorial topology of meshes: counts, Euler characteristic, components,
+//! boundary loops, manifoldness, orientability and genus; and the topology verdict
+//! against a catalog entry's expected components and genera.
+//!
+//! Conventions (documented once, used everywhere):
+//! * V counts vertices used by some face; unused ("isolated") vertices are reported
+//!   separately and belong to no component.
+//! * Components are the connected components of the union of the faces (two faces
+//!   sharing only a vertex are connected).
+//! * Degenerate faces (a repeated vertex index) count in V but not in E or F: they have
+//!   no edges of their own; they make the mesh non-manifold.
+//! * Boundary loops are the cycle rank E_b − V_b + C_b of the graph of boundary edges
+//!   (edges in one face): the number of loops when the boundary is a disjoint union of
+//!   cycles, and the number of independent loops when loops touch at a vertex.
+//! * A vertex is non-manifold when its link (the opposite edges of its faces) is not a
+//!   single path or cycle: a bow-tie, or a vertex on a non-manifold edge.
+//! * Genus of an orientable manifold component: g = (2 − χ − b) / 2 with b its boundary
+//!   loops (b = 0 for closed components, the brief's (2 − χ)/2).
+use super::{check_curve, check_tetmesh, check_trimesh};
+use crate::catalog::Topology;
+use crate::error::Result;
+use crate::mesh::{Curve2, TetMesh, TriMesh};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Union-find with path halving and union by size.
+#[derive(Clone, Debug)]
+pub struct UnionFind {
+    parent: Vec<u32>,
+    size: Vec<u32>,
+}
+
+impl UnionFind {
+    pub fn new(n: usize) -> Self {
+        UnionFind {
+            parent: (0..n as u32).collect(),
+            size: vec![1; n],
+        }
+    }
+    pub fn find(&mut self, mut x: u32) -> u32 {
+        while self.parent[x as usize] != x {
+            let g = self.parent[self.parent[x as usize] as usize];
+            self.parent[x as usize] = g;
+            x = g;
+        }
+        x
+    }
+    /// Join the sets of a and b; true when they were different.
+    pub fn union(&mut self, a: u32, b: u32) -> bool {
+        let (mut a, mut b) = (self.find(a), self.find(b));
+        if a == b {
+            return false;
+        }
+        if self.size[a as usize] < self.size[b as usize] {
+            std::mem::swap(&mut a, &mut b);
+        }
+        self.parent[b as usize] = a;
+        self.size[a as usize] += self.size[b as usize];
+        true
+    }
+}
+
+/// One connected component of a triangle mesh.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ComponentReport {
+    pub vertices: usize,
+    pub edges: usize,
+    pub faces: usize,
+    pub euler_characteristic: i64,
+    pub boundary_edges: usize,
+    pub boundary_loops: usize,
+    pub closed: bool,
+    pub manifold: bool,
+    /// The faces can be oriented consistently (only meaningful when manifold).
+    pub orientable: bool,
+    /// g = (2 − χ − b)/2 for orientable manifold components, else `None`.
+    pub genus: Option<usize>,
+}
+
+/// Everything the combinatorics of a triangle mesh tells.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TopologyReport {
+    /// Vertices used by faces.
+    pub vertices: usize,
+    pub isolated_vertices: usize,
+    pub edges: usize,
+    pub faces: usize,
+    /// V − E + (F − degenerate faces).
+    pub euler_characteristic: i64,
+    pub components: usize,
+    pub boundary_edges: usize,
+    pub boundary_loops: usize,
+    /// Edges in more than two faces.
+    pub non_manifold_edges: usize,
+    pub non_manifold_vertices: usize,
+    /// Faces with a repeated vertex index.
+    pub degenerate_faces: usize,
+    /// Faces with the same vertex set as an earlier face (either orientation).
+    pub duplicate_faces: usize,
+    /// Manifold edges whose two faces traverse them in the same direction: the faces
+    /// as given are not consistently oriented there (a flipped face gives 3).
+    pub inconsistent_edges: usize,
+    pub closed: bool,
+    pub manifold: bool,
+    /// Every component can be oriented consistently.
+    pub orientable: bool,
+    /// Orientable and oriented consistently as given (no inconsistent edge).
+    pub consistently_oriented: bool,
+    /// Genera of the closed orientable manifold components, ascending.
+    pub genus: Vec<usize>,
+    pub component_list: Vec<ComponentReport>,
+}
+
+/// Check the link of a vertex: its faces' opposite edges must form one path or cycle.
+fn link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]]) -> bool {
+    let mut ends: Vec<(u32, u32)> = Vec::with_capacity(faces.len());
+    for &f in faces {
+        let t = tris[f as usize];
+        let k = t.iter().position(|&x| x == v).unwrap_or(0);
+        ends.push((t[(k + 1) % 3], t[(k + 2) % 3]));
+    }
+    let mut ids: Vec<u32> = ends.iter().flat_map(|&(a, b)| [a, b]).collect();
+    ids.sort_unstable();
+    ids.dedup();
+    let id = |x: u32| ids.binary_search(&x).unwrap_or(0) as u32;
+    let mut deg = vec![0u8; ids.len()];
+    let mut uf = UnionFind::new(ids.len());
+    let mut sets = ids.len();
+    for &(a, b) in &ends {
+        let (a, b) = (id(a), id(b));
+        deg[a as usize] = deg[a as usize].saturating_add(1);
+        deg[b as usize] = deg[b as usize].saturating_add(1);
+        if uf.union(a, b) {
+            sets -= 1;
+        }
+    }
+    sets == 1 && deg.iter().all(|&d| d <= 2)
+}
+
+/// The topology of a triangle mesh. Errors only on out-of-range vertex indices.
+pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
+    check_trimesh(mesh)?;
+    let nv = mesh.vertices.len();
+    let tris = &mesh.triangles;
+    let nf = tris.len();
+    let degenerate: Vec<bool> = tris
+        .iter()
+        .map(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
+        .collect();
+
+    // Components: union the vertices of every face.
+    let mut uf = UnionFind::new(nv);
+    let mut used = vec![false; nv];
+    for t in tris {
+        uf.union(t[0], t[1]);
+        uf.union(t[0], t[2]);
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    let root: Vec<u32> = (0..nv as u32).map(|v| uf.find(v)).collect();
+    let mut comp_of_root = vec![u32::MAX; nv];
+    let mut ncomp = 0usize;
+    for v in 0..nv {
+        if used[v] && comp_of_root[root[v] as usize] == u32::MAX {
+            comp_of_root[root[v] as usize] = ncomp as u32;
+            ncomp += 1;
+        }
+    }
+    let comp = |v: u32| comp_of_root[root[v as usize] as usize] as usize;
+
+    // Edges: sort (key, face, direction) so each undirected edge is one run.
+    let mut half: Vec<(u64, u32, bool)> = Vec::with_capacity(3 * nf);
+    for (f, t) in tris.iter().enumerate() {
+        if degenerate[f] {
+            continue;
+        }
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+            half.push((((lo as u64) << 32) | hi as u64, f as u32, a < b));
+        }
+    }
+    half.par_sort_unstable();
+
+    let mut c_edges = vec![0usize; ncomp];
+    let mut c_faces = vec![0usize; ncomp];
+    let mut c_verts = vec![0usize; ncomp];
+    let mut c_bedges = vec![0usize; ncomp];
+    let mut c_bad = vec![false; ncomp]; // non-manifold somewhere
+    let mut c_nonorientable = vec![false; ncomp];
+    let mut edges = 0usize;
+    let mut boundary: Vec<(u32, u32)> = Vec::new();
+    let mut non_manifold_edges = 0usize;
+    let mut inconsistent_edges = 0usize;
+    // Face adjacency over manifold edges: (f, g, same direction).
+    let mut adj_pairs: Vec<(u32, u32, bool)> = Vec::new();
+    let mut i = 0;
+    while i < half.len() {
+        let mut j = i + 1;
+        while j < half.len() && half[j].0 == half[i].0 {
+            j += 1;
+        }
+        let key = half[i].0;
+        let (lo, hi) = ((key >> 32) as u32, key as u32);
+        let c = comp(lo);
+        edges += 1;
+        c_edges[c] += 1;
+        match j - i {
+            1 => {
+                boundary.push((lo, hi));
+                c_bedges[c] += 1;
+            }
+            2 => {
+                let same = half[i].2 == half[i + 1].2;
+                if same {
+                    inconsistent_edges += 1;
+                }
+                adj_pairs.push((half[i].1, half[i + 1].1, same));
+            }
+            _ => {
+                non_manifold_edges += 1;
+                c_bad[c] = true;
+            }
+        }
+        i = j;
+    }
+    drop(half);
+    for (f, t) in tris.iter().enumerate() {
+        let c = comp(t[0]);
+        if degenerate[f] {
+            c_bad[c] = true;
+        } else {
+            c_faces[c] += 1;
+        }
+    }
+    for v in 0..nv {
+        if used[v] {
+            c_verts[comp(v as u32)] += 1;
+        }
+    }
+
+    // Orientability: two-colour faces by "flipped or not" along manifold edges.
+    let mut start = vec![0u32; nf + 1];
+    for &(f, g, _) in &adj_pairs {
+        start[f as usize + 1] += 1;
+        start[g as usize + 1] += 1;
+    }
+    for k in 0..nf {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start.clone();
+    let mut nbr = vec![(0u32, false); 2 * adj_pairs.len()];
+    for &(f, g, s) in &adj_pairs {
+        nbr[fill[f as usize] as usize] = (g, s);
+        fill[f as usize] += 1;
+        nbr[fill[g as usize] as usize] = (f, s);
+        fill[g as usize] += 1;
+    }
+    let mut flip = vec![u8::MAX; nf];
+    let mut queue = Vec::new();
+    for f0 in 0..nf {
+        if flip[f0] != u8::MAX || degenerate[f0] {
+            continue;
+        }
+        flip[f0] = 0;
+        queue.push(f0 as u32);
+        while let Some(f) = queue.pop() {
+            let ff = flip[f as usize];
+            for &(g, same) in &nbr[start[f as usize] as usize..start[f as usize + 1] as usize] {
+                // Sharing an edge in the same direction means one of the two is flipped.
+                let want = ff ^ (same as u8);
+                if flip[g as usize] == u8::MAX {
+                    flip[g as usize] = want;
+                    queue.push(g);
+                } else if flip[g as usize] != want {
+                    c_nonorientable[comp(tris[f as usize][0])] = true;
+                }
+            }
+        }
+    }
+
+    // Non-manifold vertices, from each vertex's link.
+    let mut vstart = vec![0u32; nv + 1];
+    for (f, t) in tris.iter().enumerate() {
+        if !degenerate[f] {
+            for &v in t {
+                vstart[v as usize + 1] += 1;
+            }
+        }
+    }
+    for k in 0..nv {
+        vstart[k + 1] += vstart[k];
+    }
+    let mut vfill = vstart.clone();
+    let mut vfaces = vec![0u32; vstart[nv] as usize];
+    for (f, t) in tris.iter().enumerate() {
+        if !degenerate[f] {
+            for &v in t {
+                vfaces[vfill[v as usize] as usize] = f as u32;
+                vfill[v as usize] += 1;
+            }
+        }
+    }
+    let bad_vertex: Vec<bool> = (0..nv)
+        .into_par_iter()
+        .map(|v| {
+            let fs = &vfaces[vstart[v] as usize..vstart[v + 1] as usize];
+            !fs.is_empty() && !link_is_disk_or_sphere(v as u32, fs, tris)
+        })
+        .collect();
+    let mut non_manifold_vertices = 0;
+    for v in 0..nv {
+        if bad_vertex[v] {
+            non_manifold_vertices += 1;
+            c_bad[comp(v as u32)] = true;
+        }
+    }
+
+    // Boundary loops: cycle rank of the boundary graph, per component.
+    let mut buf = UnionFind::new(nv);
+    let mut on_boundary = vec![false; nv];
+    for &(a, b) in &boundary {
+        buf.union(a, b);
+        on_boundary[a as usize] = true;
+        on_boundary[b as usize] = true;
+    }
+    let mut c_loops: Vec<i64> = c_bedges.iter().map(|&e| e as i64).collect();
+    for v in 0..nv {
+        if on_boundary[v] {
+            let c = comp(v as u32);
+            c_loops[c] -= 1; // − V_b
+            if buf.find(v as u32) == v as u32 {
+                c_loops[c] += 1; // + C_b
+            }
+        }
+    }
+
+    // Duplicate faces (same vertex set).
+    let mut keys: Vec<[u32; 3]> = tris
+        .iter()
+        .map(|t| {
+            let mut k = *t;
+            k.sort_unstable();
+            k
+        })
+        .collect();
+    keys.par_sort_unstable();
+    let duplicate_faces = keys.windows(2).filter(|w| w[0] == w[1]).count();
+
+    let mut component_list: Vec<ComponentReport> = (0..ncomp)
+        .map(|c| {
+            let chi = c_verts[c] as i64 - c_edges[c] as i64 + c_faces[c] as i64;
+            let loops = c_loops[c].max(0) as usize;
+            let manifold = !c_bad[c];
+            let orientable = !c_nonorientable[c];
+            let twice_g = 2 - chi - loops as i64;
+            let genus = (manifold && orientable && twice_g >= 0 && twice_g % 2 == 0)
+                .then_some((twice_g / 2) as usize);
+            ComponentReport {
+                vertices: c_verts[c],
+                edges: c_edges[c],
+                faces: c_faces[c],
+                euler_characteristic: chi,
+                boundary_edges: c_bedges[c],
+                boundary_loops: loops,
+                closed: c_bedges[c] == 0,
+                manifold,
+                orientable,
+                genus,
+            }
+        })
+        .collect();
+    // Largest first, for readable reports.
+    component_list.sort_by(|a, b| b.faces.cmp(&a.faces).then(b.vertices.cmp(&a.vertices)));
+    let vertices = used.iter().filter(|&&u| u).count();
+    let degenerate_faces = degenerate.iter().filter(|&&d| d).count();
+    let mut genus: Vec<usize> = component_list
+        .iter()
+        .filter(|c| c.closed)
+        .filter_map(|c| c.genus)
+        .collect();
+    genus.sort_unstable();
+    let orientable = component_list.iter().all(|c| c.orientable);
+    let manifold = non_manifold_edges == 0 && non_manifold_vertices == 0 && degenerate_faces == 0;
+    Ok(TopologyReport {
+        vertices,
+        isolated_vertices: nv - vertices,
+        edges,
+        faces: nf,
+        euler_characteristic: vertices as i64 - edges as i64 + (nf - degenerate_faces) as i64,
+        components: ncomp,
+        boundary_edges: boundary.len(),
+        boundary_loops: component_list.iter().map(|c| c.boundary_loops).sum(),
+        non_manifold_edges,
+        non_manifold_vertices,
+        degenerate_faces,
+        duplicate_faces,
+        inconsistent_edges,
+        closed: boundary.is_empty(),
+        manifold,
+        orientable,
+        consistently_oriented: orientable && inconsistent_edges == 0,
+        genus,
+        component_list,
+    })
+}
+
+/// The topology of a set of planar polylines.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CurveTopology {
+    /// Vertices used by segments.
+    pub vertices: usize,
+    pub isolated_vertices: usize,
+    pub segments: usize,
+    /// Segments joining a vertex to itself (ignored otherwise).
+    pub degenerate_segments: usize,
+    /// Segments joining the same two vertices as an earlier segment.
+    pub duplicate_segments: usize,
+    pub components: usize,
+    /// Components all of whose vertices have degree 2 (simple closed curves).
+    pub closed_components: usize,
+    /// Vertices of degree 1.
+    pub open_ends: usize,
+    /// Vertices of degree 3 or more.
+    pub branch_points: usize,
+    /// Every component is a simple closed curve.
+    pub closed: bool,
+}
+
+pub fn analyze_curve(curve: &Curve2) -> Result<CurveTopology> {
+    check_curve(curve)?;
+    let nv = curve.vertices.len();
+    let mut deg = vec![0u32; nv];
+    let mut used = vec![false; nv];
+    let mut uf = UnionFind::new(nv);
+    let mut degenerate_segments = 0;
+    for &[a, b] in &curve.segments {
+        used[a as usize] = true;
+        used[b as usize] = true;
+        if a == b {
+            degenerate_segments += 1;
+            continue;
+        }
+        deg[a as usize] += 1;
+        deg[b as usize] += 1;
+        uf.union(a, b);
+    }
+    let mut keys: Vec<(u32, u32)> = curve
+        .segments
+        .iter()
+        .map(|&[a, b]| (a.min(b), a.max(b)))
+        .collect();
+    keys.sort_unstable();
+    let duplicate_segments = keys.windows(2).filter(|w| w[0] == w[1]).count();
+    // Per root: (is a component, all degree 2).
+    let mut all2 = vec![true; nv];
+    let mut is_root = vec![false; nv];
+    for v in 0..nv {
+        if used[v] {
+            let r = uf.find(v as u32) as usize;
+            is_root[r] = true;
+            if deg[v] != 2 {
+                all2[r] = false;
+            }
+        }
+    }
+    let components = is_root.iter().filter(|&&r| r).count();
+    let closed_components = (0..nv).filter(|&r| is_root[r] && all2[r]).count();
+    let vertices = used.iter().filter(|&&u| u).count();
+    let open_ends = deg.iter().filter(|&&d| d == 1).count();
+    let branch_points = deg.iter().filter(|&&d| d >= 3).count();
+    Ok(CurveTopology {
+        vertices,
+        isolated_vertices: nv - vertices,
+        segments: curve.segments.len(),
+        degenerate_segments,
+        duplicate_segments,
+        components,
+        closed_components,
+        open_ends,
+        branch_points,
+        closed: closed_components == components && degenerate_segments == 0,
+    })
+}
+
+/// The topology of a tetrahedral mesh and of its boundary surface.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TetTopology {
+    pub vertices: usize,
+    pub isolated_vertices: usize,
+    pub tets: usize,
+    /// Tetrahedra with a repeated vertex index (left out of the face counts).
+    pub degenerate_tets: usize,
+    pub components: usize,
+    /// Faces in exactly one tetrahedron.
+    pub boundary_faces: usize,
+    /// Faces in exactly two tetrahedra.
+    pub interior_faces: usize,
+    /// Faces in three or more tetrahedra: the mesh is not conforming there.
+    pub nonconforming_faces: usize,
+    /// The boundary is a closed manifold (and the mesh conforming).
+    pub boundary_closed_manifold: bool,
+    pub boundary_euler_characteristic: i64,
+    /// The full report of the boundary surface (outward for positively oriented tets).
+    pub boundary: TopologyReport,
+}
+
+/// Faces opposite each corner, outward for a positively oriented tetrahedron.
+const TET_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+
+pub fn analyze_tets(mesh: &TetMesh) -> Result<TetTopology> {
+    check_tetmesh(mesh)?;
+    let nv = mesh.vertices.len();
+    let mut used = vec![false; nv];
+    let mut uf = UnionFind::new(nv);
+    let mut faces: Vec<([u32; 3], [u32; 3])> = Vec::with_capacity(4 * mesh.tets.len());
+    let mut degenerate_tets = 0;
+    for t in &mesh.tets {
+        for &v in t {
+            used[v as usize] = true;
+        }
+        uf.union(t[0], t[1]);
+        uf.union(t[0], t[2]);
+        uf.union(t[0], t[3]);
+        if (0..4).any(|i| (i + 1..4).any(|j| t[i] == t[j])) {
+            degenerate_tets += 1;
+            continue;
+        }
+        for f in TET_FACES {
+            let tri = f.map(|k| t[k]);
+            let mut key = tri;
+            key.sort_unstable();
+            faces.push((key, tri));
+        }
+    }
+    faces.par_sort_unstable();
+    let (mut boundary_faces, mut interior_faces, mut nonconforming_faces) = (0, 0, 0);
+    let mut btris = Vec::new();
+    let mut i = 0;
+    while i < faces.len() {
+        let mut j = i + 1;
+        while j < faces.len() && faces[j].0 == faces[i].0 {
+            j += 1;
+        }
+        match j - i {
+            1 => {
+                boundary_faces += 1;
+                btris.push(faces[i].1);
+            }
+            2 => interior_faces += 1,
+            _ => nonconforming_faces += 1,
+        }
+        i = j;
+    }
+    let mut surf = TriMesh::new(mesh.vertices.clone(), btris);
+    surf.compact();
+    let boundary = analyze(&surf)?;
+    let components = {
+        let mut roots: Vec<u32> = (0..nv as u32)
+            .filter(|&v| used[v as usize])
+            .map(|v| uf.find(v))
+            .collect();
+        roots.sort_unstable();
+        roots.dedup();
+        roots.len()
+    };
+    let vertices = used.iter().filter(|&&u| u).count();
+    Ok(TetTopology {
+        vertices,
+        isolated_vertices: nv - vertices,
+        tets: mesh.tets.len(),
+        degenerate_tets,
+        components,
+        boundary_faces,
+        interior_faces,
+        nonconforming_faces,
+        boundary_closed_manifold: boundary.closed && boundary.manifold && nonconforming_faces == 0,
+        boundary_euler_characteristic: boundary.euler_characteristic,
+        boundary,
+    })
+}
+
+/// Does a mesh have the expected topology?
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Verdict {
+    pub ok: bool,
+    /// e.g. "1 component, genus [1]".
+    pub expected: String,
+    /// e.g. "2 components, genus [0, 1]".
+    pub found: String,
+    /// Why not, in words ("" when ok).
+    pub reason: String,
+}
+
+fn plural(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+fn genus_list(g: &[usize]) -> String {
+    let items: Vec<String> = g.iter().map(|g| g.to_string()).collect();
+    format!("[{}]", items.join(", "))
+}
+
+fn finish(expected: String, found: String, problems: Vec<String>) -> Verdict {
+    Verdict {
+        ok: problems.is_empty(),
+        expected,
+        found,
+        reason: problems.join("; "),
+    }
+}
+
+/// Compare a surface mesh with the expected topology: the right number of components,
+/// each closed, manifold and orientable, with the expected multiset of genera.
+pub fn verdict(report: &TopologyReport, expected: &Topology) -> Verdict {
+    let mut want: Vec<usize> = expected.genus.to_vec();
+    want.sort_unstable();
+    let exp = format!(
+        "{}, genus {}",
+        plural(expected.components, "component", "components"),
+        genus_list(&want)
+    );
+    let per: Vec<String> = report
+        .component_list
+        .iter()
+        .map(|c| match c.genus {
+            Some(g) if c.closed => g.to_string(),
+            _ if !c.manifold => "non-manifold".into(),
+            _ if !c.orientable => "non-orientable".into(),
+            _ => format!("open ({})", plural(c.boundary_loops, "hole", "holes")),
+        })
+        .collect();
+    let found = format!(
+        "{}, genus [{}]",
+        plural(report.components, "component", "components"),
+        per.join(", ")
+    );
+    let mut p = Vec::new();
+    if report.faces == 0 {
+        p.push("the mesh is empty".to_string());
+    }
+    if report.components != expected.components {
+        p.push(format!(
+            "{} instead of {}",
+            plural(report.components, "component", "components"),
+            expected.components
+        ));
+    }
+    if !report.closed {
+        p.push(format!(
+            "not closed: {} in {}",
+            plural(report.boundary_edges, "boundary edge", "boundary edges"),
+            plural(report.boundary_loops, "loop", "loops")
+        ));
+    }
+    if report.non_manifold_edges > 0 {
+        p.push(plural(
+            report.non_manifold_edges,
+            "non-manifold edge",
+            "non-manifold edges",
+        ));
+    }
+    if report.non_manifold_vertices > 0 {
+        p.push(plural(
+            report.non_manifold_vertices,
+            "non-manifold vertex",
+            "non-manifold vertices",
+        ));
+    }
+    if report.degenerate_faces > 0 {
+        p.push(plural(
+            report.degenerate_faces,
+            "degenerate face",
+            "degenerate faces",
+        ));
+    }
+    if report.duplicate_faces > 0 {
+        p.push(plural(
+            report.duplicate_faces,
+            "duplicate face",
+            "duplicate faces",
+        ));
+    }
+    if !report.orientable {
+        p.push("a component is not orientable".into());
+    }
+    if report.closed && report.manifold && report.orientable && report.genus != want {
+        p.push(format!(
+            "genus {} instead of {}",
+            genus_list(&report.genus),
+            genus_list(&want)
+        ));
+    }
+    finish(exp, found, p)
+}
+
+/// Compare a curve with the expected topology: that many simple closed curves, with no
+/// open ends or branch points.
+pub fn curve_verdict(report: &CurveTopology, expected: &Topology) -> Verdict {
+    let exp = plural(expected.components, "closed curve", "closed curves");
+    let mut found = format!(
+        "{}, {} closed",
+        plural(report.components, "component", "components"),
+        report.closed_components
+    );
+    if report.open_ends > 0 {
+        found += &format!(", {}", plural(report.open_ends, "open end", "open ends"));
+    }
+    if report.branch_points > 0 {
+        found += &format!(
+            ", {}",
+            plural(report.branch_points, "branch point", "branch points")
+        );
+    }
+    let mut p = Vec::new();
+    if report.segments == 0 {
+        p.push("the curve is empty".to_string());
+    }
+    if report.components != expected.components {
+        p.push(format!(
+            "{} instead of {}",
+            plural(report.components, "component", "components"),
+            expected.components
+        ));
+    }
+    if report.open_ends > 0 {
+        p.push(plural(report.open_ends, "open end", "open ends"));
+    }
+    if report.branch_points > 0 {
+        p.push(plural(
+            report.branch_points,
+            "branch point",
+            "branch points",
+        ));
+    }
+    if report.closed_components != report.components && report.open_ends == 0 {
+        p.push("a component is not a simple closed curve".into());
+    }
+    if report.degenerate_segments > 0 {
+        p.push(plural(
+            report.degenerate_segments,
+            "degenerate segment",
+            "degenerate segments",
+        ));
+    }
+    if report.duplicate_segments > 0 {
+        p.push(plural(
+            report.duplicate_segments,
+            "duplicate segment",
+            "duplicate segments",
+        ));
+    }
+    finish(exp, found, p)
+}
+
+/// Compare a volume mesh's boundary with the expected topology of the surface, and
+/// require the volume mesh to be conforming.
+pub fn tet_verdict(report: &TetTopology, expected: &Topology) -> Verdict {
+    let mut v = verdict(&report.boundary, expected);
+    let mut extra = Vec::new();
+    if report.nonconforming_faces > 0 {
+        extra.push(plural(
+            report.nonconforming_faces,
+            "face in 3 or more tetrahedra",
+            "faces in 3 or more tetrahedra",
+        ));
+    }
+    if report.degenerate_tets > 0 {
+        extra.push(plural(
+            report.degenerate_tets,
+            "degenerate tetrahedron",
+            "degenerate tetrahedra",
+        ));
+    }
+    if !extra.is_empty() {
+        v.ok = false;
+        if !v.reason.is_empty() {
+            v.reason += "; ";
+        }
+        v.reason += &extra.join("; ");
+    }
+    v
+}
