@@ -24,4 +24,6 @@ pub mod options;
 pub mod roots;
 pub use options::MesherOptions;
 pub mod algorithms;
+pub mod compare;
+pub mod demo;
 pub mod plot;

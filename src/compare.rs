@@ -1,0 +1,252 @@
+//! The comparison harness: run every (surface, algorithm) pair through the same
+//! interface and judge the outputs side by side — topology verdict against the catalog,
+//! components and genus found, angle range, Hausdorff estimate, time, evaluations and the
+//! certificate.
+use crate::algorithms;
+use crate::catalog::{Entry, Topology};
+use crate::error::Result;
+use crate::geom::Aabb;
+use crate::implicit::Implicit;
+use crate::mesher::{self, Certificate, Mesh, Progress, Run};
+use crate::metrics::{self, FidelityParams};
+use crate::options::MesherOptions;
+use serde::Serialize;
+
+/// One row of the comparison table.
+#[derive(Clone, Debug, Serialize)]
+pub struct Row {
+    pub surface: String,
+    pub algo: String,
+    pub dim: usize,
+    /// Topology verdict against the catalog (`None`: no expected topology, e.g. singular).
+    pub topology_ok: Option<bool>,
+    pub expected: String,
+    pub found: String,
+    pub topology_reason: String,
+    pub components: usize,
+    /// Genus per closed component (surfaces).
+    pub genus: Vec<usize>,
+    pub closed: bool,
+    pub manifold: bool,
+    pub vertices: usize,
+    /// Triangles (surfaces) or segments (curves).
+    pub faces: usize,
+    pub tetrahedra: Option<usize>,
+    pub min_angle_deg: Option<f64>,
+    pub max_angle_deg: Option<f64>,
+    pub hausdorff: Option<f64>,
+    pub seconds: f64,
+    pub evaluations: u64,
+    pub certified: bool,
+    pub certificate: Certificate,
+    /// Set when the mesher failed; the other fields are then empty.
+    pub error: Option<String>,
+}
+
+impl Row {
+    fn failed(surface: &str, algo: &str, dim: usize, e: String) -> Row {
+        Row {
+            surface: surface.into(),
+            algo: algo.into(),
+            dim,
+            topology_ok: None,
+            expected: String::new(),
+            found: String::new(),
+            topology_reason: String::new(),
+            components: 0,
+            genus: vec![],
+            closed: false,
+            manifold: false,
+            vertices: 0,
+            faces: 0,
+            tetrahedra: None,
+            min_angle_deg: None,
+            max_angle_deg: None,
+            hausdorff: None,
+            seconds: 0.0,
+            evaluations: 0,
+            certified: false,
+            certificate: Certificate::none(e.clone()),
+            error: Some(e),
+        }
+    }
+}
+
+/// How much fidelity sampling the harness does (kept modest so a matrix runs fast).
+pub fn fidelity_params(domain: &Aabb, dim: usize) -> FidelityParams {
+    FidelityParams::default()
+        .mesh_samples(20_000)
+        .seed_grid(if dim == 2 { 200 } else { 40 })
+        .domain(*domain)
+}
+
+/// Judge one run against f and the expected topology.
+pub fn evaluate(
+    surface: &str,
+    f: &dyn Implicit,
+    domain: &Aabb,
+    expected: Option<&Topology>,
+    run: &Run,
+) -> Result<Row> {
+    let dim = f.dim();
+    let mut row = Row::failed(surface, &run.algo, dim, String::new());
+    row.error = None;
+    row.seconds = run.seconds;
+    row.evaluations = run.evaluations.total();
+    row.certified = run.output.certificate.is_certified();
+    row.certificate = run.output.certificate.clone();
+    let params = fidelity_params(domain, dim);
+    match &run.output.mesh {
+        Mesh::Curve(c) => {
+            let s = metrics::curve_stats(c, Some(f), &params)?;
+            row.components = s.topology.components;
+            row.closed = s.topology.open_ends == 0;
+            row.manifold = s.topology.branch_points == 0;
+            row.vertices = c.vertices.len();
+            row.faces = c.segments.len();
+            row.hausdorff = s.fidelity.as_ref().map(|x| x.hausdorff);
+            if let Some(t) = expected {
+                let v = metrics::curve_verdict(&s.topology, t);
+                (
+                    row.topology_ok,
+                    row.expected,
+                    row.found,
+                    row.topology_reason,
+                ) = (Some(v.ok), v.expected, v.found, v.reason);
+            } else {
+                row.found = format!("{} components", s.topology.components);
+            }
+        }
+        m => {
+            let surf = m.surface().expect("surface or volume");
+            let s = metrics::stats_with(surf, Some(f), &params)?;
+            row.components = s.components;
+            row.genus = s.genus.clone();
+            row.closed = s.closed;
+            row.manifold = s.manifold;
+            row.vertices = s.vertices;
+            row.faces = s.faces;
+            row.min_angle_deg = s.min_angle_deg;
+            row.max_angle_deg = s.max_angle_deg;
+            row.hausdorff = s.fidelity.as_ref().map(|x| x.hausdorff);
+            if let Mesh::Volume { tets, .. } = m {
+                row.tetrahedra = Some(tets.tets.len());
+            }
+            let report = metrics::analyze(surf)?;
+            if let Some(t) = expected {
+                let v = metrics::verdict(&report, t);
+                (
+                    row.topology_ok,
+                    row.expected,
+                    row.found,
+                    row.topology_reason,
+                ) = (Some(v.ok), v.expected, v.found, v.reason);
+            } else {
+                row.found = format!("{} components, genus {:?}", report.components, report.genus);
+            }
+        }
+    }
+    Ok(row)
+}
+
+/// Run the matrix `entries × algos`. Algorithms that do not handle an entry's dimension
+/// are skipped; a mesher error becomes a row with `error` set (the matrix goes on).
+pub fn compare(
+    entries: &[Entry],
+    algos: &[String],
+    opts: &MesherOptions,
+    progress: &dyn Progress,
+) -> Vec<Row> {
+    compare_with(entries, algos, opts, progress, &mut |_, _| Ok(()))
+}
+
+/// [`compare`], handing every successful run to `on_run` (e.g. to write its mesh).
+pub fn compare_with(
+    entries: &[Entry],
+    algos: &[String],
+    opts: &MesherOptions,
+    progress: &dyn Progress,
+    on_run: &mut dyn FnMut(&Entry, &Run) -> Result<()>,
+) -> Vec<Row> {
+    let mut rows = Vec::new();
+    let jobs: Vec<(&Entry, &String)> = entries
+        .iter()
+        .flat_map(|e| algos.iter().map(move |a| (e, a)))
+        .filter(|(e, a)| {
+            algorithms::list()
+                .iter()
+                .any(|i| i.name == a.as_str() && i.dim == e.dim)
+        })
+        .collect();
+    progress.start("compare", jobs.len() as u64);
+    for (e, a) in jobs {
+        let f = e.function();
+        let row = algorithms::build(a, e.dim, opts)
+            .and_then(|m| mesher::run(m.as_ref(), &f, &e.domain, &mesher::NoProgress))
+            .and_then(|run| {
+                on_run(e, &run)?;
+                evaluate(e.name, &f, &e.domain, e.topology.as_ref(), &run)
+            });
+        rows.push(row.unwrap_or_else(|err| Row::failed(e.name, a, e.dim, err.to_string())));
+        progress.inc(1);
+    }
+    progress.finish();
+    rows
+}
+
+fn fmt_opt(x: Option<f64>, prec: usize) -> String {
+    x.map(|v| format!("{v:.prec$}"))
+        .unwrap_or_else(|| "–".into())
+}
+
+/// The comparison as a markdown table.
+pub fn markdown(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "| surface | algo | topology | found | angles (deg) | Hausdorff | time (s) | evals | certificate |\n|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        if let Some(e) = &r.error {
+            s += &format!(
+                "| {} | {} | error | {} | | | | | |\n",
+                r.surface,
+                r.algo,
+                e.replace('|', "/")
+            );
+            continue;
+        }
+        let verdict = match r.topology_ok {
+            Some(true) => "ok".to_string(),
+            Some(false) => "**WRONG**".to_string(),
+            None => "n/a".to_string(),
+        };
+        let angles = match (r.min_angle_deg, r.max_angle_deg) {
+            (Some(a), Some(b)) => format!("{a:.1}–{b:.1}"),
+            _ => "–".into(),
+        };
+        let cert = match &r.certificate {
+            Certificate::Certified { .. } => "certified".to_string(),
+            Certificate::Uncertified {
+                reason, regions, ..
+            } => {
+                if regions.is_empty() {
+                    format!("uncertified: {reason}")
+                } else {
+                    format!("uncertified ({} regions): {reason}", regions.len())
+                }
+            }
+        };
+        s += &format!(
+            "| {} | {} | {} | {} | {} | {} | {:.3} | {} | {} |\n",
+            r.surface,
+            r.algo,
+            verdict,
+            r.found.replace('|', "/"),
+            angles,
+            fmt_opt(r.hausdorff, 4),
+            r.seconds,
+            r.evaluations,
+            cert.replace('|', "/")
+        );
+    }
+    s
+}

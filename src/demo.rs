@@ -1,0 +1,145 @@
+//! `certmesh demo` (the main job on built-in defaults) and `certmesh reproduce PAPER`.
+use crate::catalog::{self, Entry};
+use crate::compare;
+use crate::error::{Error, Result};
+use crate::mesher::{Mesh, Progress, Run};
+use crate::options::MesherOptions;
+use crate::{algorithms, io, metrics, plot};
+use std::path::Path;
+
+/// The demo's surfaces and curves.
+fn demo_entries(quick: bool) -> Vec<Entry> {
+    let names: &[&str] = if quick {
+        &[
+            "sphere",
+            "torus",
+            "two-spheres",
+            "thin-torus",
+            "circle",
+            "protrusion",
+            "near-touching",
+        ]
+    } else {
+        &[
+            "sphere",
+            "torus",
+            "genus2",
+            "tanglecube",
+            "two-spheres",
+            "thin-torus",
+            "paraboloid-cap",
+            "double-cone",
+            "blob",
+            "circle",
+            "cassini-2",
+            "protrusion",
+            "near-touching",
+            "lemniscate",
+        ]
+    };
+    names
+        .iter()
+        .map(|n| catalog::get(n).expect("demo entries are in the catalog"))
+        .collect()
+}
+
+/// Mesh the demo entries with every registered algorithm, print the comparison table,
+/// and write meshes, the table (markdown and JSON) and angle histograms into `out`.
+pub fn run(out: &Path, quick: bool, json: bool, progress: &dyn Progress) -> Result<()> {
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let mesh_dir = out.join("meshes");
+    std::fs::create_dir_all(&mesh_dir).map_err(|e| Error::io(&mesh_dir, e))?;
+    let entries = demo_entries(quick);
+    let mut algos: Vec<String> = Vec::new();
+    for i in algorithms::list() {
+        if !algos.iter().any(|a| a == i.name) {
+            algos.push(i.name.to_string());
+        }
+    }
+    let opts = MesherOptions {
+        resolution: Some(if quick { 32 } else { 64 }),
+        ..Default::default()
+    };
+    // Angles of every surface run, per algorithm, for the histograms.
+    let mut angles: std::collections::BTreeMap<String, Vec<f64>> = Default::default();
+    let mut write = |e: &Entry, r: &Run| -> Result<()> {
+        let base = mesh_dir.join(format!("{}-{}", e.name, r.algo));
+        match &r.output.mesh {
+            Mesh::Surface(m) => {
+                io::write_tri(base.with_extension("obj"), m)?;
+                angles.entry(r.algo.clone()).or_default().extend(
+                    metrics::angles::per_triangle(m)
+                        .into_iter()
+                        .flatten()
+                        .flatten(),
+                );
+            }
+            Mesh::Volume { tets, boundary } => {
+                io::write_tet(base.with_extension("vtk"), tets)?;
+                io::write_tri(base.with_extension("obj"), boundary)?;
+                angles.entry(r.algo.clone()).or_default().extend(
+                    metrics::angles::per_triangle(boundary)
+                        .into_iter()
+                        .flatten()
+                        .flatten(),
+                );
+            }
+            Mesh::Curve(c) => io::write_curve(base.with_extension("svg"), c)?,
+        }
+        Ok(())
+    };
+    let rows = compare::compare_with(&entries, &algos, &opts, progress, &mut write);
+    let table = compare::markdown(&rows);
+    let md = out.join("compare.md");
+    std::fs::write(&md, &table).map_err(|e| Error::io(&md, e))?;
+    let js = out.join("compare.json");
+    std::fs::write(
+        &js,
+        serde_json::to_string_pretty(&rows).expect("rows serialize"),
+    )
+    .map_err(|e| Error::io(&js, e))?;
+    for (algo, a) in &angles {
+        plot::histogram(
+            &out.join(format!("angles-{algo}")),
+            &format!("triangle angles, {algo} (all demo surfaces)"),
+            "angle (degrees)",
+            "density",
+            &plot::bin(a.iter().copied(), 2.0, true),
+            &[],
+            1.0,
+        )?;
+    }
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&rows).expect("rows serialize")
+        );
+    } else {
+        print!("{table}");
+        let wrong = rows.iter().filter(|r| r.topology_ok == Some(false)).count();
+        let cert = rows.iter().filter(|r| r.certified).count();
+        println!(
+            "\n{} runs: {} with the wrong topology, {} certified. Meshes, compare.md/json and angle histograms in {}",
+            rows.len(),
+            wrong,
+            cert,
+            out.display()
+        );
+    }
+    Ok(())
+}
+
+/// The papers `certmesh reproduce` knows.
+pub const PAPERS: &[&str] = &[];
+
+/// Regenerate a paper's reproduction folder.
+pub fn reproduce(paper: &str, out: Option<&Path>, quick: bool) -> Result<()> {
+    let default = Path::new("papers").join(paper);
+    let out = out.unwrap_or(&default);
+    let _ = (out, quick);
+    Err(Error::Unknown {
+        kind: "paper",
+        name: paper.to_string(),
+        known: PAPERS.join(" "),
+    })
+}
