@@ -46,6 +46,7 @@ enum Cmd {
     /// Examples:
     ///   certmesh mesh torus --algo mc --resolution 64 -o torus.obj
     ///   certmesh mesh --formula "x^4 + y^4 + z^4 - 1" --domain -1.5,-1.5,-1.5,1.5,1.5,1.5 --algo mc -o s.ply --json
+    #[command(verbatim_doc_comment)]
     Mesh(MeshArgs),
     /// Mesh a curve f(x, y) = 0 and write it as SVG or CSV.
     ///
