@@ -1,0 +1,153 @@
+//! The command line as a user meets it: clear errors with positions, JSON fields.
+use std::process::Command;
+
+fn certmesh(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_certmesh"))
+        .args(args)
+        .output()
+        .expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+#[test]
+fn formula_errors_give_the_column_and_exit_2() {
+    let (code, _, err) = certmesh(&[
+        "mesh",
+        "--formula",
+        "x^2 + * y",
+        "--domain",
+        "-1,-1,-1,1,1,1",
+        "--algo",
+        "mc",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("unexpected '*' at column 7"), "{err}");
+}
+
+#[test]
+fn unknown_names_list_the_known_ones() {
+    let (code, _, err) = certmesh(&["mesh", "no-such-surface", "--algo", "mc"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("unknown catalog entry 'no-such-surface'") && err.contains("tanglecube"),
+        "{err}"
+    );
+    let (code, _, err) = certmesh(&["mesh", "sphere", "--algo", "no-such-algo"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no-such-algo"), "{err}");
+}
+
+#[test]
+fn bad_domains_are_rejected() {
+    let (code, _, err) = certmesh(&["mesh", "--formula", "x", "--algo", "mc"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--domain"), "{err}");
+    let (code, _, err) = certmesh(&[
+        "mesh",
+        "--formula",
+        "x",
+        "--domain",
+        "1,1,1,0,0,0",
+        "--algo",
+        "mc",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("inverted"), "{err}");
+    let (code, _, err) = certmesh(&[
+        "mesh",
+        "--formula",
+        "x",
+        "--domain",
+        "0,0,0,inf,1,1",
+        "--algo",
+        "mc",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("not finite"), "{err}");
+}
+
+#[test]
+fn surfaces_json_lists_the_whole_catalog() {
+    let (code, out, _) = certmesh(&["surfaces", "--json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let names: Vec<&str> = v
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["name"].as_str().unwrap())
+        .collect();
+    for n in [
+        "sphere",
+        "ellipsoid",
+        "torus",
+        "genus2",
+        "genus5",
+        "tanglecube",
+        "two-spheres",
+        "thin-torus",
+        "paraboloid-cap",
+        "double-cone",
+        "blob",
+    ] {
+        assert!(names.contains(&n), "{n} missing");
+    }
+    for n in [
+        "circle",
+        "ellipse",
+        "cassini-1",
+        "cassini-2",
+        "protrusion",
+        "near-touching",
+        "lemniscate",
+    ] {
+        assert!(names.contains(&n), "{n} missing");
+    }
+}
+
+#[test]
+fn stats_json_on_a_real_mesh() {
+    let (code, out, err) = certmesh(&["stats", "../shared/data/spot.obj", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for k in [
+        "vertices",
+        "faces",
+        "euler_characteristic",
+        "components",
+        "closed",
+        "manifold",
+        "min_angle_deg",
+        "max_angle_deg",
+    ] {
+        assert!(v.get(k).is_some(), "{k} missing");
+    }
+    assert_eq!(v["euler_characteristic"], 2);
+    assert_eq!(v["closed"], true);
+}
+
+#[test]
+fn stats_reports_the_bunny_scan_defects() {
+    let (code, out, err) = certmesh(&["stats", "../shared/data/stanford-bunny.obj", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["faces"], 69451);
+    assert_eq!(v["closed"], false);
+    assert!(v["isolated_vertices"].as_u64().unwrap() > 0);
+    assert!(v["boundary_loops"].as_u64().unwrap() > 0);
+}
+
+#[test]
+fn malformed_mesh_files_name_the_line() {
+    let dir = std::env::temp_dir().join(format!("certmesh-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("bad.obj");
+    std::fs::write(&p, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").unwrap();
+    let (code, _, err) = certmesh(&["stats", p.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("line 4"), "{err}");
+}
