@@ -70,28 +70,29 @@ fn corner(line: usize, tok: &str, nv: usize) -> Result<u32> {
             format!("expected a vertex index, found '{}'", text::clip(tok)),
         )
     })?;
-    let zero_based =
-        if i > 0 {
-            (i - 1) as u64 as usize
-        } else if i < 0 {
-            // -1 is the last vertex defined so far.
-            match usize::try_from(i.unsigned_abs()) {
-                Ok(back) if back <= nv => nv - back,
-                _ => return Err(fmt_err(
+    let zero_based = if i > 0 {
+        (i - 1) as u64 as usize
+    } else if i < 0 {
+        // -1 is the last vertex defined so far.
+        match usize::try_from(i.unsigned_abs()) {
+            Ok(back) if back <= nv => nv - back,
+            _ => {
+                return Err(fmt_err(
                     FORMAT,
                     line,
                     format!(
                         "relative vertex index {i} reaches before the first vertex ({nv} defined)"
                     ),
-                )),
+                ))
             }
-        } else {
-            return Err(fmt_err(
-                FORMAT,
-                line,
-                "vertex index 0 (OBJ indices start at 1)",
-            ));
-        };
+        }
+    } else {
+        return Err(fmt_err(
+            FORMAT,
+            line,
+            "vertex index 0 (OBJ indices start at 1)",
+        ));
+    };
     if zero_based >= nv {
         return Err(fmt_err(
             FORMAT,

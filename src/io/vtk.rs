@@ -209,13 +209,15 @@ pub fn parse(data: &[u8]) -> Result<TetMesh> {
                         // Vertices, lines, polylines, triangles, strips, polygons, pixels,
                         // quads and their quadratic versions: boundary decoration.
                         1..=9 | 21 | 22 | 23 | 28 | 30 => {}
-                        _ => return Err(fmt_err(
-                            FORMAT,
-                            l,
-                            format!(
+                        _ => {
+                            return Err(fmt_err(
+                                FORMAT,
+                                l,
+                                format!(
                                 "unsupported cell type {ty} (only tetrahedra, type 10, are read)"
                             ),
-                        )),
+                            ))
+                        }
                     }
                 }
                 break;
