@@ -343,3 +343,37 @@ proptest! {
         check_formula(&String::from_utf8_lossy(&d));
     }
 }
+
+#[test]
+fn fuzz_seed_corpus_is_valid() {
+    // The seed corpus of the cargo-fuzz targets (fuzz/seeds/<target>/) must be valid
+    // input, so that fuzzing starts from files that reach deep into each reader.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds");
+    let mut n = 0;
+    for target in ["formula", "obj", "off", "ply", "stl", "vtk", "medit", "csv"] {
+        let files = std::fs::read_dir(dir.join(target)).unwrap();
+        for f in files {
+            let path = f.unwrap().path();
+            let d = std::fs::read(&path).unwrap();
+            let ok = match target {
+                "formula" => {
+                    let s = std::str::from_utf8(&d).unwrap();
+                    certmesh::implicit::parse(s, 3).is_ok()
+                        || certmesh::implicit::parse(s, 2).is_ok()
+                }
+                "obj" => obj::parse(&d).is_ok_and(|m| !m.triangles.is_empty()),
+                "off" => off::parse(&d).is_ok_and(|m| !m.triangles.is_empty()),
+                "ply" => ply::parse(&d).is_ok_and(|m| !m.triangles.is_empty()),
+                "stl" => {
+                    stl::parse(&d).is_ok_and(|m| m.triangles.len() == 4 && m.vertices.len() == 4)
+                }
+                "vtk" => vtk::parse(&d).is_ok_and(|m| m.tets.len() == 1),
+                "medit" => medit::parse(&d).is_ok_and(|m| m.mesh.tets.len() == 1),
+                _ => csv::parse(&d).is_ok_and(|c| c.segments.len() == 4),
+            };
+            assert!(ok, "{} is not a valid seed", path.display());
+            n += 1;
+        }
+    }
+    assert!(n >= 20);
+}
