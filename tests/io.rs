@@ -333,6 +333,12 @@ fn every_reader_locates_errors() {
         (rd_stl, &[0u8; 90], "STL", 0),
         (rd_vtk, b"# vtk DataFile Version 2.0\n\nASCII\nDATASET POLYDATA\n", "VTK", 4),
         (rd_vtk, b"# vtk DataFile Version 2.0\n\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 2 double\n0 0 0 1 1\n", "VTK", 7),
+        (
+            rd_vtk,
+            b"# vtk DataFile Version 2.0\n\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 999999999999999999 double\n0 0 0\n",
+            "VTK",
+            7,
+        ),
         (rd_medit, b"MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 0 0\nTetrahedra\n1\n1 1 1 2 0\n", "MEDIT", 8),
         (rd_medit, b"MeshVersionFormatted 2\nDimension 3\nVertices\n1000000000000000\n0 0 0 0\n", "MEDIT", 6),
         (rd_csv, b"polyline,closed,vertex,x,y\n0,true,1,0,0\n0,true,1,0,1\n", "CSV", 3),
