@@ -221,7 +221,13 @@ proptest! {
     #[test]
     fn svg_draws_every_polyline_flipped(c in curve()) {
         let mut buf = Vec::new();
-        svg::write(&mut buf, &c).unwrap();
+        // Coordinates near the double range may leave no room for the viewBox: such a
+        // curve is refused with an error, never written with "inf" in it.
+        let extreme = c.vertices.iter().flatten().any(|x| x.abs() > f64::MAX / 4.0);
+        match svg::write(&mut buf, &c) {
+            Err(Error::Param(_)) if extreme => return Ok(()),
+            r => r.unwrap(),
+        }
         let s = String::from_utf8(buf).unwrap();
         let lines = c.polylines();
         let drawn: Vec<&str> = s.lines().filter(|l| l.starts_with("<polyline") || l.starts_with("<polygon")).collect();
@@ -242,7 +248,8 @@ proptest! {
                 prop_assert_eq!(p[0].to_bits(), v[0].to_bits());
                 prop_assert_eq!(p[1].to_bits(), (-v[1]).to_bits());
                 // Inside the viewBox (up to rounding of its huge-coordinate corners).
-                let tol = 1e-9 * (vb[2].abs() + vb[3].abs() + vb[0].abs() + vb[1].abs());
+                let tol = 1e-9 * vb.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                prop_assert!(tol.is_finite());
                 prop_assert!(p[0] >= vb[0] - tol && p[0] <= vb[0] + vb[2] + tol);
                 prop_assert!(p[1] >= vb[1] - tol && p[1] <= vb[1] + vb[3] + tol);
             }
