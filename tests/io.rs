@@ -181,6 +181,15 @@ proptest! {
     }
 
     #[test]
+    fn vtk_surface_round_trip(m in trimesh()) {
+        let mut buf = Vec::new();
+        vtk::write_surface(&mut buf, &m).unwrap();
+        let r = vtk::read_cells(&buf[..]).unwrap();
+        prop_assert!(r.mesh.tets.is_empty());
+        assert_same(&r.surface(), &m);
+    }
+
+    #[test]
     fn medit_round_trip(m in tetmesh()) {
         let mut buf = Vec::new();
         medit::write(&mut buf, &m, true).unwrap();
@@ -433,7 +442,7 @@ fn real_meshes_load_with_the_right_counts() {
 #[test]
 fn spot_survives_every_triangle_format() {
     let m = io::read_tri(data("spot.obj")).unwrap();
-    for ext in ["obj", "OFF", "ply", "mesh"] {
+    for ext in ["obj", "OFF", "ply", "vtk", "mesh"] {
         let p = tmp(&format!("spot.{ext}"));
         io::write_tri(&p, &m).unwrap();
         assert_same(&io::read_tri(&p).unwrap(), &m);
