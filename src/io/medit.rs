@@ -6,7 +6,7 @@
 //! sections `Edges Quadrilaterals Corners Ridges Required* Normals Tangents
 //! NormalAtVertices TangentAtVertices` are skipped, but `Hexahedra` and `Prisms` are an
 //! error (dropping volume cells would silently change the mesh). Only `Dimension 3`.
-//! Writing: references are 0; [`write`] adds the boundary triangles of the tetrahedra
+//! Writing: references are 0; [`write()`] adds the boundary triangles of the tetrahedra
 //! (outward, in the tetrahedral mesh's own vertex numbering) when asked.
 use super::text::{self, fmt_err, io_err, Lines, Tokens};
 use super::CellFile;
