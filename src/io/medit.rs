@@ -6,41 +6,26 @@
 //! sections `Edges Quadrilaterals Corners Ridges Required* Normals Tangents
 //! NormalAtVertices TangentAtVertices` are skipped, but `Hexahedra` and `Prisms` are an
 //! error (dropping volume cells would silently change the mesh). Only `Dimension 3`.
-//! Writing: references are 0; [`write`] adds the boundary triangles of the tetrahedra
+//! Writing: references are 0; [`write()`] adds the boundary triangles of the tetrahedra
 //! (outward, in the tetrahedral mesh's own vertex numbering) when asked.
 use super::text::{self, fmt_err, io_err, Lines, Tokens};
+use super::CellFile;
 use crate::error::Result;
 use crate::mesh::{TetMesh, TriMesh};
 use std::io::{BufRead, Write};
 
 const FORMAT: &str = "MEDIT";
 
-/// The contents of a `.mesh` file: the tetrahedral mesh and the triangles listed with it
-/// (indices into the same vertices).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Medit {
-    pub mesh: TetMesh,
-    pub triangles: Vec<[u32; 3]>,
-}
-
-impl Medit {
-    /// The triangles as a triangle mesh over all the file's vertices (not compacted, so
-    /// a surface-only file reads back exactly as written by [`write_surface`]).
-    pub fn surface(&self) -> TriMesh {
-        TriMesh::new(self.mesh.vertices.clone(), self.triangles.clone())
-    }
-}
-
 /// Read a `.mesh` file.
-pub fn read(r: impl BufRead) -> Result<Medit> {
+pub fn read(r: impl BufRead) -> Result<CellFile> {
     let data = super::slurp(r)?;
     parse(&data)
 }
 
 /// Parse a `.mesh` file held in memory.
-pub fn parse(data: &[u8]) -> Result<Medit> {
+pub fn parse(data: &[u8]) -> Result<CellFile> {
     let mut t = Tokens::new(Lines::new(FORMAT, data), Some(b'#'));
-    let mut out = Medit::default();
+    let mut out = CellFile::default();
     let mut have_vertices = false;
     while let Some((n, key)) = t.next()? {
         // Sections skipped with their number of values per item.

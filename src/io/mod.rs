@@ -38,6 +38,22 @@ pub mod vtk;
 
 mod text;
 
+/// The cells of a volume-mesh file (`.mesh`, `.vtk`): the tetrahedral mesh and the
+/// triangles listed with it (e.g. its boundary), indices into the same vertices.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CellFile {
+    pub mesh: TetMesh,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl CellFile {
+    /// The triangles as a triangle mesh over all the file's vertices (not compacted, so
+    /// a surface-only file reads back exactly as written).
+    pub fn surface(&self) -> TriMesh {
+        TriMesh::new(self.mesh.vertices.clone(), self.triangles.clone())
+    }
+}
+
 /// A file format, as chosen by a file's extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Format {
@@ -49,9 +65,10 @@ pub enum Format {
     Ply,
     /// STL (`.stl`), ascii or binary: triangle soups (vertices merged on reading).
     Stl,
-    /// Legacy VTK unstructured grid (`.vtk`): tetrahedral meshes.
+    /// Legacy VTK unstructured grid (`.vtk`): tetrahedral meshes (and triangle meshes).
     Vtk,
-    /// MEDIT / Gamma `.mesh`: tetrahedral meshes (and their boundary triangles).
+    /// MEDIT / Gamma `.mesh`: tetrahedral meshes (and their boundary triangles, or
+    /// triangle meshes).
     Medit,
     /// SVG (`.svg`): planar curves (writer only).
     Svg,
@@ -126,7 +143,7 @@ impl Format {
     pub fn holds_triangles(self) -> bool {
         matches!(
             self,
-            Format::Obj | Format::Off | Format::Ply | Format::Stl | Format::Medit
+            Format::Obj | Format::Off | Format::Ply | Format::Stl | Format::Vtk | Format::Medit
         )
     }
 
@@ -169,8 +186,8 @@ fn with_file(
         })
 }
 
-/// Read a triangle mesh; the format is chosen by the extension (`obj off ply stl mesh`;
-/// for `.mesh` the file's `Triangles` section).
+/// Read a triangle mesh; the format is chosen by the extension (`obj off ply stl vtk
+/// mesh`; for `.vtk` and `.mesh` the file's triangles, over all its vertices).
 pub fn read_tri(path: impl AsRef<Path>) -> Result<TriMesh> {
     let path = path.as_ref();
     let f = Format::from_path(path)?;
@@ -178,7 +195,7 @@ pub fn read_tri(path: impl AsRef<Path>) -> Result<TriMesh> {
         return Err(wrong_kind(
             "triangle mesh format",
             f,
-            "obj, off, ply, stl, mesh",
+            "obj, off, ply, stl, vtk, mesh",
         ));
     }
     let data = read_file(path)?;
@@ -188,11 +205,13 @@ pub fn read_tri(path: impl AsRef<Path>) -> Result<TriMesh> {
         Format::Off => off::read(r),
         Format::Ply => ply::read(r),
         Format::Stl => stl::read(r),
+        Format::Vtk => vtk::read_cells(r).map(|m| m.surface()),
         _ => medit::read(r).map(|m| m.surface()),
     }
 }
 
-/// Write a triangle mesh; the format is chosen by the extension (`obj off ply stl mesh`).
+/// Write a triangle mesh; the format is chosen by the extension (`obj off ply stl vtk
+/// mesh`).
 /// `.ply` is binary little-endian, `.stl` is binary (float32).
 pub fn write_tri(path: impl AsRef<Path>, mesh: &TriMesh) -> Result<()> {
     let path = path.as_ref();
@@ -201,7 +220,7 @@ pub fn write_tri(path: impl AsRef<Path>, mesh: &TriMesh) -> Result<()> {
         return Err(wrong_kind(
             "triangle mesh format",
             f,
-            "obj, off, ply, stl, mesh",
+            "obj, off, ply, stl, vtk, mesh",
         ));
     }
     with_file(path, |w| match f {
@@ -209,6 +228,7 @@ pub fn write_tri(path: impl AsRef<Path>, mesh: &TriMesh) -> Result<()> {
         Format::Off => off::write(w, mesh),
         Format::Ply => ply::write(w, mesh, ply::PlyEncoding::BinaryLittleEndian),
         Format::Stl => stl::write(w, mesh, stl::StlEncoding::Binary),
+        Format::Vtk => vtk::write_surface(w, mesh),
         _ => medit::write_surface(w, mesh),
     })
 }

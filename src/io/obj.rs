@@ -2,7 +2,8 @@
 //!
 //! Reading: face corners may be `i`, `i/t`, `i/t/n` or `i//n` (texture and normal
 //! indices are ignored), indices are 1-based and negative indices count back from the
-//! last vertex defined so far (`-1` is the latest). Polygons are fan-triangulated
+//! last vertex defined so far (`-1` is the latest); positive indices may refer to vertices
+//! defined later in the file. Polygons are fan-triangulated
 //! (`a b c d` -> `a b c`, `a c d`), which is exact for the convex planar faces exporters
 //! write. Other statements (`vt vn vp g o s usemtl mtllib l p`, comments) are ignored.
 //! Extra vertex values (a `w` weight or per-vertex colours) are ignored. Vertices no face
@@ -25,6 +26,8 @@ pub fn parse(data: &[u8]) -> Result<TriMesh> {
     let mut lines = Lines::new(FORMAT, data);
     let mut mesh = TriMesh::default();
     let mut poly: Vec<u32> = Vec::new();
+    // Corners referring to vertices not yet defined: (line, 0-based index).
+    let mut forward: Vec<(usize, u32)> = Vec::new();
     while let Some((n, line)) = lines.next_content(Some(b'#'))? {
         let mut toks = line.split_ascii_whitespace();
         match toks.next() {
@@ -41,7 +44,11 @@ pub fn parse(data: &[u8]) -> Result<TriMesh> {
             Some("f") => {
                 poly.clear();
                 for t in toks {
-                    poly.push(corner(n, t, mesh.vertices.len())?);
+                    let i = corner(n, t, mesh.vertices.len())?;
+                    if i as usize >= mesh.vertices.len() {
+                        forward.push((n, i));
+                    }
+                    poly.push(i);
                 }
                 if poly.len() < 3 {
                     return Err(fmt_err(
@@ -57,10 +64,22 @@ pub fn parse(data: &[u8]) -> Result<TriMesh> {
             _ => {}
         }
     }
+    let nv = mesh.vertices.len();
+    if let Some(&(n, i)) = forward.iter().find(|(_, i)| *i as usize >= nv) {
+        return Err(fmt_err(
+            FORMAT,
+            n,
+            format!(
+                "vertex index {} out of range: the file has {nv} vertices",
+                i as u64 + 1
+            ),
+        ));
+    }
     Ok(mesh)
 }
 
-/// The 0-based vertex index of a face corner `i[/t[/n]]` when `nv` vertices are defined.
+/// The 0-based vertex index of a face corner `i[/t[/n]]` when `nv` vertices are defined
+/// so far.
 fn corner(line: usize, tok: &str, nv: usize) -> Result<u32> {
     let head = tok.split('/').next().unwrap_or("");
     let i: i64 = head.parse().map_err(|_| {
@@ -93,14 +112,15 @@ fn corner(line: usize, tok: &str, nv: usize) -> Result<u32> {
             "vertex index 0 (OBJ indices start at 1)",
         ));
     };
-    if zero_based >= nv {
-        return Err(fmt_err(
+    // A positive index may refer to a vertex defined later in the file (checked at the
+    // end, against the final count).
+    u32::try_from(zero_based).map_err(|_| {
+        fmt_err(
             FORMAT,
             line,
-            format!("vertex index {i} out of range: {nv} vertices defined so far"),
-        ));
-    }
-    text::index(FORMAT, line, zero_based, nv)
+            format!("vertex index {i} exceeds the 32-bit index range"),
+        )
+    })
 }
 
 /// Write an OBJ file: `v` lines (shortest round-trip floats), then 1-based `f` lines.
@@ -144,6 +164,13 @@ mod tests {
         let m = parse(src.as_bytes()).unwrap();
         assert_eq!(m.vertices.len(), 4);
         assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+        // Forward references are resolved at the end of the file.
+        let m = parse(b"f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
+        assert_eq!(m.triangles, vec![[0, 1, 2]]);
+        assert_eq!(
+            line_of(parse(b"v 0 0 0\nf 1 2 3\nf 1 2 9\nv 1 0 0\nv 0 1 0\n").unwrap_err()),
+            3
+        );
     }
 
     #[test]

@@ -7,7 +7,7 @@
 //! whatever the scale (`vector-effect="non-scaling-stroke"`); the larger side of the
 //! picture is 800 px.
 use super::text::{self, io_err};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::mesh::Curve2;
 use std::io::Write;
 
@@ -37,6 +37,12 @@ pub fn write(mut w: impl Write, curve: &Curve2) -> Result<()> {
     let (x0, y0) = (lo[0] - m, -hi[1] - m);
     wd = wd.max(0.0) + 2.0 * m;
     ht = ht.max(0.0) + 2.0 * m;
+    if ![x0, y0, wd, ht].iter().all(|v| v.is_finite()) {
+        return Err(Error::Param(format!(
+            "the curve's extent [{}, {}] x [{}, {}] overflows a double: cannot make an SVG viewBox",
+            lo[0], hi[0], lo[1], hi[1]
+        )));
+    }
     let (pw, ph) = if wd >= ht {
         (800.0, (800.0 * ht / wd).max(1.0))
     } else {

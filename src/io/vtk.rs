@@ -1,28 +1,40 @@
-//! Legacy VTK, ASCII `UNSTRUCTURED_GRID` of linear tetrahedra (cell type 10), which
-//! ParaView and meshio read. VTK's tetrahedron orientation (points 0 1 2 counter-clockwise
+//! Legacy VTK, ASCII `UNSTRUCTURED_GRID` of linear tetrahedra (cell type 10) and
+//! triangles (cell type 5), which ParaView and meshio read. VTK's tetrahedron orientation (points 0 1 2 counter-clockwise
 //! seen from point 3) is certmesh's positive volume, so cells are written unchanged.
 //!
 //! Reading accepts the classic `CELLS m size` layout (`4 a b c d` per cell) and the 5.1
-//! layout (`OFFSETS` / `CONNECTIVITY` arrays). Lower-dimensional cells (vertices, lines,
-//! triangles, quads, ...) are skipped; other volume cells (hexahedra, wedges, quadratic
+//! layout (`OFFSETS` / `CONNECTIVITY` arrays). Triangles are kept ([`parse_cells`]);
+//! other lower-dimensional cells (vertices, lines, quads, ...) are skipped; other volume cells (hexahedra, wedges, quadratic
 //! tetrahedra, ...) are an error rather than being dropped silently. Sections after
 //! `CELL_TYPES` (point and cell data) are ignored. BINARY files are not supported.
 use super::text::{self, fmt_err, io_err, Lines, Tokens};
+use super::CellFile;
 use crate::error::Result;
-use crate::mesh::TetMesh;
+use crate::mesh::{TetMesh, TriMesh};
 use std::io::{BufRead, Write};
 
 const FORMAT: &str = "VTK";
 const TETRA: usize = 10;
+const TRIANGLE: usize = 5;
 
-/// Read a legacy VTK tetrahedral mesh.
+/// Read a legacy VTK tetrahedral mesh (its triangles are dropped).
 pub fn read(r: impl BufRead) -> Result<TetMesh> {
-    let data = super::slurp(r)?;
-    parse(&data)
+    read_cells(r).map(|c| c.mesh)
 }
 
-/// Parse a legacy VTK tetrahedral mesh held in memory.
+/// Parse a legacy VTK tetrahedral mesh held in memory (its triangles are dropped).
 pub fn parse(data: &[u8]) -> Result<TetMesh> {
+    parse_cells(data).map(|c| c.mesh)
+}
+
+/// Read a legacy VTK file's tetrahedra and triangles.
+pub fn read_cells(r: impl BufRead) -> Result<CellFile> {
+    let data = super::slurp(r)?;
+    parse_cells(&data)
+}
+
+/// Parse a legacy VTK file's tetrahedra and triangles held in memory.
+pub fn parse_cells(data: &[u8]) -> Result<CellFile> {
     let mut lines = Lines::new(FORMAT, data);
     let (n, l) = lines
         .next_raw()
@@ -60,6 +72,7 @@ pub fn parse(data: &[u8]) -> Result<TetMesh> {
     let mut cells: Option<Vec<(usize, usize, usize)>> = None;
     let mut conn: Vec<usize> = Vec::new();
     let mut tets = Vec::new();
+    let mut triangles = Vec::new();
     loop {
         let (n, key) = t.expect("a section: POINTS, CELLS or CELL_TYPES")?;
         match key {
@@ -199,22 +212,25 @@ pub fn parse(data: &[u8]) -> Result<TetMesh> {
                     let (l, ty) = t.usize("a cell type")?;
                     match ty {
                         TETRA if k == 4 => tets.push([0, 1, 2, 3].map(|j| conn[first + j] as u32)),
-                        TETRA => {
+                        TRIANGLE if k == 3 => {
+                            triangles.push([0, 1, 2].map(|j| conn[first + j] as u32))
+                        }
+                        TETRA | TRIANGLE => {
                             return Err(fmt_err(
                                 FORMAT,
                                 cl,
-                                format!("a tetrahedron with {k} points"),
+                                format!("a cell of type {ty} with {k} points"),
                             ))
                         }
-                        // Vertices, lines, polylines, triangles, strips, polygons, pixels,
-                        // quads and their quadratic versions: boundary decoration.
-                        1..=9 | 21 | 22 | 23 | 28 | 30 => {}
+                        // Vertices, lines, polylines, strips, polygons, pixels, quads and
+                        // quadratic versions: decoration of the mesh, skipped.
+                        1..=4 | 6..=9 | 21 | 22 | 23 | 28 | 30 => {}
                         _ => {
                             return Err(fmt_err(
                                 FORMAT,
                                 l,
                                 format!(
-                                "unsupported cell type {ty} (only tetrahedra, type 10, are read)"
+                                "unsupported cell type {ty} (only tetrahedra, type 10, and triangles, type 5, are read)"
                             ),
                             ))
                         }
@@ -234,33 +250,62 @@ pub fn parse(data: &[u8]) -> Result<TetMesh> {
             }
         }
     }
-    Ok(TetMesh {
-        vertices: vertices.unwrap_or_default(),
-        tets,
+    Ok(CellFile {
+        mesh: TetMesh {
+            vertices: vertices.unwrap_or_default(),
+            tets,
+        },
+        triangles,
     })
 }
 
 /// Write a legacy VTK ASCII unstructured grid of tetrahedra (shortest round-trip floats).
 pub fn write(mut w: impl Write, mesh: &TetMesh) -> Result<()> {
     super::check_tet(mesh)?;
-    let m = mesh.tets.len();
+    write_cells(&mut w, &mesh.vertices, &mesh.tets, TETRA, "tetrahedral")
+}
+
+/// Write a triangle mesh as a legacy VTK unstructured grid of triangles (type 5).
+pub fn write_surface(mut w: impl Write, mesh: &TriMesh) -> Result<()> {
+    super::check_tri(mesh)?;
+    write_cells(
+        &mut w,
+        &mesh.vertices,
+        &mesh.triangles,
+        TRIANGLE,
+        "triangle",
+    )
+}
+
+fn write_cells<const K: usize>(
+    w: &mut impl Write,
+    vertices: &[[f64; 3]],
+    cells: &[[u32; K]],
+    ty: usize,
+    what: &str,
+) -> Result<()> {
+    let m = cells.len();
     write!(
         w,
-        "# vtk DataFile Version 3.0\ncertmesh tetrahedral mesh\nASCII\nDATASET UNSTRUCTURED_GRID\n\
+        "# vtk DataFile Version 3.0\ncertmesh {what} mesh\nASCII\nDATASET UNSTRUCTURED_GRID\n\
          POINTS {} double\n",
-        mesh.vertices.len()
+        vertices.len()
     )
     .map_err(io_err)?;
-    for v in &mesh.vertices {
+    for v in vertices {
         writeln!(w, "{} {} {}", text::f(v[0]), text::f(v[1]), text::f(v[2])).map_err(io_err)?;
     }
-    writeln!(w, "CELLS {m} {}", 5 * m).map_err(io_err)?;
-    for t in &mesh.tets {
-        writeln!(w, "4 {} {} {} {}", t[0], t[1], t[2], t[3]).map_err(io_err)?;
+    writeln!(w, "CELLS {m} {}", (K + 1) * m).map_err(io_err)?;
+    for c in cells {
+        write!(w, "{K}").map_err(io_err)?;
+        for i in c {
+            write!(w, " {i}").map_err(io_err)?;
+        }
+        writeln!(w).map_err(io_err)?;
     }
     writeln!(w, "CELL_TYPES {m}").map_err(io_err)?;
     for _ in 0..m {
-        writeln!(w, "{TETRA}").map_err(io_err)?;
+        writeln!(w, "{ty}").map_err(io_err)?;
     }
     w.flush().map_err(io_err)
 }
@@ -279,6 +324,10 @@ mod tests {
             format!("{HEAD}CELLS 2 9\n4 0 1 2 3\n3 0 1 2\nCELL_TYPES 2\n10\n5\nPOINT_DATA 4\n");
         let m = parse(classic.as_bytes()).unwrap();
         assert_eq!(m.tets, vec![[0, 1, 2, 3]]);
+        assert_eq!(
+            parse_cells(classic.as_bytes()).unwrap().triangles,
+            vec![[0, 1, 2]]
+        );
         let v51 = format!(
             "{HEAD}CELLS 3 7\nOFFSETS vtktypeint64\n0 4 7\nCONNECTIVITY vtktypeint64\n0 1 2 3 0 1 2\n\
              CELL_TYPES 2\n10 5\n"
