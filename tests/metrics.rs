@@ -191,7 +191,7 @@ fn corner_tetrahedron_dihedrals() {
         vertices: p.to_vec(),
         tets: vec![[0, 1, 2, 3], [1, 0, 2, 3]],
     };
-    let s = angles::tet_summary(&tm, 10.0);
+    let s = angles::tet_summary(&tm, 10.0).unwrap();
     assert_eq!(s.inverted, 1);
     assert_eq!(s.degenerate, 0);
     assert!((s.min_dihedral_deg.unwrap() - other).abs() < 1e-12);
@@ -214,7 +214,7 @@ fn right_triangle_angles() {
         ],
         vec![[0, 1, 2], [0, 1, 3], [1, 1, 2]],
     );
-    let s = angles::triangle_summary(&m, 30.0);
+    let s = angles::triangle_summary(&m, 30.0).unwrap();
     assert_eq!(s.degenerate, 2, "collinear and repeated-index triangles");
     assert!((s.max_angle_deg.unwrap() - 90.0).abs() < 1e-12);
     assert!((s.max_edge_ratio.unwrap() - 5.0 / 3.0).abs() < 1e-12);
@@ -406,6 +406,7 @@ fn bad_indices_are_errors_not_panics() {
     assert!(e.contains("triangle 0 refers to vertex 7"), "{e}");
     assert!(metrics::stats(&m, None).is_err());
     assert!(TriBvh::new(&m).is_err());
+    assert!(angles::triangle_summary(&m, 5.0).is_err());
     let nan = TriMesh::new(vec![[0.0, f64::NAN, 0.0]; 3], vec![[0, 1, 2]]);
     assert!(metrics::analyze(&nan).is_err());
     let t = TetMesh {
@@ -413,6 +414,7 @@ fn bad_indices_are_errors_not_panics() {
         tets: vec![[0, 1, 2, 4]],
     };
     assert!(metrics::analyze_tets(&t).is_err());
+    assert!(angles::tet_summary(&t, 5.0).is_err());
 }
 
 #[test]
