@@ -628,6 +628,35 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn bvh_closest_equals_brute_force(
+        tris in prop::collection::vec(prop::array::uniform3(prop::array::uniform3(-3.0f64..3.0)), 1..60),
+        queries in prop::collection::vec(prop::array::uniform3(-5.0f64..5.0), 1..20),
+    ) {
+        let mut m = TriMesh::default();
+        for (i, t) in tris.iter().enumerate() {
+            m.vertices.extend_from_slice(t);
+            let i = 3 * i as u32;
+            m.triangles.push([i, i + 1, i + 2]);
+        }
+        let bvh = TriBvh::new(&m).unwrap();
+        for p in queries {
+            let c = bvh.closest(p).unwrap();
+            let brute = (0..m.triangles.len())
+                .map(|k| {
+                    let [a, b, cc] = m.corners(k);
+                    let q = closest_on_triangle(p, a, b, cc);
+                    geom::dot(geom::sub(p, q.point), geom::sub(p, q.point))
+                })
+                .fold(f64::INFINITY, f64::min);
+            prop_assert_eq!(c.dist2, brute);
+        }
+    }
+}
+
 fn lcg(seed: &mut u64) -> f64 {
     *seed = seed
         .wrapping_mul(6364136223846793005)
@@ -794,6 +823,44 @@ fn icosphere_hausdorff_shrinks_with_refinement() {
     flipped.flip();
     let fd = fidelity::surface_fidelity(&flipped, &f, &params).unwrap();
     assert_eq!(fd.flipped_normals, flipped.triangles.len());
+}
+
+#[test]
+fn hand_built_torus_fidelity() {
+    // The quad-grid torus has R = 1, r = 0.3 with vertices on the surface.
+    let f = Formula::surface("(x^2 + y^2 + z^2 + 1 - 0.09)^2 - 4*(x^2 + y^2)").unwrap();
+    let params = FidelityParams::default()
+        .mesh_samples(10_000)
+        .seed_grid(40)
+        .domain(Aabb::cube(1.5));
+    let coarse = fidelity::surface_fidelity(&torus(24, 12), &f, &params).unwrap();
+    let fine = fidelity::surface_fidelity(&torus(96, 48), &f, &params).unwrap();
+    assert!(
+        coarse.max_distance_estimate < 1e-9,
+        "{}",
+        coarse.max_distance_estimate
+    );
+    assert!(coarse.hausdorff < 0.05, "{}", coarse.hausdorff);
+    assert!(
+        fine.hausdorff < 0.25 * coarse.hausdorff,
+        "{} vs {}",
+        fine.hausdorff,
+        coarse.hausdorff
+    );
+    assert_eq!(fine.flipped_normals + coarse.flipped_normals, 0);
+    assert_eq!(coarse.fidelity_unconverged, 0);
+}
+
+#[test]
+fn tet_stats_with_fidelity() {
+    let m = cube_tets();
+    // The unit cube [0,1]³ as the zero set of a max-norm: its boundary is the surface.
+    let f = Formula::surface("max(max(abs(2*x - 1), abs(2*y - 1)), abs(2*z - 1)) - 1").unwrap();
+    let s = metrics::tet_stats(&m, Some(&f), &FidelityParams::default().seed_grid(16)).unwrap();
+    let fd = s.fidelity.unwrap();
+    assert!(fd.hausdorff < 1e-9, "{}", fd.hausdorff);
+    assert_eq!(fd.flipped_normals, 0);
+    assert_eq!(s.boundary_genus, vec![0]);
 }
 
 #[test]
