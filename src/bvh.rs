@@ -31,6 +31,16 @@ impl Node {
         }
         d2
     }
+    /// Squared distance from `p` to the box centre.
+    #[inline]
+    pub fn center_dist2(&self, p: [f64; 3]) -> f64 {
+        let mut d2 = 0.0;
+        for k in 0..3 {
+            let d = 0.5 * (self.min[k] + self.max[k]) - p[k];
+            d2 += d * d;
+        }
+        d2
+    }
     #[inline]
     pub fn is_leaf(&self) -> bool {
         self.count > 0
@@ -276,7 +286,14 @@ impl Bvh {
                 let b = a + 1;
                 let da = self.nodes[a as usize].dist2(p);
                 let db = self.nodes[b as usize].dist2(p);
-                let (near, dn, far, df) = if da <= db {
+                // Inside both boxes (both 0) the box distance says nothing: descend
+                // towards the nearer box centre for a good first bound.
+                let a_first = if da == db {
+                    self.nodes[a as usize].center_dist2(p) <= self.nodes[b as usize].center_dist2(p)
+                } else {
+                    da < db
+                };
+                let (near, dn, far, df) = if a_first {
                     (a, da, b, db)
                 } else {
                     (b, db, a, da)
@@ -534,8 +551,20 @@ impl TriBvh {
     #[inline]
     pub fn closest_within(&self, p: [f64; 3], max_d2: f64) -> Option<Closest> {
         self.bvh
-            .nearest(p, max_d2, |slot, prim, _| {
+            .nearest(p, max_d2, |slot, prim, best| {
                 let [a, b, c] = self.tris[slot];
+                // The triangle's own box is a cheap lower bound: skip Ericson's routine
+                // for triangles that cannot beat the best so far.
+                let mut lb = 0.0;
+                for k in 0..3 {
+                    let lo = a[k].min(b[k]).min(c[k]);
+                    let hi = a[k].max(b[k]).max(c[k]);
+                    let d = (lo - p[k]).max(p[k] - hi).max(0.0);
+                    lb += d * d;
+                }
+                if lb >= best {
+                    return None;
+                }
                 let q = closest_on_triangle(p, a, b, c);
                 let d = geom::sub(p, q.point);
                 Some((geom::dot(d, d), (q, prim)))

@@ -3,6 +3,7 @@
 //!
 //! Angles use the atan2(|u×v|, u·v) form ([`geom::angle_deg`]), accurate near 0° and
 //! 180° where acos loses half the digits.
+use crate::error::Result;
 use crate::geom::{self, cross, dot, norm, sub};
 use crate::mesh::{TetMesh, TriMesh};
 use rayon::prelude::*;
@@ -128,10 +129,11 @@ fn minmax(it: impl Iterator<Item = f64>) -> (Option<f64>, Option<f64>) {
     (lo, hi)
 }
 
-/// The angles of every triangle, `None` for degenerate ones. Out-of-range indices are
-/// the caller's to check (see [`super::check_trimesh`]).
-pub fn per_triangle(mesh: &TriMesh) -> Vec<Option<[f64; 3]>> {
-    mesh.triangles
+/// The angles of every triangle, `None` for degenerate ones.
+pub fn per_triangle(mesh: &TriMesh) -> Result<Vec<Option<[f64; 3]>>> {
+    super::check_trimesh(mesh)?;
+    Ok(mesh
+        .triangles
         .par_iter()
         .map(|t| {
             if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
@@ -144,12 +146,12 @@ pub fn per_triangle(mesh: &TriMesh) -> Vec<Option<[f64; 3]>> {
                 Some(triangle_angles(a, b, c))
             }
         })
-        .collect()
+        .collect())
 }
 
 /// Summary of the triangle angles, with a histogram of `bin_width` degrees.
-pub fn triangle_summary(mesh: &TriMesh, bin_width: f64) -> TriangleAngles {
-    let per = per_triangle(mesh);
+pub fn triangle_summary(mesh: &TriMesh, bin_width: f64) -> Result<TriangleAngles> {
+    let per = per_triangle(mesh)?;
     let ok: Vec<(usize, [f64; 3])> = per
         .iter()
         .enumerate()
@@ -171,7 +173,7 @@ pub fn triangle_summary(mesh: &TriMesh, bin_width: f64) -> TriangleAngles {
         .map(|(i, _)| edge_ratio(&mesh.corners(*i)))
         .collect();
     let (min_edge_ratio, max_edge_ratio) = minmax(ratios.into_iter());
-    TriangleAngles {
+    Ok(TriangleAngles {
         triangles: mesh.triangles.len(),
         degenerate: mesh.triangles.len() - ok.len(),
         min_angle_deg,
@@ -185,7 +187,7 @@ pub fn triangle_summary(mesh: &TriMesh, bin_width: f64) -> TriangleAngles {
             bin_width,
             ok.iter().flat_map(|(_, a)| a.iter().copied()),
         ),
-    }
+    })
 }
 
 /// The six edges of a tetrahedron as corner pairs; edge `e` is opposite edge `5 - e`.
@@ -310,7 +312,8 @@ pub fn tet_shape(p: &[[f64; 3]; 4]) -> TetShape {
     }
 }
 
-pub fn tet_summary(mesh: &TetMesh, bin_width: f64) -> TetAngles {
+pub fn tet_summary(mesh: &TetMesh, bin_width: f64) -> Result<TetAngles> {
+    super::check_tetmesh(mesh)?;
     let per: Vec<(f64, Option<TetShape>)> = mesh
         .tets
         .par_iter()
@@ -332,7 +335,7 @@ pub fn tet_summary(mesh: &TetMesh, bin_width: f64) -> TetAngles {
         minmax(ok.iter().flat_map(|s| s.face.iter().copied()));
     let (min_edge_ratio, max_edge_ratio) = minmax(ok.iter().map(|s| s.edge_ratio));
     let (min_radius_ratio, _) = minmax(ok.iter().map(|s| s.radius_ratio));
-    TetAngles {
+    Ok(TetAngles {
         tets: mesh.tets.len(),
         inverted: per.iter().filter(|(v, _)| *v < 0.0).count(),
         degenerate: per.iter().filter(|(_, s)| s.is_none()).count(),
@@ -349,5 +352,5 @@ pub fn tet_summary(mesh: &TetMesh, bin_width: f64) -> TetAngles {
             bin_width,
             ok.iter().flat_map(|s| s.dihedral.iter().copied()),
         ),
-    }
+    })
 }

@@ -101,7 +101,7 @@ pub fn stats_with(
     params: &FidelityParams,
 ) -> Result<Stats> {
     let topo = analyze(mesh)?;
-    let ang = angles::triangle_summary(mesh, ANGLE_BIN_DEG);
+    let ang = angles::triangle_summary(mesh, ANGLE_BIN_DEG)?;
     let fidelity = match f {
         Some(f) => Some(fidelity::surface_fidelity(mesh, f, params)?),
         None => None,
@@ -174,9 +174,9 @@ pub fn tet_stats(
     params: &FidelityParams,
 ) -> Result<TetStats> {
     let topo = analyze_tets(mesh)?;
-    let ang = angles::tet_summary(mesh, ANGLE_BIN_DEG);
+    let ang = angles::tet_summary(mesh, ANGLE_BIN_DEG)?;
     let surf = mesh.boundary();
-    let bang = angles::triangle_summary(&surf, ANGLE_BIN_DEG);
+    let bang = angles::triangle_summary(&surf, ANGLE_BIN_DEG)?;
     let fidelity = match f {
         Some(f) => Some(fidelity::surface_fidelity(&surf, f, params)?),
         None => None,

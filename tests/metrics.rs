@@ -1,0 +1,1022 @@
+//! Metrics on hand-built meshes whose answers are known exactly, property tests of the
+//! geometric primitives, BVH against brute force, fidelity on refined icospheres, and
+//! the Stanford bunny scan (holes and isolated vertices).
+use certmesh::bvh::{closest_on_triangle, Bvh, Feature, SegBvh, TriBvh};
+use certmesh::catalog::{self, Topology};
+use certmesh::geom::{self, Aabb};
+use certmesh::mesh::{Curve2, TetMesh, TriMesh};
+use certmesh::metrics::{self, angles, fidelity, FidelityParams};
+use certmesh::{Formula, Implicit};
+use proptest::prelude::*;
+
+// ---------------------------------------------------------------- hand-built meshes
+
+fn tetra_surface(offset: [f64; 3]) -> TriMesh {
+    let v = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let v = v.into_iter().map(|p| geom::add(p, offset)).collect();
+    // Outward (counter-clockwise seen from outside).
+    TriMesh::new(v, vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+}
+
+fn cube_surface() -> TriMesh {
+    let mut v = Vec::new();
+    for i in 0..8 {
+        v.push([(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64]);
+    }
+    // Each face as a counter-clockwise quad seen from outside.
+    let quads = [
+        [0, 2, 3, 1], // z = 0, normal -z
+        [4, 5, 7, 6], // z = 1
+        [0, 1, 5, 4], // y = 0
+        [2, 6, 7, 3], // y = 1
+        [0, 4, 6, 2], // x = 0
+        [1, 3, 7, 5], // x = 1
+    ];
+    let mut t = Vec::new();
+    for q in quads {
+        t.push([q[0], q[1], q[2]]);
+        t.push([q[0], q[2], q[3]]);
+    }
+    TriMesh::new(v, t)
+}
+
+/// A torus (R = 1, r = 0.3) from an n × m quad grid with wrap-around indices.
+fn torus(n: u32, m: u32) -> TriMesh {
+    let mut v = Vec::new();
+    for i in 0..n {
+        for j in 0..m {
+            let u = i as f64 / n as f64 * std::f64::consts::TAU;
+            let w = j as f64 / m as f64 * std::f64::consts::TAU;
+            let rr = 1.0 + 0.3 * w.cos();
+            v.push([rr * u.cos(), rr * u.sin(), 0.3 * w.sin()]);
+        }
+    }
+    let id = |i: u32, j: u32| (i % n) * m + (j % m);
+    let mut t = Vec::new();
+    for i in 0..n {
+        for j in 0..m {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            t.push([a, b, c]);
+            t.push([a, c, d]);
+        }
+    }
+    TriMesh::new(v, t)
+}
+
+/// Icosahedron subdivided `level` times, projected on the unit sphere; outward.
+fn icosphere(level: u32) -> TriMesh {
+    let p = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut v: Vec<[f64; 3]> = vec![
+        [-1.0, p, 0.0],
+        [1.0, p, 0.0],
+        [-1.0, -p, 0.0],
+        [1.0, -p, 0.0],
+        [0.0, -1.0, p],
+        [0.0, 1.0, p],
+        [0.0, -1.0, -p],
+        [0.0, 1.0, -p],
+        [p, 0.0, -1.0],
+        [p, 0.0, 1.0],
+        [-p, 0.0, -1.0],
+        [-p, 0.0, 1.0],
+    ]
+    .into_iter()
+    .map(geom::normalize)
+    .collect();
+    let mut t: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..level {
+        let mut mid = std::collections::HashMap::new();
+        let mut m = |a: u32, b: u32, v: &mut Vec<[f64; 3]>| {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                v.push(geom::normalize(geom::lerp(
+                    v[a as usize],
+                    v[b as usize],
+                    0.5,
+                )));
+                v.len() as u32 - 1
+            })
+        };
+        let mut nt = Vec::new();
+        for [a, b, c] in t {
+            let ab = m(a, b, &mut v);
+            let bc = m(b, c, &mut v);
+            let ca = m(c, a, &mut v);
+            nt.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        t = nt;
+    }
+    TriMesh::new(v, t)
+}
+
+fn sphere_topology() -> Topology {
+    catalog::get("sphere").unwrap().topology.unwrap()
+}
+
+fn concat(a: &TriMesh, b: &TriMesh) -> TriMesh {
+    let n = a.vertices.len() as u32;
+    let mut m = a.clone();
+    m.vertices.extend(&b.vertices);
+    m.triangles
+        .extend(b.triangles.iter().map(|t| t.map(|i| i + n)));
+    m
+}
+
+// ---------------------------------------------------------------- angles
+
+#[test]
+fn regular_tetrahedron_angles() {
+    let s = 1.0 / 2f64.sqrt();
+    let p = [
+        [1.0, 0.0, -s],
+        [-1.0, 0.0, -s],
+        [0.0, 1.0, s],
+        [0.0, -1.0, s],
+    ];
+    let want = (1.0f64 / 3.0).acos().to_degrees();
+    for d in angles::dihedral_angles(&p) {
+        assert!((d - want).abs() < 1e-12, "{d} vs {want}");
+    }
+    for a in angles::face_angles(&p) {
+        assert!((a - 60.0).abs() < 1e-12);
+    }
+    assert!((angles::radius_ratio(&p) - 1.0).abs() < 1e-12);
+    assert!((angles::edge_ratio(&p) - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn corner_tetrahedron_dihedrals() {
+    // Corner of a cube: three right dihedrals at the axes, arccos(1/√3) at the others.
+    let p = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let d = angles::dihedral_angles(&p);
+    let other = (1.0f64 / 3f64.sqrt()).acos().to_degrees();
+    // TET_EDGES: 01 02 03 at the origin, 12 13 23 opposite.
+    for (k, want) in [90.0, 90.0, 90.0, other, other, other].iter().enumerate() {
+        assert!((d[k] - want).abs() < 1e-12, "edge {k}: {} vs {want}", d[k]);
+    }
+    let mut inv = p;
+    inv.swap(0, 1);
+    assert!(angles::signed_volume6(&p) > 0.0 && angles::signed_volume6(&inv) < 0.0);
+    let tm = TetMesh {
+        vertices: p.to_vec(),
+        tets: vec![[0, 1, 2, 3], [1, 0, 2, 3]],
+    };
+    let s = angles::tet_summary(&tm, 10.0).unwrap();
+    assert_eq!(s.inverted, 1);
+    assert_eq!(s.degenerate, 0);
+    assert!((s.min_dihedral_deg.unwrap() - other).abs() < 1e-12);
+    assert!((s.max_dihedral_deg.unwrap() - 90.0).abs() < 1e-12);
+    assert_eq!(s.dihedral_histogram.total(), 12);
+}
+
+#[test]
+fn right_triangle_angles() {
+    let a = angles::triangle_angles([0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 3.0, 0.0]);
+    assert!((a[0] - 90.0).abs() < 1e-12);
+    assert!((a[1] - 3f64.atan2(4.0).to_degrees()).abs() < 1e-12);
+    assert!((a[2] - 4f64.atan2(3.0).to_degrees()).abs() < 1e-12);
+    let m = TriMesh::new(
+        vec![
+            [0.0, 0.0, 0.0],
+            [4.0, 0.0, 0.0],
+            [0.0, 3.0, 0.0],
+            [8.0, 0.0, 0.0],
+        ],
+        vec![[0, 1, 2], [0, 1, 3], [1, 1, 2]],
+    );
+    let s = angles::triangle_summary(&m, 30.0).unwrap();
+    assert_eq!(s.degenerate, 2, "collinear and repeated-index triangles");
+    assert!((s.max_angle_deg.unwrap() - 90.0).abs() < 1e-12);
+    assert!((s.max_edge_ratio.unwrap() - 5.0 / 3.0).abs() < 1e-12);
+    // 36.87 and 53.13 fall in bin [30, 60), 90 in [90, 120).
+    assert_eq!(s.histogram.counts, vec![0, 2, 0, 1, 0, 0]);
+    let n = s.histogram.normalized();
+    assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+}
+
+// ---------------------------------------------------------------- topology
+
+#[test]
+fn cube_is_a_sphere() {
+    let r = metrics::analyze(&cube_surface()).unwrap();
+    assert_eq!((r.vertices, r.edges, r.faces), (8, 18, 12));
+    assert_eq!(r.euler_characteristic, 2);
+    assert_eq!(r.components, 1);
+    assert!(r.closed && r.manifold && r.orientable && r.consistently_oriented);
+    assert_eq!(r.genus, vec![0]);
+    let v = metrics::verdict(&r, &sphere_topology());
+    assert!(v.ok, "{v:?}");
+    assert_eq!(v.found, "1 component, genus [0]");
+}
+
+#[test]
+fn hand_built_torus_has_genus_one() {
+    let r = metrics::analyze(&torus(12, 8)).unwrap();
+    assert_eq!(r.euler_characteristic, 0);
+    assert_eq!(r.genus, vec![1]);
+    assert!(r.closed && r.manifold && r.consistently_oriented);
+    let t = catalog::get("torus").unwrap().topology.unwrap();
+    assert!(metrics::verdict(&r, &t).ok);
+    let v = metrics::verdict(&r, &sphere_topology());
+    assert!(!v.ok);
+    assert!(
+        v.reason.contains("genus [1] instead of [0]"),
+        "{}",
+        v.reason
+    );
+}
+
+#[test]
+fn two_tetrahedra_are_two_components() {
+    let m = concat(&tetra_surface([0.0; 3]), &tetra_surface([3.0, 0.0, 0.0]));
+    let r = metrics::analyze(&m).unwrap();
+    assert_eq!(r.components, 2);
+    assert_eq!(r.euler_characteristic, 4);
+    assert_eq!(r.genus, vec![0, 0]);
+    let v = metrics::verdict(&r, &sphere_topology());
+    assert!(!v.ok);
+    assert!(
+        v.reason.contains("2 components instead of 1"),
+        "{}",
+        v.reason
+    );
+    let two = catalog::get("two-spheres").unwrap().topology.unwrap();
+    assert!(metrics::verdict(&r, &two).ok);
+}
+
+#[test]
+fn removing_a_face_makes_one_boundary_loop() {
+    let mut m = cube_surface();
+    m.triangles.remove(5);
+    let r = metrics::analyze(&m).unwrap();
+    assert_eq!(r.boundary_edges, 3);
+    assert_eq!(r.boundary_loops, 1);
+    assert!(!r.closed && r.manifold);
+    assert_eq!(r.euler_characteristic, 1);
+    assert!(r.genus.is_empty(), "no closed component");
+    assert_eq!(r.component_list[0].genus, Some(0), "a disk");
+    let v = metrics::verdict(&r, &sphere_topology());
+    assert!(!v.ok);
+    assert!(
+        v.reason.contains("not closed: 3 boundary edges in 1 loop"),
+        "{}",
+        v.reason
+    );
+    // Two separate holes: two loops.
+    let mut m2 = cube_surface();
+    m2.triangles.remove(11);
+    m2.triangles.remove(0);
+    assert_eq!(metrics::analyze(&m2).unwrap().boundary_loops, 2);
+}
+
+#[test]
+fn non_manifold_edge_is_detected() {
+    let mut m = cube_surface();
+    m.vertices.push([0.5, 0.5, 3.0]);
+    m.triangles.push([0, 1, 8]); // a fin on the edge 0-1
+    let r = metrics::analyze(&m).unwrap();
+    assert_eq!(r.non_manifold_edges, 1);
+    assert!(!r.manifold);
+    let v = metrics::verdict(&r, &sphere_topology());
+    assert!(!v.ok);
+    assert!(v.reason.contains("1 non-manifold edge"), "{}", v.reason);
+}
+
+#[test]
+fn bow_tie_vertex_is_non_manifold() {
+    let a = tetra_surface([0.0; 3]);
+    let mut b = tetra_surface([0.0; 3]);
+    for p in &mut b.vertices {
+        *p = geom::scale(*p, -1.0);
+    }
+    let mut m = concat(&a, &b);
+    // Weld b's vertex 0 (the origin) to a's vertex 0.
+    for t in &mut m.triangles[4..] {
+        for i in t.iter_mut() {
+            if *i == 4 {
+                *i = 0;
+            }
+        }
+    }
+    let r = metrics::analyze(&m).unwrap();
+    assert_eq!(r.components, 1);
+    assert_eq!(r.non_manifold_vertices, 1);
+    assert_eq!(r.non_manifold_edges, 0);
+    assert_eq!(r.isolated_vertices, 1, "the welded-away vertex");
+    assert!(!metrics::verdict(&r, &sphere_topology()).ok);
+}
+
+#[test]
+fn flipped_face_is_inconsistent() {
+    let mut m = cube_surface();
+    m.triangles[3].swap(1, 2);
+    let r = metrics::analyze(&m).unwrap();
+    assert_eq!(r.inconsistent_edges, 3);
+    assert!(r.orientable, "a flip can be undone");
+    assert!(!r.consistently_oriented);
+    let mut all = cube_surface();
+    all.flip();
+    let r = metrics::analyze(&all).unwrap();
+    assert!(r.consistently_oriented, "all flipped is consistent");
+}
+
+#[test]
+fn moebius_strip_is_not_orientable() {
+    // A strip of n quads whose ends are glued with a half twist.
+    let n = 8u32;
+    let mut v = Vec::new();
+    for i in 0..n {
+        let u = i as f64 / n as f64 * std::f64::consts::TAU;
+        for s in [-0.3, 0.3] {
+            let w = u / 2.0;
+            let rr = 1.0 + s * w.cos();
+            v.push([rr * u.cos(), rr * u.sin(), s * w.sin()]);
+        }
+    }
+    let mut t = Vec::new();
+    for i in 0..n {
+        let (a, b) = (2 * i, 2 * i + 1);
+        let (c, d) = if i + 1 < n {
+            (2 * i + 2, 2 * i + 3)
+        } else {
+            (1, 0) // the twist
+        };
+        t.push([a, c, d]);
+        t.push([a, d, b]);
+    }
+    let r = metrics::analyze(&TriMesh::new(v, t)).unwrap();
+    assert!(!r.orientable);
+    assert_eq!(
+        r.boundary_loops, 1,
+        "a Möbius strip has one boundary circle"
+    );
+    assert_eq!(r.euler_characteristic, 0);
+    assert_eq!(r.component_list[0].genus, None);
+}
+
+#[test]
+fn degenerate_duplicate_and_isolated() {
+    let mut m = cube_surface();
+    m.vertices.push([9.0, 9.0, 9.0]);
+    m.triangles.push([0, 0, 1]);
+    m.triangles.push(m.triangles[0]);
+    let r = metrics::analyze(&m).unwrap();
+    assert_eq!(r.isolated_vertices, 1);
+    assert_eq!(r.degenerate_faces, 1);
+    assert_eq!(r.duplicate_faces, 1);
+    assert!(!r.manifold);
+    let v = metrics::verdict(&r, &sphere_topology());
+    assert!(!v.ok && v.reason.contains("degenerate face") && v.reason.contains("duplicate"));
+}
+
+#[test]
+fn bad_indices_are_errors_not_panics() {
+    let m = TriMesh::new(vec![[0.0; 3]; 3], vec![[0, 1, 7]]);
+    let e = metrics::analyze(&m).unwrap_err().to_string();
+    assert!(e.contains("triangle 0 refers to vertex 7"), "{e}");
+    assert!(metrics::stats(&m, None).is_err());
+    assert!(TriBvh::new(&m).is_err());
+    assert!(angles::triangle_summary(&m, 5.0).is_err());
+    let nan = TriMesh::new(vec![[0.0, f64::NAN, 0.0]; 3], vec![[0, 1, 2]]);
+    assert!(metrics::analyze(&nan).is_err());
+    let t = TetMesh {
+        vertices: vec![[0.0; 3]; 4],
+        tets: vec![[0, 1, 2, 4]],
+    };
+    assert!(metrics::analyze_tets(&t).is_err());
+    assert!(angles::tet_summary(&t, 5.0).is_err());
+}
+
+#[test]
+fn empty_mesh_gives_a_report() {
+    let r = metrics::analyze(&TriMesh::default()).unwrap();
+    assert_eq!((r.vertices, r.faces, r.components), (0, 0, 0));
+    let v = metrics::verdict(&r, &sphere_topology());
+    assert!(!v.ok && v.reason.contains("empty"));
+    let s = metrics::stats(&TriMesh::default(), None).unwrap();
+    assert_eq!(s.min_angle_deg, None);
+}
+
+fn polygon(n: u32, center: [f64; 2], r: f64, first: u32) -> (Vec<[f64; 2]>, Vec<[u32; 2]>) {
+    let v = (0..n)
+        .map(|i| {
+            let a = i as f64 / n as f64 * std::f64::consts::TAU;
+            [center[0] + r * a.cos(), center[1] + r * a.sin()]
+        })
+        .collect();
+    let s = (0..n).map(|i| [first + i, first + (i + 1) % n]).collect();
+    (v, s)
+}
+
+#[test]
+fn curve_topology_and_verdict() {
+    let (v, s) = polygon(16, [0.0, 0.0], 1.0, 0);
+    let c = Curve2 {
+        vertices: v,
+        segments: s,
+    };
+    let r = metrics::analyze_curve(&c).unwrap();
+    assert_eq!((r.components, r.closed_components, r.open_ends), (1, 1, 0));
+    let circle = catalog::get("circle").unwrap().topology.unwrap();
+    assert!(metrics::curve_verdict(&r, &circle).ok);
+
+    // Cut one segment: an open arc.
+    let mut open = c.clone();
+    open.segments.pop();
+    let r = metrics::analyze_curve(&open).unwrap();
+    assert_eq!((r.components, r.closed_components, r.open_ends), (1, 0, 2));
+    let v = metrics::curve_verdict(&r, &circle);
+    assert!(!v.ok && v.reason.contains("2 open ends"), "{v:?}");
+
+    // A chord: two branch points.
+    let mut chord = c.clone();
+    chord.segments.push([0, 8]);
+    let r = metrics::analyze_curve(&chord).unwrap();
+    assert_eq!(r.branch_points, 2);
+    assert!(!metrics::curve_verdict(&r, &circle).ok);
+
+    // Two circles against cassini-2 and against circle.
+    let (v2, s2) = polygon(16, [3.0, 0.0], 1.0, 16);
+    let mut two = c.clone();
+    two.vertices.extend(v2);
+    two.segments.extend(s2);
+    let r = metrics::analyze_curve(&two).unwrap();
+    assert_eq!(r.closed_components, 2);
+    let cas2 = catalog::get("cassini-2").unwrap().topology.unwrap();
+    assert!(metrics::curve_verdict(&r, &cas2).ok);
+    let v = metrics::curve_verdict(&r, &circle);
+    assert!(!v.ok && v.reason.contains("2 components instead of 1"));
+}
+
+fn cube_tets() -> TetMesh {
+    let mut v = Vec::new();
+    for i in 0..8 {
+        v.push([(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64]);
+    }
+    // Six tetrahedra around the diagonal 0-7 (Kuhn triangulation).
+    let paths = [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]];
+    let tets = paths
+        .iter()
+        .map(|&[a, b]| {
+            let t = [0u32, a, b, 7];
+            let p = t.map(|i| v[i as usize]);
+            if angles::signed_volume6(&p) > 0.0 {
+                t
+            } else {
+                [0, b, a, 7]
+            }
+        })
+        .collect();
+    TetMesh { vertices: v, tets }
+}
+
+#[test]
+fn tet_mesh_topology() {
+    let m = cube_tets();
+    let r = metrics::analyze_tets(&m).unwrap();
+    assert_eq!(r.tets, 6);
+    assert_eq!(r.boundary_faces, 12);
+    assert_eq!(r.interior_faces, 6);
+    assert_eq!(r.nonconforming_faces, 0);
+    assert!(r.boundary_closed_manifold);
+    assert_eq!(r.boundary_euler_characteristic, 2);
+    assert!(r.boundary.consistently_oriented);
+    assert!(metrics::tet_verdict(&r, &sphere_topology()).ok);
+    let s = metrics::tet_stats(&m, None, &FidelityParams::default()).unwrap();
+    assert_eq!(s.inverted_tets, 0);
+    assert!((s.max_dihedral_deg.unwrap() - 90.0).abs() < 1e-12);
+    // Kuhn tetrahedra are orthoschemes: dihedral angles 90° (×3), 60°, 45° (×2).
+    assert!((s.min_dihedral_deg.unwrap() - 45.0).abs() < 1e-12);
+    // A third tetrahedron on an interior face: non-conforming.
+    let mut bad = m.clone();
+    bad.vertices.push([2.0, 2.0, 2.0]);
+    // Face 0-1-7 is shared by the tetrahedra 0-1-3-7 and 0-1-5-7 already.
+    bad.tets.push([0, 1, 7, 8]);
+    let r = metrics::analyze_tets(&bad).unwrap();
+    assert!(r.nonconforming_faces >= 1);
+    assert!(!metrics::tet_verdict(&r, &sphere_topology()).ok);
+}
+
+// ---------------------------------------------------------------- properties
+
+fn rot(axis: [f64; 3], ang: f64) -> [[f64; 3]; 3] {
+    let k = geom::normalize(axis);
+    let (s, c) = ang.sin_cos();
+    let t = 1.0 - c;
+    [
+        [
+            t * k[0] * k[0] + c,
+            t * k[0] * k[1] - s * k[2],
+            t * k[0] * k[2] + s * k[1],
+        ],
+        [
+            t * k[0] * k[1] + s * k[2],
+            t * k[1] * k[1] + c,
+            t * k[1] * k[2] - s * k[0],
+        ],
+        [
+            t * k[0] * k[2] - s * k[1],
+            t * k[1] * k[2] + s * k[0],
+            t * k[2] * k[2] + c,
+        ],
+    ]
+}
+fn apply(r: &[[f64; 3]; 3], p: [f64; 3]) -> [f64; 3] {
+    [geom::dot(r[0], p), geom::dot(r[1], p), geom::dot(r[2], p)]
+}
+
+fn pt() -> impl Strategy<Value = [f64; 3]> {
+    prop::array::uniform3(-10.0f64..10.0)
+}
+
+/// Dihedral angle at edge ij by an independent route: the angle between the other two
+/// corners projected onto the plane orthogonal to the edge.
+fn dihedral_by_projection(p: &[[f64; 3]; 4], i: usize, j: usize) -> f64 {
+    let e = geom::normalize(geom::sub(p[j], p[i]));
+    let o: Vec<usize> = (0..4).filter(|&m| m != i && m != j).collect();
+    let proj = |q: [f64; 3]| {
+        let d = geom::sub(q, p[i]);
+        geom::sub(d, geom::scale(e, geom::dot(d, e)))
+    };
+    geom::angle_deg(proj(p[o[0]]), [0.0; 3], proj(p[o[1]]))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    #[test]
+    fn triangle_angles_sum_to_180(a in pt(), b in pt(), c in pt()) {
+        prop_assume!(!angles::triangle_is_degenerate(a, b, c));
+        let s: f64 = angles::triangle_angles(a, b, c).iter().sum();
+        prop_assert!((s - 180.0).abs() < 1e-9, "sum {}", s);
+    }
+
+    #[test]
+    fn dihedrals_in_range_and_invariant(
+        p in prop::array::uniform4(pt()),
+        axis in pt(), ang in 0.0f64..6.3, shift in pt(), k in 0.01f64..100.0,
+    ) {
+        prop_assume!(angles::radius_ratio(&p) > 0.05);
+        let d = angles::dihedral_angles(&p);
+        let q = p.map(|x| geom::add(geom::scale(apply(&rot(axis, ang), x), k), shift));
+        let dq = angles::dihedral_angles(&q);
+        let fa = angles::face_angles(&p);
+        let fq = angles::face_angles(&q);
+        for e in 0..6 {
+            prop_assert!(d[e] > 0.0 && d[e] < 180.0);
+            prop_assert!((d[e] - dq[e]).abs() < 1e-7, "{} vs {}", d[e], dq[e]);
+            let [i, j] = angles::TET_EDGES[e];
+            prop_assert!((d[e] - dihedral_by_projection(&p, i, j)).abs() < 1e-7);
+        }
+        for f in 0..12 {
+            prop_assert!((fa[f] - fq[f]).abs() < 1e-7);
+        }
+        // Face angles of each face sum to 180.
+        for f in 0..4 {
+            prop_assert!((fa[3 * f..3 * f + 3].iter().sum::<f64>() - 180.0).abs() < 1e-9);
+        }
+        prop_assert!((angles::radius_ratio(&p) - angles::radius_ratio(&q)).abs() < 1e-7);
+    }
+
+    #[test]
+    fn closest_on_triangle_is_closest(p in pt(), a in pt(), b in pt(), c in pt()) {
+        let q = closest_on_triangle(p, a, b, c);
+        let s: f64 = q.bary.iter().sum();
+        prop_assert!((s - 1.0).abs() < 1e-9 && q.bary.iter().all(|&w| w >= -1e-12));
+        let rebuilt = [0, 1, 2].map(|k| q.bary[0] * a[k] + q.bary[1] * b[k] + q.bary[2] * c[k]);
+        prop_assert!(geom::dist(rebuilt, q.point) < 1e-8);
+        let d = geom::dist(p, q.point);
+        // No point of a fine barycentric grid is closer.
+        let n = 24;
+        for i in 0..=n {
+            for j in 0..=n - i {
+                let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                let x = [0, 1, 2].map(|k| (1.0 - u - v) * a[k] + u * b[k] + v * c[k]);
+                prop_assert!(d <= geom::dist(p, x) + 1e-9);
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn bvh_closest_equals_brute_force(
+        tris in prop::collection::vec(prop::array::uniform3(prop::array::uniform3(-3.0f64..3.0)), 1..60),
+        queries in prop::collection::vec(prop::array::uniform3(-5.0f64..5.0), 1..20),
+    ) {
+        let mut m = TriMesh::default();
+        for (i, t) in tris.iter().enumerate() {
+            m.vertices.extend_from_slice(t);
+            let i = 3 * i as u32;
+            m.triangles.push([i, i + 1, i + 2]);
+        }
+        let bvh = TriBvh::new(&m).unwrap();
+        for p in queries {
+            let c = bvh.closest(p).unwrap();
+            let brute = (0..m.triangles.len())
+                .map(|k| {
+                    let [a, b, cc] = m.corners(k);
+                    let q = closest_on_triangle(p, a, b, cc);
+                    geom::dot(geom::sub(p, q.point), geom::sub(p, q.point))
+                })
+                .fold(f64::INFINITY, f64::min);
+            prop_assert_eq!(c.dist2, brute);
+        }
+    }
+}
+
+fn lcg(seed: &mut u64) -> f64 {
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*seed >> 11) as f64 / (1u64 << 53) as f64
+}
+
+#[test]
+fn bvh_matches_brute_force() {
+    let mut seed = 7u64;
+    for round in 0..20 {
+        let nt = [1, 2, 5, 40, 300][round % 5];
+        let mut v = Vec::new();
+        let mut t = Vec::new();
+        for i in 0..nt {
+            let c = [0; 3].map(|_| lcg(&mut seed) * 4.0 - 2.0);
+            for _ in 0..3 {
+                v.push(geom::add(c, [0; 3].map(|_| (lcg(&mut seed) - 0.5) * 0.6)));
+            }
+            t.push([3 * i, 3 * i + 1, 3 * i + 2]);
+        }
+        // Also a mesh with shared vertices.
+        let m = if round % 2 == 0 {
+            TriMesh::new(v, t)
+        } else {
+            icosphere(2)
+        };
+        let bvh = TriBvh::new(&m).unwrap();
+        for _ in 0..200 {
+            let p = [0; 3].map(|_| lcg(&mut seed) * 6.0 - 3.0);
+            let c = bvh.closest(p).unwrap();
+            let brute = (0..m.triangles.len())
+                .map(|k| {
+                    let [a, b, cc] = m.corners(k);
+                    let q = closest_on_triangle(p, a, b, cc);
+                    geom::dot(geom::sub(p, q.point), geom::sub(p, q.point))
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                (c.dist2 - brute).abs() <= 1e-12 * brute.max(1.0),
+                "round {round}: bvh {} brute {brute}",
+                c.dist2
+            );
+            let [a, b, cc] = m.corners(c.index as usize);
+            let q = closest_on_triangle(p, a, b, cc);
+            assert_eq!(q.point, c.point, "reported triangle and point agree");
+        }
+    }
+}
+
+#[test]
+fn bvh_structure_and_features() {
+    let m = icosphere(3);
+    let bvh = TriBvh::new(&m).unwrap();
+    let mut seen = vec![0u32; m.triangles.len()];
+    for &i in &bvh.bvh.order {
+        seen[i as usize] += 1;
+    }
+    assert!(seen.iter().all(|&s| s == 1), "order is a permutation");
+    assert!(bvh.bvh.depth() < 30, "depth {}", bvh.bvh.depth());
+    // Every leaf box holds its primitives.
+    for n in bvh.bvh.nodes.iter().filter(|n| n.is_leaf()) {
+        for &t in &bvh.bvh.order[n.start as usize..(n.start + n.count) as usize] {
+            for p in m.corners(t as usize) {
+                assert_eq!(n.dist2(p), 0.0);
+            }
+        }
+    }
+    // A point straight above a vertex projects to it.
+    let c = bvh.closest(geom::scale(m.vertices[0], 2.0)).unwrap();
+    assert!(
+        matches!(c.feature(), Feature::Vertex(_)),
+        "{:?}",
+        c.feature()
+    );
+    assert!((c.dist2 - 1.0).abs() < 1e-12);
+    // Coincident boxes do not break the build.
+    let same = Bvh::build(&vec![Aabb::cube(1.0); 100]).unwrap();
+    assert_eq!(same.order.len(), 100);
+    assert!(Bvh::build(&[]).unwrap().is_empty());
+    assert!(TriBvh::new(&TriMesh::default())
+        .unwrap()
+        .closest([0.0; 3])
+        .is_none());
+}
+
+#[test]
+fn segment_bvh_matches_brute_force() {
+    let (v, s) = polygon(50, [0.2, -0.1], 1.3, 0);
+    let c = Curve2 {
+        vertices: v,
+        segments: s,
+    };
+    let bvh = SegBvh::new(&c).unwrap();
+    let mut seed = 3u64;
+    for _ in 0..500 {
+        let p = [lcg(&mut seed) * 4.0 - 2.0, lcg(&mut seed) * 4.0 - 2.0];
+        let got = bvh.closest(p).unwrap().dist2;
+        let brute = c
+            .segments
+            .iter()
+            .map(|&[a, b]| {
+                let l = |i: u32| [c.vertices[i as usize][0], c.vertices[i as usize][1], 0.0];
+                let (q, _) = certmesh::bvh::closest_on_segment([p[0], p[1], 0.0], l(a), l(b));
+                let d = geom::sub([p[0], p[1], 0.0], q);
+                geom::dot(d, d)
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!((got - brute).abs() <= 1e-12 * brute.max(1.0));
+    }
+}
+
+// ---------------------------------------------------------------- fidelity
+
+#[test]
+fn icosphere_hausdorff_shrinks_with_refinement() {
+    let f = Formula::surface("x^2 + y^2 + z^2 - 1").unwrap();
+    let params = FidelityParams::default()
+        .mesh_samples(20_000)
+        .seed_grid(32)
+        .domain(Aabb::cube(1.5));
+    let mut last = f64::INFINITY;
+    for level in 1..=4 {
+        let m = icosphere(level);
+        let fd = fidelity::surface_fidelity(&m, &f, &params).unwrap();
+        // Vertices are on the sphere; the worst point is a face centre, sagging by
+        // about (edge length)² / 6 for equilateral triangles on the unit sphere.
+        assert!(
+            fd.max_distance_estimate < 1e-12,
+            "{}",
+            fd.max_distance_estimate
+        );
+        let edge = geom::dist(
+            m.vertices[m.triangles[0][0] as usize],
+            m.vertices[m.triangles[0][1] as usize],
+        );
+        assert!(
+            fd.hausdorff < edge * edge / 2.0,
+            "level {level}: {} edge {edge}",
+            fd.hausdorff
+        );
+        assert!(
+            fd.hausdorff > edge * edge / 20.0,
+            "level {level}: {}",
+            fd.hausdorff
+        );
+        assert!(
+            fd.hausdorff < 0.5 * last,
+            "level {level}: {} after {last}",
+            fd.hausdorff
+        );
+        assert!(fd.hausdorff_surface_to_mesh <= fd.hausdorff_mesh_to_surface * 1.25 + 1e-12);
+        assert_eq!(fd.flipped_normals, 0);
+        assert!(
+            fd.normal_dev_max_deg < 90.0 * edge,
+            "{}",
+            fd.normal_dev_max_deg
+        );
+        assert!(fd.fidelity_surface_samples > 1000);
+        assert_eq!(fd.fidelity_unconverged, 0);
+        last = fd.hausdorff;
+    }
+    let mut flipped = icosphere(2);
+    flipped.flip();
+    let fd = fidelity::surface_fidelity(&flipped, &f, &params).unwrap();
+    assert_eq!(fd.flipped_normals, flipped.triangles.len());
+}
+
+#[test]
+fn hand_built_torus_fidelity() {
+    // The quad-grid torus has R = 1, r = 0.3 with vertices on the surface.
+    let f = Formula::surface("(x^2 + y^2 + z^2 + 1 - 0.09)^2 - 4*(x^2 + y^2)").unwrap();
+    let params = FidelityParams::default()
+        .mesh_samples(10_000)
+        .seed_grid(40)
+        .domain(Aabb::cube(1.5));
+    let coarse = fidelity::surface_fidelity(&torus(24, 12), &f, &params).unwrap();
+    let fine = fidelity::surface_fidelity(&torus(96, 48), &f, &params).unwrap();
+    assert!(
+        coarse.max_distance_estimate < 1e-9,
+        "{}",
+        coarse.max_distance_estimate
+    );
+    assert!(coarse.hausdorff < 0.05, "{}", coarse.hausdorff);
+    assert!(
+        fine.hausdorff < 0.25 * coarse.hausdorff,
+        "{} vs {}",
+        fine.hausdorff,
+        coarse.hausdorff
+    );
+    assert_eq!(fine.flipped_normals + coarse.flipped_normals, 0);
+    assert_eq!(coarse.fidelity_unconverged, 0);
+}
+
+#[test]
+fn tet_stats_with_fidelity() {
+    let m = cube_tets();
+    // The unit cube [0,1]³ as the zero set of a max-norm: its boundary is the surface.
+    let f = Formula::surface("max(max(abs(2*x - 1), abs(2*y - 1)), abs(2*z - 1)) - 1").unwrap();
+    let s = metrics::tet_stats(&m, Some(&f), &FidelityParams::default().seed_grid(16)).unwrap();
+    let fd = s.fidelity.unwrap();
+    assert!(fd.hausdorff < 1e-9, "{}", fd.hausdorff);
+    assert_eq!(fd.flipped_normals, 0);
+    assert_eq!(s.boundary_genus, vec![0]);
+}
+
+#[test]
+fn missing_component_shows_in_surface_to_mesh() {
+    let e = catalog::get("two-spheres").unwrap();
+    let f = e.function();
+    // Mesh only the sphere centred at x = 0.51.
+    let mut m = icosphere(3);
+    for p in &mut m.vertices {
+        *p = geom::add(geom::scale(*p, 0.5), [0.51, 0.0, 0.0]);
+    }
+    let params = FidelityParams::default().seed_grid(40).domain(e.domain);
+    let fd = fidelity::surface_fidelity(&m, &f, &params).unwrap();
+    assert!(
+        fd.hausdorff_mesh_to_surface < 0.01,
+        "{}",
+        fd.hausdorff_mesh_to_surface
+    );
+    // The far side of the missing sphere is about 1.02 + 0.5 from the mesh.
+    assert!(
+        fd.hausdorff_surface_to_mesh > 1.0,
+        "{}",
+        fd.hausdorff_surface_to_mesh
+    );
+    assert!(metrics::stats(&m, Some(&f as &dyn Implicit)).is_ok());
+}
+
+#[test]
+fn curve_fidelity_of_a_polygon() {
+    let f = Formula::curve("x^2 + y^2 - 1").unwrap();
+    let n = 64;
+    let (v, s) = polygon(n, [0.0, 0.0], 1.0, 0);
+    let c = Curve2 {
+        vertices: v,
+        segments: s,
+    };
+    let params = FidelityParams::default().domain(Aabb::rect([-1.5, -1.5], [1.5, 1.5]));
+    let fd = fidelity::curve_fidelity(&c, &f, &params).unwrap();
+    let sagitta = 1.0 - (std::f64::consts::PI / n as f64).cos();
+    assert!(
+        (fd.hausdorff - sagitta).abs() < 0.05 * sagitta,
+        "{} vs {sagitta}",
+        fd.hausdorff
+    );
+    assert!(
+        fd.normal_dev_max_deg < 1e-6,
+        "chord normals at midpoints are radial"
+    );
+    let st = metrics::curve_stats(&c, Some(&f), &params).unwrap();
+    assert!((st.min_turn_angle_deg.unwrap() - (180.0 - 360.0 / n as f64)).abs() < 1e-9);
+    // A wrong-dimension function is an error.
+    let g = Formula::surface("x^2 + y^2 + z^2 - 1").unwrap();
+    assert!(fidelity::curve_fidelity(&c, &g, &params).is_err());
+}
+
+#[test]
+fn stats_json_has_the_documented_keys() {
+    let f = Formula::surface("x^2 + y^2 + z^2 - 1").unwrap();
+    let m = icosphere(2);
+    let s = metrics::stats_with(
+        &m,
+        Some(&f),
+        &FidelityParams::default().mesh_samples(2000).seed_grid(16),
+    )
+    .unwrap();
+    let j = serde_json::to_value(&s).unwrap();
+    for k in [
+        "vertices",
+        "faces",
+        "euler_characteristic",
+        "components",
+        "closed",
+        "manifold",
+        "min_angle_deg",
+        "max_angle_deg",
+        "isolated_vertices",
+        "boundary_loops",
+        "non_manifold_edges",
+        "non_manifold_vertices",
+        "genus",
+        "hausdorff",
+        "max_distance_estimate",
+        "normal_dev_max_deg",
+    ] {
+        assert!(j.get(k).is_some(), "missing {k} in {j}");
+    }
+    assert_eq!(j["euler_characteristic"], 2);
+    assert_eq!(j["faces"], 320);
+    let plain = serde_json::to_value(metrics::stats(&m, None).unwrap()).unwrap();
+    assert!(plain.get("hausdorff").is_none());
+}
+
+// ---------------------------------------------------------------- the bunny
+
+/// A minimal private OBJ reader for this test only (the io module is another helper's):
+/// `v x y z` and `f a b c ...` (1-based, `a/t/n` forms, polygons fanned).
+fn read_obj_for_test(text: &str) -> TriMesh {
+    let mut m = TriMesh::default();
+    for line in text.lines() {
+        let mut w = line.split_whitespace();
+        match w.next() {
+            Some("v") => {
+                let c: Vec<f64> = w.take(3).map(|x| x.parse().unwrap()).collect();
+                m.vertices.push([c[0], c[1], c[2]]);
+            }
+            Some("f") => {
+                let idx: Vec<u32> = w
+                    .map(|x| x.split('/').next().unwrap().parse::<u32>().unwrap() - 1)
+                    .collect();
+                for k in 1..idx.len() - 1 {
+                    m.triangles.push([idx[0], idx[k], idx[k + 1]]);
+                }
+            }
+            _ => {}
+        }
+    }
+    m
+}
+
+#[test]
+fn stanford_bunny_stats() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/data/stanford-bunny.obj"
+    );
+    let Ok(text) = std::fs::read_to_string(path) else {
+        eprintln!("skipping: {path} not found");
+        return;
+    };
+    let m = read_obj_for_test(&text);
+    assert_eq!(m.triangles.len(), 69_451);
+    let s = metrics::stats(&m, None).unwrap();
+    eprintln!("bunny: {}", serde_json::to_string(&s).unwrap());
+    assert!(s.isolated_vertices > 0, "the scan has isolated vertices");
+    assert!(s.boundary_loops > 0 && !s.closed, "the scan has holes");
+    assert_eq!(s.vertices + s.isolated_vertices, m.vertices.len());
+    let r = metrics::analyze(&m).unwrap();
+    let v = metrics::verdict(&r, &sphere_topology());
+    assert!(!v.ok && v.reason.contains("not closed"), "{v:?}");
+    // Closest point queries against brute force on a few points.
+    let bvh = TriBvh::new(&m).unwrap();
+    let mut seed = 11u64;
+    for _ in 0..5 {
+        let p = [
+            lcg(&mut seed) * 0.3 - 0.15,
+            lcg(&mut seed) * 0.2,
+            lcg(&mut seed) * 0.2 - 0.1,
+        ];
+        let got = bvh.closest(p).unwrap().dist2;
+        let brute = (0..m.triangles.len())
+            .map(|k| {
+                let [a, b, c] = m.corners(k);
+                let q = closest_on_triangle(p, a, b, c);
+                geom::dot(geom::sub(p, q.point), geom::sub(p, q.point))
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(got, brute);
+    }
+}
