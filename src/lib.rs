@@ -20,3 +20,6 @@ pub use mesher::{Certificate, MeshOutput, Mesher};
 pub mod options;
 pub mod roots;
 pub use options::MesherOptions;
+pub mod grid;
+pub mod marching;
+pub mod octree;

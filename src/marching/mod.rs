@@ -1,0 +1,422 @@
+//! The uncertified baselines: marching cubes ([`MarchingCubes`], `"mc"`), marching
+//! tetrahedra ([`MarchingTetrahedra`], `"mt"`) and marching squares
+//! ([`MarchingSquares`], `"ms"`).
+//!
+//! All three sample f once per vertex of a regular [`Grid`] (or, with `prune`, only at
+//! the vertices of the cells interval arithmetic could not prove empty, see
+//! [`crate::octree`]) and read nothing but the signs of those samples, plus the
+//! values (or bisection) to place the crossings. So they prove nothing: features
+//! between grid vertices (a thin tube, a narrow gap) are missed or merged.
+//!
+//! **Sign convention.** A vertex is *negative* when f < 0 and *positive* otherwise:
+//! f == 0 counts as positive, so a zero sample puts the crossing vertex exactly on
+//! that grid vertex (and may give zero-area triangles, never a crack).
+//!
+//! **Watertightness.** Every crossing vertex lives on a grid edge and is shared by the
+//! cells around that edge (indexed by edge, not recomputed per cell). Marching cubes
+//! connects the crossings of each cell face with one rule that depends only on the
+//! signs of that face, "negative corners are separated" (on a face with four crossings,
+//! each negative corner is cut off by its own segment), so the two cells sharing a face
+//! draw the same segments, and chains each cell's segments into closed loops. The
+//! output is a closed, oriented, edge-manifold triangle mesh for every sign pattern
+//! (away from the domain boundary, where the surface is cut open).
+//!
+//! **Determinism.** Vertices are numbered in the order of their grid edges and
+//! triangles in the order of their cells, whatever the thread count: the pruned and
+//! dense runs give identical meshes.
+pub mod cubes;
+pub mod squares;
+pub mod tets;
+
+pub use cubes::{marching_cubes, MarchingCubes};
+pub use squares::{marching_squares, MarchingSquares};
+pub use tets::{marching_tetrahedra, MarchingTetrahedra};
+
+use crate::error::{Error, Result};
+use crate::geom::{lerp, Aabb};
+use crate::grid::{Field, Grid, Samples};
+use crate::implicit::{Counted, Implicit};
+use crate::mesh::TriMesh;
+use crate::mesher::{Certificate, Mesh, MeshOutput, Progress};
+use crate::octree;
+use crate::options::{Crossing, MesherOptions};
+use crate::roots::crossing_t;
+use rayon::prelude::*;
+use serde_json::{json, Map, Value};
+
+/// Default cells along the longest side of the domain.
+pub const DEFAULT_RESOLUTION: usize = 64;
+/// Default bisection tolerance, relative to the edge length.
+pub const DEFAULT_TOLERANCE: f64 = 1e-6;
+
+/// Is there a sign change between two samples? (f == 0 is positive; a NaN sample, i.e.
+/// a vertex pruning skipped, never gives a crossing.)
+#[inline(always)]
+pub(crate) fn crosses(a: f64, b: f64) -> bool {
+    (a < 0.0 && b >= 0.0) || (a >= 0.0 && b < 0.0)
+}
+
+/// The parameters every grid mesher here shares. Defaults: resolution 64, linear
+/// interpolation of crossings (the classic algorithm), bisection tolerance 1e-6 of the
+/// edge, no pruning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridParams {
+    /// Cells along the longest side of the domain.
+    pub resolution: usize,
+    /// How crossings are placed on edges with a sign change.
+    pub crossing: Crossing,
+    /// Bisection tolerance, as a fraction of the edge length.
+    pub tolerance: f64,
+    /// Prune empty space with interval arithmetic before sampling.
+    pub prune: bool,
+}
+
+impl Default for GridParams {
+    fn default() -> Self {
+        GridParams {
+            resolution: DEFAULT_RESOLUTION,
+            crossing: Crossing::Linear,
+            tolerance: DEFAULT_TOLERANCE,
+            prune: false,
+        }
+    }
+}
+
+impl GridParams {
+    /// Reads `resolution`, `crossing`, `tolerance` and `prune` (other fields of
+    /// `MesherOptions` do not apply to grid meshers and are ignored); rejects `--set`
+    /// keys (these meshers have none).
+    pub fn from_options(algo: &str, o: &MesherOptions) -> Result<Self> {
+        o.check_keys(algo, &[])?;
+        let d = GridParams::default();
+        let p = GridParams {
+            resolution: o.resolution.unwrap_or(d.resolution),
+            crossing: o.crossing.unwrap_or(d.crossing),
+            tolerance: o.tolerance.unwrap_or(d.tolerance),
+            prune: o.prune,
+        };
+        p.check()?;
+        Ok(p)
+    }
+    pub(crate) fn check(&self) -> Result<()> {
+        if self.resolution == 0 {
+            return Err(Error::Param("resolution must be at least 1 cell".into()));
+        }
+        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
+            return Err(Error::Param(format!(
+                "crossing tolerance {} must lie in (0, 1) (a fraction of the edge)",
+                self.tolerance
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// A triangulation scheme of a grid cell: marching cubes or the Kuhn tetrahedra.
+pub(crate) struct Scheme {
+    /// Edge directions as bit masks (1 = +x, 2 = +y, 4 = +z; sums for diagonals). A
+    /// grid edge is (lower vertex, direction).
+    pub dirs: Vec<u8>,
+    /// The cell's local edges: (corner of the lower end, index into `dirs`). Corner `c`
+    /// is at offset `(c & 1, c >> 1 & 1, c >> 2 & 1)`.
+    pub edges: Vec<(u8, u8)>,
+    /// Per sign case (bit `c` set when corner `c` is negative): triangles as local edge
+    /// triples, oriented so that normals point toward f > 0.
+    pub cases: Vec<Vec<[u8; 3]>>,
+}
+
+impl Scheme {
+    /// The local edge joining corners `a` and `b` (`a` a bit-subset of `b`), added if new.
+    pub(crate) fn edge(&mut self, a: u8, b: u8) -> u8 {
+        let (lo, hi) = if a & b == a { (a, b) } else { (b, a) };
+        debug_assert!(lo & hi == lo && lo != hi);
+        let d = hi ^ lo;
+        let di = match self.dirs.iter().position(|&x| x == d) {
+            Some(i) => i,
+            None => {
+                self.dirs.push(d);
+                self.dirs.len() - 1
+            }
+        } as u8;
+        match self.edges.iter().position(|&e| e == (lo, di)) {
+            Some(i) => i as u8,
+            None => {
+                self.edges.push((lo, di));
+                (self.edges.len() - 1) as u8
+            }
+        }
+    }
+}
+
+/// How the crossing on an edge is placed.
+#[derive(Clone, Copy)]
+pub(crate) enum Place<'a> {
+    Linear,
+    Bisection(&'a dyn Implicit, f64),
+}
+
+/// What an extraction did.
+pub(crate) struct Extracted {
+    pub mesh: TriMesh,
+    /// Cells with a sign change.
+    pub cells_visited: u64,
+}
+
+#[inline(always)]
+fn corner(c: u8) -> [usize; 3] {
+    [
+        (c & 1) as usize,
+        ((c >> 1) & 1) as usize,
+        ((c >> 2) & 1) as usize,
+    ]
+}
+
+/// Visit the crossing edges owned by vertex layer `k` (edges whose lower vertex is in
+/// the layer), in the order that numbers them: rows `j`, then `i`, then direction.
+#[inline]
+fn scan_layer<F: Field>(
+    field: &F,
+    dirs: &[[usize; 3]],
+    k: usize,
+    mut visit: impl FnMut(usize, usize, usize, f64, f64),
+) {
+    let [nx, ny, nz] = field.grid().vertex_dims();
+    for j in 0..ny {
+        for i in 0..nx {
+            let a = field.value(i, j, k);
+            if F::SPARSE && a.is_nan() {
+                continue;
+            }
+            for (d, o) in dirs.iter().enumerate() {
+                let (ib, jb, kb) = (i + o[0], j + o[1], k + o[2]);
+                if ib >= nx || jb >= ny || kb >= nz {
+                    continue;
+                }
+                let b = field.value(ib, jb, kb);
+                if crosses(a, b) {
+                    visit(i, j, d, a, b);
+                }
+            }
+        }
+    }
+}
+
+/// Extract the triangle mesh of f = 0 from a sampled 3D grid with a cell scheme.
+/// Two passes over vertex layers, both parallel: count the crossing edges of each
+/// layer (giving each layer its range of vertex numbers), then per layer place its
+/// crossings and triangulate the cells above it, reading the numbers of the next
+/// layer's edges by rescanning its signs (cheap) instead of storing a global edge map.
+pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Result<Extracted> {
+    let grid = *field.grid();
+    if grid.dim() != 3 {
+        return Err(Error::Param("a 3D extractor needs a 3D grid".into()));
+    }
+    let [nx, ny, nz] = grid.vertex_dims();
+    let nd = scheme.dirs.len();
+    let dirs: Vec<[usize; 3]> = scheme.dirs.iter().map(|&d| corner(d)).collect();
+    // Two id maps per worker: refuse layers too large for that.
+    let map_bytes = (nx * ny * nd * 4) as u64;
+    if map_bytes > 1 << 30 {
+        return Err(Error::TooLarge(format!(
+            "a layer of {nx} x {ny} vertices needs {} MB of edge maps",
+            map_bytes >> 20
+        )));
+    }
+    let counts: Vec<usize> = (0..nz)
+        .into_par_iter()
+        .map(|k| {
+            let mut n = 0;
+            scan_layer(field, &dirs, k, |_, _, _, _, _| n += 1);
+            n
+        })
+        .collect();
+    let mut offsets = Vec::with_capacity(nz + 1);
+    let mut total = 0usize;
+    for &c in &counts {
+        offsets.push(total);
+        total += c;
+    }
+    if total >= u32::MAX as usize {
+        return Err(Error::TooLarge(format!(
+            "{total} mesh vertices (at most {})",
+            u32::MAX - 1
+        )));
+    }
+    let mut vertices = vec![[0.0f64; 3]; total];
+    let mut chunks = Vec::with_capacity(nz);
+    let mut rest = &mut vertices[..];
+    for &c in &counts {
+        let (a, b) = rest.split_at_mut(c);
+        chunks.push(a);
+        rest = b;
+    }
+    let [cx, cy, _] = grid.cells();
+    let per_layer: Vec<(Vec<[u32; 3]>, u64)> = chunks
+        .into_par_iter()
+        .enumerate()
+        .map(|(k, out)| {
+            // Ids of the edges owned by layer k, with their positions.
+            let mut ids = vec![u32::MAX; nx * ny * nd];
+            let mut n = 0usize;
+            scan_layer(field, &dirs, k, |i, j, d, a, b| {
+                ids[(j * nx + i) * nd + d] = (offsets[k] + n) as u32;
+                let o = dirs[d];
+                let p = grid.point(i, j, k);
+                let q = grid.point(i + o[0], j + o[1], k + o[2]);
+                let t = match place {
+                    Place::Linear => crossing_t_linear(a, b),
+                    Place::Bisection(f, tol) => crossing_t(f, p, a, q, b, Crossing::Bisection, tol),
+                };
+                out[n] = lerp(p, q, t);
+                n += 1;
+            });
+            if k + 1 == nz {
+                return (Vec::new(), 0);
+            }
+            // Ids of layer k + 1's edges, numbered exactly as its own task numbers them.
+            let mut up = vec![u32::MAX; nx * ny * nd];
+            let mut m = 0usize;
+            scan_layer(field, &dirs, k + 1, |i, j, d, _, _| {
+                up[(j * nx + i) * nd + d] = (offsets[k + 1] + m) as u32;
+                m += 1;
+            });
+            let mut tris = Vec::new();
+            let mut visited = 0u64;
+            let mut v = [0.0f64; 8];
+            for j in 0..cy {
+                for i in 0..cx {
+                    let mut case = 0usize;
+                    let mut skip = false;
+                    for (c, vc) in v.iter_mut().enumerate() {
+                        let o = corner(c as u8);
+                        *vc = field.value(i + o[0], j + o[1], k + o[2]);
+                        if F::SPARSE && vc.is_nan() {
+                            skip = true;
+                        }
+                        case |= ((*vc < 0.0) as usize) << c;
+                    }
+                    // A cell with a skipped vertex was pruned: one strict sign throughout.
+                    if skip || case == 0 || case == 255 {
+                        continue;
+                    }
+                    visited += 1;
+                    for t in &scheme.cases[case] {
+                        tris.push(t.map(|e| {
+                            let (c, d) = scheme.edges[e as usize];
+                            let o = corner(c);
+                            let map = if o[2] == 0 { &ids } else { &up };
+                            let id = map[((j + o[1]) * nx + i + o[0]) * nd + d as usize];
+                            debug_assert!(id != u32::MAX);
+                            id
+                        }));
+                    }
+                }
+            }
+            (tris, visited)
+        })
+        .collect();
+    let ntris = per_layer.iter().map(|(t, _)| t.len()).sum();
+    let mut triangles = Vec::with_capacity(ntris);
+    let mut cells_visited = 0;
+    for (t, v) in per_layer {
+        triangles.extend_from_slice(&t);
+        cells_visited += v;
+    }
+    Ok(Extracted {
+        mesh: TriMesh::new(vertices, triangles),
+        cells_visited,
+    })
+}
+
+/// The linear-interpolation crossing parameter for a sign change (f == 0 at an end puts
+/// the crossing there).
+#[inline(always)]
+pub(crate) fn crossing_t_linear(a: f64, b: f64) -> f64 {
+    if a == 0.0 {
+        0.0
+    } else if b == 0.0 {
+        1.0
+    } else {
+        (a / (a - b)).clamp(0.0, 1.0)
+    }
+}
+
+/// The statistics every grid mesher reports.
+pub(crate) fn base_stats(grid: &Grid, p: &GridParams) -> Map<String, Value> {
+    let mut s = Map::new();
+    s.insert("grid_cells".into(), json!(grid.cells()));
+    s.insert("grid_vertices".into(), json!(grid.num_vertices()));
+    s.insert("cells".into(), json!(grid.num_cells()));
+    s.insert(
+        "crossing".into(),
+        json!(match p.crossing {
+            Crossing::Linear => "linear",
+            Crossing::Bisection => "bisection",
+        }),
+    );
+    s.insert("pruned".into(), json!(p.prune));
+    s
+}
+
+/// Sample (dense or pruned) and run a 3D scheme: the body of `mc` and `mt`.
+pub(crate) fn mesh_3d(
+    name: &str,
+    scheme: &Scheme,
+    p: &GridParams,
+    f: &dyn Implicit,
+    domain: &Aabb,
+    progress: &dyn Progress,
+) -> Result<MeshOutput> {
+    p.check()?;
+    if f.dim() != 3 {
+        return Err(Error::Param(format!(
+            "'{name}' meshes surfaces f(x, y, z); this function is a curve (use 'ms')"
+        )));
+    }
+    let grid = Grid::new(domain, p.resolution, 3)?;
+    let mut stats = base_stats(&grid, p);
+    let bis = Counted::new(f);
+    let place = match p.crossing {
+        Crossing::Linear => Place::Linear,
+        Crossing::Bisection => Place::Bisection(&bis, p.tolerance),
+    };
+    let ex = if p.prune {
+        let (s, st) = octree::sample_pruned(f, &grid, progress)?;
+        stats.insert("cells_pruned".into(), json!(st.cells_pruned));
+        stats.insert(
+            "interval_evaluations".into(),
+            json!(st.interval_evaluations),
+        );
+        stats.insert("point_evaluations".into(), json!(st.point_evaluations));
+        progress.start("extracting", 0);
+        extract(&s, scheme, place)?
+    } else {
+        let s = Samples::sample(f, &grid, progress)?;
+        stats.insert("cells_pruned".into(), json!(0));
+        stats.insert("interval_evaluations".into(), json!(0));
+        stats.insert("point_evaluations".into(), json!(grid.num_vertices()));
+        progress.start("extracting", 0);
+        extract(&s, scheme, place)?
+    };
+    progress.finish();
+    stats.insert("cells_visited".into(), json!(ex.cells_visited));
+    stats.insert("crossing_evaluations".into(), json!(bis.counts().points));
+    Ok(MeshOutput {
+        mesh: Mesh::Surface(ex.mesh),
+        certificate: Certificate::none(format!(
+            "{name} proves nothing: it reads the signs of f at grid vertices only, so \
+             components, handles and gaps smaller than a cell are missed or merged"
+        )),
+        stats,
+    })
+}
+
+/// Check the function dimension against the mesher, for `from_options` users.
+pub(crate) fn check_curve(name: &str, f: &dyn Implicit) -> Result<()> {
+    if f.dim() != 2 {
+        return Err(Error::Param(format!(
+            "'{name}' meshes curves f(x, y); this function is a surface (use 'mc' or 'mt')"
+        )));
+    }
+    Ok(())
+}
