@@ -200,6 +200,35 @@ pub trait Field: Sync {
     const SPARSE: bool;
     fn grid(&self) -> &Grid;
     fn value(&self, i: usize, j: usize, k: usize) -> f64;
+    /// The signs present on the row of vertices `(.., j, k)`: bit [`ROW_NEG`] when some
+    /// value is negative, bit [`ROW_POS`] when some value is >= 0 (skipped vertices set
+    /// neither). Extractors skip rows whose neighbourhood has only one sign.
+    fn row_state(&self, j: usize, k: usize) -> u8 {
+        let n = self.grid().vertex_dims()[0];
+        let mut s = 0u8;
+        for i in 0..n {
+            let v = self.value(i, j, k);
+            s |= (v < 0.0) as u8 * ROW_NEG | (v >= 0.0) as u8 * ROW_POS;
+            if s == ROW_NEG | ROW_POS {
+                break;
+            }
+        }
+        s
+    }
+}
+
+/// See [`Field::row_state`].
+pub const ROW_NEG: u8 = 1;
+/// See [`Field::row_state`].
+pub const ROW_POS: u8 = 2;
+
+/// The row states of a whole field, indexed `j + n_y * k`, computed in parallel.
+pub fn row_states<F: Field>(field: &F) -> Vec<u8> {
+    let [_, ny, nz] = field.grid().vertex_dims();
+    (0..ny * nz)
+        .into_par_iter()
+        .map(|r| field.row_state(r % ny, r / ny))
+        .collect()
 }
 
 /// f at every vertex of a grid, in a flat array (x fastest, then y, then z).
@@ -284,6 +313,12 @@ impl Field for Samples {
     #[inline(always)]
     fn value(&self, i: usize, j: usize, k: usize) -> f64 {
         self.values[self.grid.index(i, j, k)]
+    }
+    fn row_state(&self, j: usize, k: usize) -> u8 {
+        let n = self.grid.vertex_dims()[0];
+        let b = self.grid.index(0, j, k);
+        let row = &self.values[b..b + n];
+        row.iter().any(|&v| v < 0.0) as u8 * ROW_NEG | row.iter().any(|&v| v >= 0.0) as u8 * ROW_POS
     }
 }
 
@@ -408,6 +443,25 @@ impl Field for SparseSamples {
     const SPARSE: bool = true;
     fn grid(&self) -> &Grid {
         &self.grid
+    }
+    fn row_state(&self, j: usize, k: usize) -> u8 {
+        let n = self.grid.vertex_dims()[0];
+        let mut s = 0u8;
+        let step = 1 << self.shift[0];
+        // Whole bricks at a time: unallocated ones hold no values.
+        for i0 in (0..n).step_by(step) {
+            if self.table[self.brick(i0, j, k)] == u32::MAX {
+                continue;
+            }
+            for i in i0..(i0 + step).min(n) {
+                let v = self.value(i, j, k);
+                s |= (v < 0.0) as u8 * ROW_NEG | (v >= 0.0) as u8 * ROW_POS;
+            }
+            if s == ROW_NEG | ROW_POS {
+                break;
+            }
+        }
+        s
     }
     #[inline(always)]
     fn value(&self, i: usize, j: usize, k: usize) -> f64 {

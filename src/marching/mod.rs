@@ -34,7 +34,7 @@ pub use tets::{marching_tetrahedra, MarchingTetrahedra};
 
 use crate::error::{Error, Result};
 use crate::geom::{lerp, Aabb};
-use crate::grid::{Field, Grid, Samples};
+use crate::grid::{row_states, Field, Grid, Samples, ROW_NEG, ROW_POS};
 use crate::implicit::{Counted, Implicit};
 use crate::mesh::TriMesh;
 use crate::mesher::{Certificate, Mesh, MeshOutput, Progress};
@@ -173,26 +173,39 @@ fn corner(c: u8) -> [usize; 3] {
 
 /// Visit the crossing edges owned by vertex layer `k` (edges whose lower vertex is in
 /// the layer), in the order that numbers them: rows `j`, then `i`, then direction.
+/// Rows whose edges all join vertices of one sign (by the row states `rs`) are skipped.
 #[inline]
 fn scan_layer<F: Field>(
     field: &F,
     dirs: &[[usize; 3]],
+    rs: &[u8],
     k: usize,
     mut visit: impl FnMut(usize, usize, usize, f64, f64),
 ) {
     let [nx, ny, nz] = field.grid().vertex_dims();
+    // Which directions can cross on this row (at most 7).
+    let mut live = [false; 8];
     for j in 0..ny {
+        let here = rs[j + ny * k];
+        let mut any = false;
+        for (d, o) in dirs.iter().enumerate() {
+            let (jb, kb) = (j + o[1], k + o[2]);
+            live[d] = jb < ny && kb < nz && (here | rs[jb + ny * kb]) & BOTH == BOTH;
+            any |= live[d];
+        }
+        if !any {
+            continue;
+        }
         for i in 0..nx {
             let a = field.value(i, j, k);
             if F::SPARSE && a.is_nan() {
                 continue;
             }
             for (d, o) in dirs.iter().enumerate() {
-                let (ib, jb, kb) = (i + o[0], j + o[1], k + o[2]);
-                if ib >= nx || jb >= ny || kb >= nz {
+                if !live[d] || i + o[0] >= nx {
                     continue;
                 }
-                let b = field.value(ib, jb, kb);
+                let b = field.value(i + o[0], j + o[1], k + o[2]);
                 if crosses(a, b) {
                     visit(i, j, d, a, b);
                 }
@@ -201,11 +214,15 @@ fn scan_layer<F: Field>(
     }
 }
 
+const BOTH: u8 = ROW_NEG | ROW_POS;
+
 /// Extract the triangle mesh of f = 0 from a sampled 3D grid with a cell scheme.
 /// Two passes over vertex layers, both parallel: count the crossing edges of each
 /// layer (giving each layer its range of vertex numbers), then per layer place its
 /// crossings and triangulate the cells above it, reading the numbers of the next
 /// layer's edges by rescanning its signs (cheap) instead of storing a global edge map.
+/// Rows of vertices with a single sign (the bulk of a grid) are skipped via their row
+/// states.
 pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Result<Extracted> {
     let grid = *field.grid();
     if grid.dim() != 3 {
@@ -222,11 +239,12 @@ pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Res
             map_bytes >> 20
         )));
     }
+    let rs = row_states(field);
     let counts: Vec<usize> = (0..nz)
         .into_par_iter()
         .map(|k| {
             let mut n = 0;
-            scan_layer(field, &dirs, k, |_, _, _, _, _| n += 1);
+            scan_layer(field, &dirs, &rs, k, |_, _, _, _, _| n += 1);
             n
         })
         .collect();
@@ -254,66 +272,86 @@ pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Res
     let per_layer: Vec<(Vec<[u32; 3]>, u64)> = chunks
         .into_par_iter()
         .enumerate()
-        .map(|(k, out)| {
-            // Ids of the edges owned by layer k, with their positions.
-            let mut ids = vec![u32::MAX; nx * ny * nd];
-            let mut n = 0usize;
-            scan_layer(field, &dirs, k, |i, j, d, a, b| {
-                ids[(j * nx + i) * nd + d] = (offsets[k] + n) as u32;
-                let o = dirs[d];
-                let p = grid.point(i, j, k);
-                let q = grid.point(i + o[0], j + o[1], k + o[2]);
-                let t = match place {
-                    Place::Linear => crossing_t_linear(a, b),
-                    Place::Bisection(f, tol) => crossing_t(f, p, a, q, b, Crossing::Bisection, tol),
-                };
-                out[n] = lerp(p, q, t);
-                n += 1;
-            });
-            if k + 1 == nz {
-                return (Vec::new(), 0);
-            }
-            // Ids of layer k + 1's edges, numbered exactly as its own task numbers them.
-            let mut up = vec![u32::MAX; nx * ny * nd];
-            let mut m = 0usize;
-            scan_layer(field, &dirs, k + 1, |i, j, d, _, _| {
-                up[(j * nx + i) * nd + d] = (offsets[k + 1] + m) as u32;
-                m += 1;
-            });
-            let mut tris = Vec::new();
-            let mut visited = 0u64;
-            let mut v = [0.0f64; 8];
-            for j in 0..cy {
-                for i in 0..cx {
-                    let mut case = 0usize;
-                    let mut skip = false;
-                    for (c, vc) in v.iter_mut().enumerate() {
-                        let o = corner(c as u8);
-                        *vc = field.value(i + o[0], j + o[1], k + o[2]);
-                        if F::SPARSE && vc.is_nan() {
-                            skip = true;
+        .map_init(
+            // Id maps, reused across layers: only entries of crossing edges are read,
+            // and those are written first, so stale entries never matter.
+            || (vec![u32::MAX; nx * ny * nd], vec![u32::MAX; nx * ny * nd]),
+            |(ids, up), (k, out)| {
+                let mut n = 0usize;
+                scan_layer(field, &dirs, &rs, k, |i, j, d, a, b| {
+                    ids[(j * nx + i) * nd + d] = (offsets[k] + n) as u32;
+                    let o = dirs[d];
+                    let p = grid.point(i, j, k);
+                    let q = grid.point(i + o[0], j + o[1], k + o[2]);
+                    let t = match place {
+                        Place::Linear => crossing_t_linear(a, b),
+                        Place::Bisection(f, tol) => {
+                            crossing_t(f, p, a, q, b, Crossing::Bisection, tol)
                         }
-                        case |= ((*vc < 0.0) as usize) << c;
-                    }
-                    // A cell with a skipped vertex was pruned: one strict sign throughout.
-                    if skip || case == 0 || case == 255 {
+                    };
+                    out[n] = lerp(p, q, t);
+                    n += 1;
+                });
+                if k + 1 == nz {
+                    return (Vec::new(), 0);
+                }
+                // Ids of layer k + 1's edges, numbered exactly as its own task does.
+                let mut m = 0usize;
+                scan_layer(field, &dirs, &rs, k + 1, |i, j, d, _, _| {
+                    up[(j * nx + i) * nd + d] = (offsets[k + 1] + m) as u32;
+                    m += 1;
+                });
+                let mut tris = Vec::new();
+                let mut visited = 0u64;
+                // Corner c = dx + 2 dy + 4 dz: the four vertices of column i (dx = 0)
+                // give bits 0, 2, 4, 6; column i + 1 the same shifted by one.
+                let column = |i: usize, j: usize| -> (usize, bool) {
+                    let v = [
+                        field.value(i, j, k),
+                        field.value(i, j + 1, k),
+                        field.value(i, j, k + 1),
+                        field.value(i, j + 1, k + 1),
+                    ];
+                    let bits = (v[0] < 0.0) as usize
+                        | ((v[1] < 0.0) as usize) << 2
+                        | ((v[2] < 0.0) as usize) << 4
+                        | ((v[3] < 0.0) as usize) << 6;
+                    (bits, F::SPARSE && v.iter().any(|x| x.is_nan()))
+                };
+                for j in 0..cy {
+                    let st = rs[j + ny * k]
+                        | rs[j + 1 + ny * k]
+                        | rs[j + ny * (k + 1)]
+                        | rs[j + 1 + ny * (k + 1)];
+                    if st & BOTH != BOTH {
                         continue;
                     }
-                    visited += 1;
-                    for t in &scheme.cases[case] {
-                        tris.push(t.map(|e| {
-                            let (c, d) = scheme.edges[e as usize];
-                            let o = corner(c);
-                            let map = if o[2] == 0 { &ids } else { &up };
-                            let id = map[((j + o[1]) * nx + i + o[0]) * nd + d as usize];
-                            debug_assert!(id != u32::MAX);
-                            id
-                        }));
+                    let mut prev = column(0, j);
+                    for i in 0..cx {
+                        let next = column(i + 1, j);
+                        let case = prev.0 | next.0 << 1;
+                        // A cell with a skipped vertex was pruned: one strict sign.
+                        let skip = prev.1 || next.1;
+                        prev = next;
+                        if skip || case == 0 || case == 255 {
+                            continue;
+                        }
+                        visited += 1;
+                        for t in &scheme.cases[case] {
+                            tris.push(t.map(|e| {
+                                let (c, d) = scheme.edges[e as usize];
+                                let o = corner(c);
+                                let map = if o[2] == 0 { &ids } else { &up };
+                                let id = map[((j + o[1]) * nx + i + o[0]) * nd + d as usize];
+                                debug_assert!(id != u32::MAX);
+                                id
+                            }));
+                        }
                     }
                 }
-            }
-            (tris, visited)
-        })
+                (tris, visited)
+            },
+        )
         .collect();
     let ntris = per_layer.iter().map(|(t, _)| t.len()).sum();
     let mut triangles = Vec::with_capacity(ntris);
