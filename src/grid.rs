@@ -345,11 +345,43 @@ impl SparseSamples {
     pub fn evaluate(
         f: &dyn Implicit,
         grid: &Grid,
-        mut vertices: Vec<u64>,
+        vertices: &[u64],
         progress: &dyn Progress,
     ) -> Result<SparseSamples> {
-        vertices.par_sort_unstable();
-        vertices.dedup();
+        let mut s = SparseSamples::empty(grid)?;
+        let mut masks = Vec::new();
+        for &v in vertices {
+            let [i, j, k] = grid.unindex(v as usize);
+            s.mark(&mut masks, i, j, k);
+        }
+        s.fill(f, masks, progress)?;
+        Ok(s)
+    }
+
+    /// Evaluate f at every vertex of the blocks `(lo, hi)` (inclusive vertex index
+    /// ranges; overlaps allowed), in parallel.
+    pub fn evaluate_blocks(
+        f: &dyn Implicit,
+        grid: &Grid,
+        blocks: &[([usize; 3], [usize; 3])],
+        progress: &dyn Progress,
+    ) -> Result<SparseSamples> {
+        let mut s = SparseSamples::empty(grid)?;
+        let mut masks = Vec::new();
+        for (lo, hi) in blocks {
+            for k in lo[2]..=hi[2] {
+                for j in lo[1]..=hi[1] {
+                    for i in lo[0]..=hi[0] {
+                        s.mark(&mut masks, i, j, k);
+                    }
+                }
+            }
+        }
+        s.fill(f, masks, progress)?;
+        Ok(s)
+    }
+
+    fn empty(grid: &Grid) -> Result<SparseSamples> {
         let shift = [
             BRICK_SHIFT,
             BRICK_SHIFT,
@@ -364,51 +396,99 @@ impl SparseSamples {
                 u32::MAX / 2
             )));
         }
-        let mut s = SparseSamples {
+        Ok(SparseSamples {
             grid: *grid,
             shift,
             bricks,
             table: vec![u32::MAX; nbricks as usize],
             pool: Vec::new(),
-            evaluated: vertices.len(),
-        };
-        let bsize = 1usize << (shift[0] + shift[1] + shift[2]);
-        let mut nalloc = 0u32;
-        for &v in &vertices {
-            let [i, j, k] = grid.unindex(v as usize);
-            let b = s.brick(i, j, k);
-            if s.table[b] == u32::MAX {
-                s.table[b] = nalloc;
-                nalloc += 1;
-            }
+            evaluated: 0,
+        })
+    }
+
+    /// Mark vertex (i, j, k) for evaluation, allocating its brick (a 512-bit mask).
+    fn mark(&mut self, masks: &mut Vec<[u64; 8]>, i: usize, j: usize, k: usize) {
+        let b = self.brick(i, j, k);
+        if self.table[b] == u32::MAX {
+            self.table[b] = masks.len() as u32;
+            masks.push([0; 8]);
         }
-        if nalloc as u64 * bsize as u64 * 8 > MAX_DENSE_BYTES {
+        let off = self.offset(i, j, k);
+        masks[self.table[b] as usize][off >> 6] |= 1 << (off & 63);
+    }
+
+    /// Evaluate the marked vertices, bricks in parallel.
+    fn fill(
+        &mut self,
+        f: &dyn Implicit,
+        masks: Vec<[u64; 8]>,
+        progress: &dyn Progress,
+    ) -> Result<()> {
+        let bsize = 1usize << (self.shift[0] + self.shift[1] + self.shift[2]);
+        if masks.len() as u64 * bsize as u64 * 8 > MAX_DENSE_BYTES {
             return Err(Error::TooLarge(format!(
-                "the pruned grid still needs {nalloc} bricks of {bsize} values"
+                "the pruned grid still needs {} bricks of {bsize} values",
+                masks.len()
             )));
         }
-        s.pool = vec![f64::NAN; nalloc as usize * bsize];
-        progress.start("sampling f at the kept vertices", vertices.len() as u64);
-        let values: Vec<f64> = vertices
-            .par_chunks(4096)
-            .flat_map_iter(|chunk| {
-                progress.inc(chunk.len() as u64);
-                chunk.iter().map(|&v| {
-                    let [i, j, k] = grid.unindex(v as usize);
-                    f.eval(grid.point(i, j, k))
-                })
-            })
-            .collect();
-        progress.finish();
-        for (&v, &x) in vertices.iter().zip(&values) {
-            if !x.is_finite() {
-                return Err(grid.not_finite(v as usize, x));
+        // Where each allocated brick sits in the grid.
+        let mut origin = vec![[0usize; 3]; masks.len()];
+        let [b0, b1, _] = self.bricks;
+        for (b, &slot) in self.table.iter().enumerate() {
+            if slot != u32::MAX {
+                let (bi, bj, bk) = (b % b0, (b / b0) % b1, b / (b0 * b1));
+                origin[slot as usize] = [
+                    bi << self.shift[0],
+                    bj << self.shift[1],
+                    bk << self.shift[2],
+                ];
             }
-            let [i, j, k] = grid.unindex(v as usize);
-            let slot = s.slot(i, j, k).expect("brick allocated above");
-            s.pool[slot] = x;
         }
-        Ok(s)
+        self.evaluated = masks
+            .iter()
+            .map(|m| m.iter().map(|w| w.count_ones() as usize).sum::<usize>())
+            .sum();
+        let mut pool = vec![f64::NAN; masks.len() * bsize];
+        progress.start("sampling f at the kept vertices", masks.len() as u64);
+        let grid = self.grid;
+        let [s0, s1, _] = self.shift;
+        let bad = pool
+            .par_chunks_mut(bsize)
+            .zip(masks.par_iter().zip(origin.par_iter()))
+            .filter_map(|(out, (mask, o))| {
+                let mut bad = None;
+                for (w, &word) in mask.iter().enumerate() {
+                    let mut m = word;
+                    while m != 0 {
+                        let off = (w << 6) | m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        let i = o[0] + (off & ((1 << s0) - 1));
+                        let j = o[1] + ((off >> s0) & ((1 << s1) - 1));
+                        let k = o[2] + (off >> (s0 + s1));
+                        let x = f.eval(grid.point(i, j, k));
+                        if !x.is_finite() && bad.is_none() {
+                            bad = Some((grid.index(i, j, k), x));
+                        }
+                        out[off] = x;
+                    }
+                }
+                progress.inc(1);
+                bad
+            })
+            .min_by_key(|(v, _)| *v);
+        progress.finish();
+        if let Some((v, x)) = bad {
+            return Err(grid.not_finite(v, x));
+        }
+        self.pool = pool;
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn offset(&self, i: usize, j: usize, k: usize) -> usize {
+        let [s0, s1, s2] = self.shift;
+        let m = |s: usize| (1usize << s) - 1;
+        (i & m(s0)) | ((j & m(s1)) << s0) | ((k & m(s2)) << (s0 + s1))
     }
 
     #[inline(always)]
@@ -424,9 +504,7 @@ impl SparseSamples {
             return None;
         }
         let [s0, s1, s2] = self.shift;
-        let m = |s: usize| (1usize << s) - 1;
-        let off = (i & m(s0)) | ((j & m(s1)) << s0) | ((k & m(s2)) << (s0 + s1));
-        Some(((b as usize) << (s0 + s1 + s2)) | off)
+        Some(((b as usize) << (s0 + s1 + s2)) | self.offset(i, j, k))
     }
 
     /// Number of vertices evaluated.
@@ -515,7 +593,7 @@ mod tests {
         let f = Formula::surface("x + 10*y + 100*z").unwrap();
         let g = Grid::new(&Aabb::new([0.0; 3], [20.0; 3]).unwrap(), 20, 3).unwrap();
         let vs = vec![g.index(0, 0, 0) as u64, g.index(17, 9, 3) as u64];
-        let s = SparseSamples::evaluate(&f, &g, vs, &NoProgress).unwrap();
+        let s = SparseSamples::evaluate(&f, &g, &vs, &NoProgress).unwrap();
         assert_eq!(s.value(17, 9, 3), 17.0 + 90.0 + 300.0);
         assert_eq!(s.value(0, 0, 0), 0.0);
         assert!(s.value(1, 0, 0).is_nan());

@@ -196,9 +196,19 @@ fn pruned_output_is_identical_to_dense() {
             assert_eq!(surface(&a), surface(&b), "{} at {res}", e.name);
             let pe = b.stats["point_evaluations"].as_u64().unwrap();
             let de = a.stats["point_evaluations"].as_u64().unwrap();
-            assert!(pe < de, "{}: {pe} vs {de}", e.name);
+            assert!(
+                pe < de || (res < 20 && pe == de),
+                "{}: {pe} vs {de}",
+                e.name
+            );
             assert!(b.stats["interval_evaluations"].as_u64().unwrap() > 0);
             assert_eq!(a.stats["cells_visited"], b.stats["cells_visited"]);
+            let c = dense
+                .prune(true)
+                .leaf(1)
+                .mesh(&f, &e.domain, &NoProgress)
+                .unwrap();
+            assert_eq!(surface(&a), surface(&c), "{} at {res}, leaf 1", e.name);
             let mt = MarchingTetrahedra::new().resolution(res);
             let a = mt.mesh(&f, &e.domain, &NoProgress).unwrap();
             let b = mt.prune(true).mesh(&f, &e.domain, &NoProgress).unwrap();
@@ -436,8 +446,11 @@ fn clear_errors() {
     o.tolerance = None;
     o.prune = true;
     o.crossing = Some(Crossing::Bisection);
+    o.extra.insert("leaf".into(), "2".into());
     let m = MarchingTetrahedra::from_options(&o).unwrap();
-    assert!(m.params.prune && m.params.crossing == Crossing::Bisection);
+    assert!(m.params.prune && m.params.crossing == Crossing::Bisection && m.params.leaf == 2);
+    o.extra.insert("leaf".into(), "0".into());
+    assert!(MarchingCubes::from_options(&o).is_err());
 }
 
 #[test]

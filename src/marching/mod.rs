@@ -69,6 +69,10 @@ pub struct GridParams {
     pub tolerance: f64,
     /// Prune empty space with interval arithmetic before sampling.
     pub prune: bool,
+    /// Side of the leaf blocks of the pruning descent, in cells (`--set leaf=N`,
+    /// default [`octree::DEFAULT_LEAF`]): smaller leaves mean more interval and fewer
+    /// point evaluations. Does not change the output.
+    pub leaf: usize,
 }
 
 impl Default for GridParams {
@@ -78,22 +82,24 @@ impl Default for GridParams {
             crossing: Crossing::Linear,
             tolerance: DEFAULT_TOLERANCE,
             prune: false,
+            leaf: octree::DEFAULT_LEAF,
         }
     }
 }
 
 impl GridParams {
-    /// Reads `resolution`, `crossing`, `tolerance` and `prune` (other fields of
-    /// `MesherOptions` do not apply to grid meshers and are ignored); rejects `--set`
-    /// keys (these meshers have none).
+    /// Reads `resolution`, `crossing`, `tolerance`, `prune` and `--set leaf=N` (other
+    /// fields of `MesherOptions` do not apply to grid meshers and are ignored); rejects
+    /// other `--set` keys.
     pub fn from_options(algo: &str, o: &MesherOptions) -> Result<Self> {
-        o.check_keys(algo, &[])?;
+        o.check_keys(algo, &["leaf"])?;
         let d = GridParams::default();
         let p = GridParams {
             resolution: o.resolution.unwrap_or(d.resolution),
             crossing: o.crossing.unwrap_or(d.crossing),
             tolerance: o.tolerance.unwrap_or(d.tolerance),
             prune: o.prune,
+            leaf: o.get("leaf")?.unwrap_or(d.leaf),
         };
         p.check()?;
         Ok(p)
@@ -101,6 +107,11 @@ impl GridParams {
     pub(crate) fn check(&self) -> Result<()> {
         if self.resolution == 0 {
             return Err(Error::Param("resolution must be at least 1 cell".into()));
+        }
+        if self.leaf == 0 {
+            return Err(Error::Param(
+                "leaf=0: pruning leaves have at least 1 cell".into(),
+            ));
         }
         if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
             return Err(Error::Param(format!(
@@ -419,7 +430,7 @@ pub(crate) fn mesh_3d(
         Crossing::Bisection => Place::Bisection(&bis, p.tolerance),
     };
     let ex = if p.prune {
-        let (s, st) = octree::sample_pruned(f, &grid, progress)?;
+        let (s, st) = octree::sample_pruned_with(f, &grid, p.leaf, progress)?;
         stats.insert("cells_pruned".into(), json!(st.cells_pruned));
         stats.insert(
             "interval_evaluations".into(),

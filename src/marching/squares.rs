@@ -49,7 +49,12 @@ impl MarchingSquares {
         self.params.prune = p;
         self
     }
-    /// From `--resolution`, `--crossing`, `--tolerance`, `--prune`.
+    /// Side of the pruning descent's leaf blocks, in cells (default 4).
+    pub fn leaf(mut self, n: usize) -> Self {
+        self.params.leaf = n;
+        self
+    }
+    /// From `--resolution`, `--crossing`, `--tolerance`, `--prune`, `--set leaf=N`.
     pub fn from_options(o: &MesherOptions) -> Result<Self> {
         Ok(MarchingSquares {
             params: GridParams::from_options("ms", o)?,
@@ -76,7 +81,7 @@ impl Mesher for MarchingSquares {
             Crossing::Bisection => Some((&bis as &dyn Implicit, p.tolerance)),
         };
         let (curve, visited) = if p.prune {
-            let (s, st) = octree::sample_pruned(f, &grid, progress)?;
+            let (s, st) = octree::sample_pruned_with(f, &grid, p.leaf, progress)?;
             stats.insert("cells_pruned".into(), json!(st.cells_pruned));
             stats.insert(
                 "interval_evaluations".into(),

@@ -50,7 +50,12 @@ impl MarchingTetrahedra {
         self.params.prune = p;
         self
     }
-    /// From `--resolution`, `--crossing`, `--tolerance`, `--prune`.
+    /// Side of the pruning descent's leaf blocks, in cells (default 4).
+    pub fn leaf(mut self, n: usize) -> Self {
+        self.params.leaf = n;
+        self
+    }
+    /// From `--resolution`, `--crossing`, `--tolerance`, `--prune`, `--set leaf=N`.
     pub fn from_options(o: &MesherOptions) -> Result<Self> {
         Ok(MarchingTetrahedra {
             params: GridParams::from_options("mt", o)?,
