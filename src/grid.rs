@@ -200,35 +200,50 @@ pub trait Field: Sync {
     const SPARSE: bool;
     fn grid(&self) -> &Grid;
     fn value(&self, i: usize, j: usize, k: usize) -> f64;
-    /// The signs present on the row of vertices `(.., j, k)`: bit [`ROW_NEG`] when some
-    /// value is negative, bit [`ROW_POS`] when some value is >= 0 (skipped vertices set
-    /// neither). Extractors skip rows whose neighbourhood has only one sign.
-    fn row_state(&self, j: usize, k: usize) -> u8 {
+    /// The signs of the row of vertices `(.., j, k)` as bit sets (bit `i` of word
+    /// `i / 64`): `neg` where f < 0, `valid` where the value exists (not skipped by
+    /// pruning). Both slices are zeroed by the caller and hold `nx.div_ceil(64)` words.
+    fn sign_row(&self, j: usize, k: usize, neg: &mut [u64], valid: &mut [u64]) {
         let n = self.grid().vertex_dims()[0];
-        let mut s = 0u8;
         for i in 0..n {
             let v = self.value(i, j, k);
-            s |= (v < 0.0) as u8 * ROW_NEG | (v >= 0.0) as u8 * ROW_POS;
-            if s == ROW_NEG | ROW_POS {
-                break;
-            }
+            neg[i >> 6] |= ((v < 0.0) as u64) << (i & 63);
+            valid[i >> 6] |= ((!v.is_nan()) as u64) << (i & 63);
         }
-        s
     }
 }
 
-/// See [`Field::row_state`].
-pub const ROW_NEG: u8 = 1;
-/// See [`Field::row_state`].
-pub const ROW_POS: u8 = 2;
+/// The signs of a whole field, packed one bit per vertex (1/32 of the dense samples):
+/// extractors find sign changes 64 vertices at a time and read values only there.
+#[derive(Clone, Debug)]
+pub struct SignBits {
+    /// Words per row of vertices (each row padded with at least one zero bit).
+    pub words: usize,
+    /// `neg[(j + ny * k) * words + w]`: bit `i % 64` of word `i / 64` set when f < 0.
+    pub neg: Vec<u64>,
+    /// The same layout: set where a value exists (always, for dense samples).
+    pub valid: Vec<u64>,
+}
 
-/// The row states of a whole field, indexed `j + n_y * k`, computed in parallel.
-pub fn row_states<F: Field>(field: &F) -> Vec<u8> {
-    let [_, ny, nz] = field.grid().vertex_dims();
-    (0..ny * nz)
-        .into_par_iter()
-        .map(|r| field.row_state(r % ny, r / ny))
-        .collect()
+impl SignBits {
+    /// Compute the bits of a field, rows in parallel.
+    pub fn of<F: Field>(field: &F) -> SignBits {
+        let [nx, ny, nz] = field.grid().vertex_dims();
+        let words = nx / 64 + 1;
+        let mut neg = vec![0u64; words * ny * nz];
+        let mut valid = vec![0u64; words * ny * nz];
+        neg.par_chunks_mut(words)
+            .zip(valid.par_chunks_mut(words))
+            .enumerate()
+            .for_each(|(r, (n, v))| field.sign_row(r % ny, r / ny, n, v));
+        SignBits { words, neg, valid }
+    }
+    /// The words of row (j, k) of `bits` (`neg` or `valid`).
+    #[inline(always)]
+    pub fn row<'a>(&self, bits: &'a [u64], ny: usize, j: usize, k: usize) -> &'a [u64] {
+        let b = (j + ny * k) * self.words;
+        &bits[b..b + self.words]
+    }
 }
 
 /// f at every vertex of a grid, in a flat array (x fastest, then y, then z).
@@ -314,11 +329,21 @@ impl Field for Samples {
     fn value(&self, i: usize, j: usize, k: usize) -> f64 {
         self.values[self.grid.index(i, j, k)]
     }
-    fn row_state(&self, j: usize, k: usize) -> u8 {
+    fn sign_row(&self, j: usize, k: usize, neg: &mut [u64], valid: &mut [u64]) {
         let n = self.grid.vertex_dims()[0];
         let b = self.grid.index(0, j, k);
-        let row = &self.values[b..b + n];
-        row.iter().any(|&v| v < 0.0) as u8 * ROW_NEG | row.iter().any(|&v| v >= 0.0) as u8 * ROW_POS
+        for (w, chunk) in self.values[b..b + n].chunks(64).enumerate() {
+            let mut m = 0u64;
+            for (t, &v) in chunk.iter().enumerate() {
+                m |= ((v < 0.0) as u64) << t;
+            }
+            neg[w] = m;
+            valid[w] = if chunk.len() == 64 {
+                u64::MAX
+            } else {
+                (1u64 << chunk.len()) - 1
+            };
+        }
     }
 }
 
@@ -522,9 +547,8 @@ impl Field for SparseSamples {
     fn grid(&self) -> &Grid {
         &self.grid
     }
-    fn row_state(&self, j: usize, k: usize) -> u8 {
+    fn sign_row(&self, j: usize, k: usize, neg: &mut [u64], valid: &mut [u64]) {
         let n = self.grid.vertex_dims()[0];
-        let mut s = 0u8;
         let step = 1 << self.shift[0];
         // Whole bricks at a time: unallocated ones hold no values.
         for i0 in (0..n).step_by(step) {
@@ -533,13 +557,10 @@ impl Field for SparseSamples {
             }
             for i in i0..(i0 + step).min(n) {
                 let v = self.value(i, j, k);
-                s |= (v < 0.0) as u8 * ROW_NEG | (v >= 0.0) as u8 * ROW_POS;
-            }
-            if s == ROW_NEG | ROW_POS {
-                break;
+                neg[i >> 6] |= ((v < 0.0) as u64) << (i & 63);
+                valid[i >> 6] |= ((!v.is_nan()) as u64) << (i & 63);
             }
         }
-        s
     }
     #[inline(always)]
     fn value(&self, i: usize, j: usize, k: usize) -> f64 {

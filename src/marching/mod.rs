@@ -34,7 +34,7 @@ pub use tets::{marching_tetrahedra, MarchingTetrahedra};
 
 use crate::error::{Error, Result};
 use crate::geom::{lerp, Aabb};
-use crate::grid::{row_states, Field, Grid, Samples, ROW_NEG, ROW_POS};
+use crate::grid::{Field, Grid, Samples, SignBits};
 use crate::implicit::{Counted, Implicit};
 use crate::mesh::TriMesh;
 use crate::mesher::{Certificate, Mesh, MeshOutput, Progress};
@@ -182,64 +182,69 @@ fn corner(c: u8) -> [usize; 3] {
     ]
 }
 
+/// Bits `i + s .. i + s + 64` of a row bit set (`s` is 0 or 1), for word `w`.
+#[inline(always)]
+fn word(row: &[u64], w: usize, s: usize) -> u64 {
+    if s == 0 {
+        row[w]
+    } else {
+        (row[w] >> 1) | (row.get(w + 1).copied().unwrap_or(0) << 63)
+    }
+}
+
 /// Visit the crossing edges owned by vertex layer `k` (edges whose lower vertex is in
-/// the layer), in the order that numbers them: rows `j`, then `i`, then direction.
-/// Rows whose edges all join vertices of one sign (by the row states `rs`) are skipped.
+/// the layer), in the order that numbers them: rows `j`, then direction, then `i`.
+/// Sign changes are found 64 vertices at a time on the packed sign bits.
 #[inline]
-fn scan_layer<F: Field>(
-    field: &F,
+fn scan_layer(
+    bits: &SignBits,
+    dims: [usize; 3],
     dirs: &[[usize; 3]],
-    rs: &[u8],
     k: usize,
-    mut visit: impl FnMut(usize, usize, usize, f64, f64),
+    mut visit: impl FnMut(usize, usize, usize),
 ) {
-    let [nx, ny, nz] = field.grid().vertex_dims();
-    // Which directions can cross on this row (at most 7).
-    let mut live = [false; 8];
+    let [_, ny, nz] = dims;
     for j in 0..ny {
-        let here = rs[j + ny * k];
-        let mut any = false;
+        let (n1, v1) = (
+            bits.row(&bits.neg, ny, j, k),
+            bits.row(&bits.valid, ny, j, k),
+        );
         for (d, o) in dirs.iter().enumerate() {
             let (jb, kb) = (j + o[1], k + o[2]);
-            live[d] = jb < ny && kb < nz && (here | rs[jb + ny * kb]) & BOTH == BOTH;
-            any |= live[d];
-        }
-        if !any {
-            continue;
-        }
-        for i in 0..nx {
-            let a = field.value(i, j, k);
-            if F::SPARSE && a.is_nan() {
+            if jb >= ny || kb >= nz {
                 continue;
             }
-            for (d, o) in dirs.iter().enumerate() {
-                if !live[d] || i + o[0] >= nx {
-                    continue;
-                }
-                let b = field.value(i + o[0], j + o[1], k + o[2]);
-                if crosses(a, b) {
-                    visit(i, j, d, a, b);
+            let (n2, v2) = (
+                bits.row(&bits.neg, ny, jb, kb),
+                bits.row(&bits.valid, ny, jb, kb),
+            );
+            for w in 0..bits.words {
+                // Bits past the row end are zero in `valid`, so no edge leaves the grid.
+                let mut m = (n1[w] ^ word(n2, w, o[0])) & v1[w] & word(v2, w, o[0]);
+                while m != 0 {
+                    let i = (w << 6) | m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    visit(i, j, d);
                 }
             }
         }
     }
 }
 
-const BOTH: u8 = ROW_NEG | ROW_POS;
-
 /// Extract the triangle mesh of f = 0 from a sampled 3D grid with a cell scheme.
-/// Two passes over vertex layers, both parallel: count the crossing edges of each
-/// layer (giving each layer its range of vertex numbers), then per layer place its
-/// crossings and triangulate the cells above it, reading the numbers of the next
-/// layer's edges by rescanning its signs (cheap) instead of storing a global edge map.
-/// Rows of vertices with a single sign (the bulk of a grid) are skipped via their row
-/// states.
+/// The signs are packed into bits first (one pass over the samples); then two passes
+/// over vertex layers, both parallel: count the crossing edges of each layer (giving
+/// each layer its range of vertex numbers), then per layer place its crossings and
+/// triangulate the cells above it, reading the numbers of the next layer's edges by
+/// rescanning its sign bits (cheap) instead of storing a global edge map. Work beyond
+/// the sign pass is proportional to the number of sign changes.
 pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Result<Extracted> {
     let grid = *field.grid();
     if grid.dim() != 3 {
         return Err(Error::Param("a 3D extractor needs a 3D grid".into()));
     }
-    let [nx, ny, nz] = grid.vertex_dims();
+    let dims = grid.vertex_dims();
+    let [nx, ny, nz] = dims;
     let nd = scheme.dirs.len();
     let dirs: Vec<[usize; 3]> = scheme.dirs.iter().map(|&d| corner(d)).collect();
     // Two id maps per worker: refuse layers too large for that.
@@ -250,12 +255,12 @@ pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Res
             map_bytes >> 20
         )));
     }
-    let rs = row_states(field);
+    let bits = SignBits::of(field);
     let counts: Vec<usize> = (0..nz)
         .into_par_iter()
         .map(|k| {
             let mut n = 0;
-            scan_layer(field, &dirs, &rs, k, |_, _, _, _, _| n += 1);
+            scan_layer(&bits, dims, &dirs, k, |_, _, _| n += 1);
             n
         })
         .collect();
@@ -279,7 +284,6 @@ pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Res
         chunks.push(a);
         rest = b;
     }
-    let [cx, cy, _] = grid.cells();
     let per_layer: Vec<(Vec<[u32; 3]>, u64)> = chunks
         .into_par_iter()
         .enumerate()
@@ -289,9 +293,13 @@ pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Res
             || (vec![u32::MAX; nx * ny * nd], vec![u32::MAX; nx * ny * nd]),
             |(ids, up), (k, out)| {
                 let mut n = 0usize;
-                scan_layer(field, &dirs, &rs, k, |i, j, d, a, b| {
+                scan_layer(&bits, dims, &dirs, k, |i, j, d| {
                     ids[(j * nx + i) * nd + d] = (offsets[k] + n) as u32;
                     let o = dirs[d];
+                    let (a, b) = (
+                        field.value(i, j, k),
+                        field.value(i + o[0], j + o[1], k + o[2]),
+                    );
                     let p = grid.point(i, j, k);
                     let q = grid.point(i + o[0], j + o[1], k + o[2]);
                     let t = match place {
@@ -308,55 +316,49 @@ pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Res
                 }
                 // Ids of layer k + 1's edges, numbered exactly as its own task does.
                 let mut m = 0usize;
-                scan_layer(field, &dirs, &rs, k + 1, |i, j, d, _, _| {
+                scan_layer(&bits, dims, &dirs, k + 1, |i, j, d| {
                     up[(j * nx + i) * nd + d] = (offsets[k + 1] + m) as u32;
                     m += 1;
                 });
                 let mut tris = Vec::new();
                 let mut visited = 0u64;
-                // Corner c = dx + 2 dy + 4 dz: the four vertices of column i (dx = 0)
-                // give bits 0, 2, 4, 6; column i + 1 the same shifted by one.
-                let column = |i: usize, j: usize| -> (usize, bool) {
-                    let v = [
-                        field.value(i, j, k),
-                        field.value(i, j + 1, k),
-                        field.value(i, j, k + 1),
-                        field.value(i, j + 1, k + 1),
-                    ];
-                    let bits = (v[0] < 0.0) as usize
-                        | ((v[1] < 0.0) as usize) << 2
-                        | ((v[2] < 0.0) as usize) << 4
-                        | ((v[3] < 0.0) as usize) << 6;
-                    (bits, F::SPARSE && v.iter().any(|x| x.is_nan()))
-                };
-                for j in 0..cy {
-                    let st = rs[j + ny * k]
-                        | rs[j + 1 + ny * k]
-                        | rs[j + ny * (k + 1)]
-                        | rs[j + 1 + ny * (k + 1)];
-                    if st & BOTH != BOTH {
-                        continue;
-                    }
-                    let mut prev = column(0, j);
-                    for i in 0..cx {
-                        let next = column(i + 1, j);
-                        let case = prev.0 | next.0 << 1;
-                        // A cell with a skipped vertex was pruned: one strict sign.
-                        let skip = prev.1 || next.1;
-                        prev = next;
-                        if skip || case == 0 || case == 255 {
-                            continue;
+                for j in 0..ny - 1 {
+                    // Rows of the cell row, indexed dy + 2 dz (corner c = dx + 2 (dy + 2 dz)).
+                    let rows = [(j, k), (j + 1, k), (j, k + 1), (j + 1, k + 1)];
+                    let neg = rows.map(|(a, b)| bits.row(&bits.neg, ny, a, b));
+                    let val = rows.map(|(a, b)| bits.row(&bits.valid, ny, a, b));
+                    for w in 0..bits.words {
+                        let (mut any, mut all, mut ok) = (0u64, u64::MAX, u64::MAX);
+                        for r in 0..4 {
+                            for s in 0..2 {
+                                let x = word(neg[r], w, s);
+                                any |= x;
+                                all &= x;
+                                ok &= word(val[r], w, s);
+                            }
                         }
-                        visited += 1;
-                        for t in &scheme.cases[case] {
-                            tris.push(t.map(|e| {
-                                let (c, d) = scheme.edges[e as usize];
-                                let o = corner(c);
-                                let map = if o[2] == 0 { &ids } else { &up };
-                                let id = map[((j + o[1]) * nx + i + o[0]) * nd + d as usize];
-                                debug_assert!(id != u32::MAX);
-                                id
-                            }));
+                        // Cells with both signs and all corners sampled (a cell with a
+                        // skipped corner was pruned: one strict sign). `ok` is zero
+                        // past the last cell of the row.
+                        let mut m = any & !all & ok;
+                        while m != 0 {
+                            let i = (w << 6) | m.trailing_zeros() as usize;
+                            m &= m - 1;
+                            let mut case = 0usize;
+                            for c in 0..8 {
+                                let r = neg[c >> 1];
+                                let x = i + (c & 1);
+                                case |= ((r[x >> 6] >> (x & 63) & 1) as usize) << c;
+                            }
+                            visited += 1;
+                            for t in &scheme.cases[case] {
+                                tris.push(t.map(|e| {
+                                    let (c, d) = scheme.edges[e as usize];
+                                    let o = corner(c);
+                                    let map = if o[2] == 0 { &ids } else { &up };
+                                    map[((j + o[1]) * nx + i + o[0]) * nd + d as usize]
+                                }));
+                            }
                         }
                     }
                 }
