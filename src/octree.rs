@@ -208,9 +208,9 @@ mod tests {
                     let neg = vals.iter().filter(|v| **v < 0.0).count();
                     if neg != 0 && neg != 8 {
                         changes += 1;
-                        for c in 0..8 {
+                        for (c, &v) in vals.iter().enumerate() {
                             let s = sparse.value(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2));
-                            assert_eq!(s, vals[c]);
+                            assert_eq!(s, v);
                         }
                     }
                 }

@@ -366,8 +366,10 @@ fn baselines_get_the_topology_wrong_when_coarse() {
     ] {
         let mc = |res: usize, name: &str| {
             let e = catalog::get(name).unwrap();
-            let mut o = MesherOptions::default();
-            o.resolution = Some(res);
+            let o = MesherOptions {
+                resolution: Some(res),
+                ..Default::default()
+            };
             let m: Box<dyn Mesher> = if m.name() == "mc" {
                 Box::new(MarchingCubes::from_options(&o).unwrap())
             } else {
@@ -435,6 +437,13 @@ fn clear_errors() {
         .mesh(&surf, &Aabb::cube(1.5), &NoProgress)
         .unwrap_err();
     assert!(matches!(e, Error::TooLarge(_)), "{e}");
+    // Pruned, a grid this size is refused up front too (before any evaluation).
+    let e = MarchingCubes::new()
+        .resolution(5000)
+        .prune(true)
+        .mesh(&surf, &Aabb::cube(1.5), &NoProgress)
+        .unwrap_err();
+    assert!(matches!(e, Error::TooLarge(_)), "{e}");
     // Not finite, with the point.
     let bad = Formula::surface("1/(x - 0.25) + y").unwrap();
     let e = MarchingTetrahedra::new()
@@ -449,8 +458,10 @@ fn clear_errors() {
     let mut o = MesherOptions::default();
     o.extra.insert("levle".into(), "3".into());
     assert!(MarchingCubes::from_options(&o).is_err());
-    let mut o = MesherOptions::default();
-    o.resolution = Some(0);
+    let mut o = MesherOptions {
+        resolution: Some(0),
+        ..Default::default()
+    };
     assert!(MarchingSquares::from_options(&o).is_err());
     o.resolution = Some(8);
     o.tolerance = Some(-1.0);

@@ -21,6 +21,10 @@
 //! output is a closed, oriented, edge-manifold triangle mesh for every sign pattern
 //! (away from the domain boundary, where the surface is cut open).
 //!
+//! (The asymptotic decider would pick the segments of an ambiguous face from the
+//! bilinear interpolant instead; it is as consistent, but needs values, not signs, so
+//! the table could not be precomputed. These are baselines: the simple rule is kept.)
+//!
 //! **Determinism.** Vertices are numbered in the order of their grid edges and
 //! triangles in the order of their cells, whatever the thread count: the pruned and
 //! dense runs give identical meshes.
@@ -231,6 +235,28 @@ fn scan_layer(
     }
 }
 
+/// Refuse grids whose extraction would not fit in memory (checked before sampling).
+fn check_extract_size(grid: &Grid, nd: usize) -> Result<()> {
+    let [nx, ny, nz] = grid.vertex_dims();
+    // Two id maps per worker.
+    let map_bytes = (nx * ny * nd * 4) as u64;
+    if map_bytes > 1 << 30 {
+        return Err(Error::TooLarge(format!(
+            "a layer of {nx} x {ny} vertices needs {} MB of edge maps",
+            map_bytes >> 20
+        )));
+    }
+    // The packed signs take 2 bits per vertex (plus row padding).
+    let bits_bytes = ((nx / 64 + 1) as u64) * (ny as u64) * (nz as u64) * 16;
+    if bits_bytes > 2 << 30 {
+        return Err(Error::TooLarge(format!(
+            "the sign bits of a {nx} x {ny} x {nz} vertex grid need {} MB (at most 2048)",
+            bits_bytes >> 20
+        )));
+    }
+    Ok(())
+}
+
 /// Extract the triangle mesh of f = 0 from a sampled 3D grid with a cell scheme.
 /// The signs are packed into bits first (one pass over the samples); then two passes
 /// over vertex layers, both parallel: count the crossing edges of each layer (giving
@@ -247,14 +273,7 @@ pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Res
     let [nx, ny, nz] = dims;
     let nd = scheme.dirs.len();
     let dirs: Vec<[usize; 3]> = scheme.dirs.iter().map(|&d| corner(d)).collect();
-    // Two id maps per worker: refuse layers too large for that.
-    let map_bytes = (nx * ny * nd * 4) as u64;
-    if map_bytes > 1 << 30 {
-        return Err(Error::TooLarge(format!(
-            "a layer of {nx} x {ny} vertices needs {} MB of edge maps",
-            map_bytes >> 20
-        )));
-    }
+    check_extract_size(&grid, nd)?;
     let bits = SignBits::of(field);
     let counts: Vec<usize> = (0..nz)
         .into_par_iter()
@@ -425,6 +444,7 @@ pub(crate) fn mesh_3d(
         )));
     }
     let grid = Grid::new(domain, p.resolution, 3)?;
+    check_extract_size(&grid, scheme.dirs.len())?;
     let mut stats = base_stats(&grid, p);
     let bis = Counted::new(f);
     let place = match p.crossing {
@@ -439,6 +459,8 @@ pub(crate) fn mesh_3d(
             json!(st.interval_evaluations),
         );
         stats.insert("point_evaluations".into(), json!(st.point_evaluations));
+        stats.insert("cells_kept".into(), json!(st.cells_kept));
+        stats.insert("prune_leaf".into(), json!(p.leaf));
         progress.start("extracting", 0);
         extract(&s, scheme, place)?
     } else {
