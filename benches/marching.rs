@@ -5,6 +5,12 @@
 //! (c) end to end with interval pruning (only the vertices of cells near the surface
 //!     are evaluated).
 //! Set RAYON_NUM_THREADS=1 for single-core figures (scikit-image is single-threaded).
+//!
+//! Measured (2 shared cores, load average ~10, so absolute figures are pessimistic):
+//! (a) 73 ms (89 ms on one thread) vs scikit-image 0.26 `marching_cubes` 386–435 ms on
+//! the same float64 volume, run right after (same 139136 vertices, 278272 triangles);
+//! (b) 2.05 s, of which sampling 17 M points is 2.0 s; (c) 0.63 s (0.09 M interval and
+//! 2.8 M point evaluations).
 use certmesh::catalog;
 use certmesh::grid::{Grid, Samples};
 use certmesh::marching::{marching_cubes, MarchingCubes};

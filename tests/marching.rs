@@ -300,6 +300,42 @@ proptest! {
             prop_assert_eq!(t.euler % 2, 0);
             prop_assert!(volume(mesh) >= -1e-12);
         }
+        // Pruning (single-cell leaves, the finest) changes nothing.
+        let a = MarchingCubes::new().resolution(res);
+        let dense = a.mesh(&f, &dom, &NoProgress).unwrap();
+        let pruned = a.prune(true).leaf(1).mesh(&f, &dom, &NoProgress).unwrap();
+        prop_assert_eq!(surface(&dense), surface(&pruned));
+    }
+
+    #[test]
+    fn marching_squares_closes_random_curves(
+        c in proptest::collection::vec(-1.0f64..1.0, 10),
+        off in proptest::array::uniform2(-0.2f64..0.2),
+        half in proptest::array::uniform2(1.25f64..1.6),
+        res in 3usize..30,
+    ) {
+        let monos = ["1", "x", "y", "x^2", "x*y", "y^2", "x^3", "x^2*y", "x*y^2", "y^3"];
+        let g: Vec<String> = c.iter().zip(monos).map(|(a, m)| format!("({a:.6})*{m}")).collect();
+        let f = Formula::curve(&format!("max({}, x^2 + y^2 - 1)", g.join(" + "))).unwrap();
+        let dom = Aabb::rect(
+            [off[0] - half[0], off[1] - half[1]],
+            [off[0] + half[0], off[1] + half[1]],
+        );
+        let m = MarchingSquares::new().resolution(res);
+        let dense = m.mesh(&f, &dom, &NoProgress).unwrap();
+        let (_, closed) = loops(curve(&dense));
+        prop_assert!(closed);
+        // Oriented: each vertex starts exactly one segment and ends exactly one.
+        let c2 = curve(&dense);
+        let mut starts = vec![0; c2.vertices.len()];
+        let mut ends = vec![0; c2.vertices.len()];
+        for s in &c2.segments {
+            starts[s[0] as usize] += 1;
+            ends[s[1] as usize] += 1;
+        }
+        prop_assert!(starts.iter().chain(&ends).all(|&n| n == 1));
+        let pruned = m.prune(true).leaf(1).mesh(&f, &dom, &NoProgress).unwrap();
+        prop_assert_eq!(curve(&dense), curve(&pruned));
     }
 }
 
