@@ -25,9 +25,16 @@
 //! bilinear interpolant instead; it is as consistent, but needs values, not signs, so
 //! the table could not be precomputed. These are baselines: the simple rule is kept.)
 //!
-//! **Determinism.** Vertices are numbered in the order of their grid edges and
-//! triangles in the order of their cells, whatever the thread count: the pruned and
-//! dense runs give identical meshes.
+//! Marching tetrahedra needs no rule: its tetrahedra triangulate the grid.
+//!
+//! **Determinism.** Vertices are numbered in a fixed order of their grid edges (layer,
+//! row, direction, column) and triangles in the order of their cells, whatever the
+//! thread count: the pruned and dense runs give identical meshes (tested).
+//!
+//! **Speed.** The extractor packs the signs into bit sets (one pass over the samples)
+//! and finds sign changes 64 vertices at a time; values are read only at crossings.
+//! On the 256³ torus it extracts in about a fifth of scikit-image's time
+//! (`benches/marching.rs`).
 pub mod cubes;
 pub mod squares;
 pub mod tets;
