@@ -27,3 +27,6 @@ pub mod algorithms;
 pub mod compare;
 pub mod demo;
 pub mod plot;
+pub mod grid;
+pub mod marching;
+pub mod octree;
