@@ -20,3 +20,5 @@ pub use mesher::{Certificate, MeshOutput, Mesher};
 pub mod options;
 pub mod roots;
 pub use options::MesherOptions;
+pub mod plantinga_vegter;
+pub mod subdivision;

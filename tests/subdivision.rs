@@ -1,0 +1,181 @@
+//! Plantinga–Vegter and Snyder on the catalog: certificates and topology.
+use certmesh::catalog;
+use certmesh::mesh::{Curve2, TriMesh};
+use certmesh::mesher::{Mesh, MeshOutput, Mesher, NoProgress};
+use certmesh::plantinga_vegter::{PlantingaVegter, PlantingaVegter2};
+use certmesh::Implicit;
+use std::collections::HashMap;
+
+/// Private stand-in for the shared metrics module: the components of a closed curve
+/// (every vertex of degree 2), or None if the polyline set is not closed.
+fn curve_components(c: &Curve2) -> Option<usize> {
+    let mut deg = vec![0usize; c.vertices.len()];
+    for s in &c.segments {
+        deg[s[0] as usize] += 1;
+        deg[s[1] as usize] += 1;
+        if s[0] == s[1] {
+            return None;
+        }
+    }
+    if deg.iter().any(|&d| d != 2 && d != 0) {
+        return None;
+    }
+    let p = c.polylines();
+    if p.iter().any(|(_, closed)| !closed) {
+        return None;
+    }
+    Some(p.len())
+}
+
+/// Private stand-in for the shared metrics: for a closed oriented 2-manifold triangle mesh,
+/// the sorted genus of each component; None if not closed, not manifold or not oriented.
+fn surface_genera(m: &TriMesh) -> Option<Vec<usize>> {
+    let mut edges: HashMap<(u32, u32), usize> = HashMap::new();
+    for t in &m.triangles {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            if a == b {
+                return None;
+            }
+            *edges.entry((a, b)).or_insert(0) += 1;
+        }
+    }
+    for (&(a, b), &n) in &edges {
+        if n != 1 || edges.get(&(b, a)) != Some(&1) {
+            return None;
+        }
+    }
+    // Union-find on vertices.
+    let n = m.vertices.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(p: &mut Vec<usize>, x: usize) -> usize {
+        let mut r = x;
+        while p[r] != r {
+            r = p[r];
+        }
+        let mut y = x;
+        while p[y] != r {
+            let nx = p[y];
+            p[y] = r;
+            y = nx;
+        }
+        r
+    }
+    for t in &m.triangles {
+        let a = find(&mut parent, t[0] as usize);
+        for &v in &t[1..] {
+            let b = find(&mut parent, v as usize);
+            parent[b] = a;
+        }
+    }
+    let mut chi: HashMap<usize, i64> = HashMap::new();
+    let mut used = vec![false; n];
+    for t in &m.triangles {
+        let r = find(&mut parent, t[0] as usize);
+        *chi.entry(r).or_insert(0) += 1; // F
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    for v in 0..n {
+        if used[v] {
+            let r = find(&mut parent, v);
+            *chi.entry(r).or_insert(0) += 1; // V
+        }
+    }
+    for &(a, b) in edges.keys() {
+        if a < b {
+            let r = find(&mut parent, a as usize);
+            *chi.entry(r).or_insert(0) -= 1; // E
+        }
+    }
+    let mut g: Vec<usize> = chi
+        .values()
+        .map(|&c| {
+            if c > 2 || (2 - c) % 2 != 0 {
+                usize::MAX
+            } else {
+                ((2 - c) / 2) as usize
+            }
+        })
+        .collect();
+    if g.contains(&usize::MAX) {
+        return None;
+    }
+    g.sort_unstable();
+    Some(g)
+}
+
+/// Fraction of triangles whose normal agrees with ∇f at the centroid (orientation check).
+fn outward_fraction(f: &dyn Implicit, m: &TriMesh) -> f64 {
+    let mut good = 0;
+    for t in 0..m.triangles.len() {
+        let [a, b, c] = m.corners(t);
+        let n = certmesh::geom::cross(certmesh::geom::sub(b, a), certmesh::geom::sub(c, a));
+        let cen = [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0);
+        if certmesh::geom::dot(n, f.grad(cen).g) > 0.0 {
+            good += 1;
+        }
+    }
+    good as f64 / m.triangles.len().max(1) as f64
+}
+
+fn check_topology(name: &str, out: &MeshOutput, f: &dyn Implicit) {
+    let e = catalog::get(name).unwrap();
+    let t = e.topology.unwrap();
+    match &out.mesh {
+        Mesh::Curve(c) => {
+            assert_eq!(
+                curve_components(c),
+                Some(t.components),
+                "{name}: components"
+            );
+        }
+        Mesh::Surface(m) => {
+            let mut want: Vec<usize> = t.genus.to_vec();
+            want.sort_unstable();
+            assert_eq!(surface_genera(m), Some(want), "{name}: genera");
+            let frac = outward_fraction(f, m);
+            assert!(
+                frac > 0.9,
+                "{name}: only {frac} of normals point toward f > 0"
+            );
+        }
+        _ => panic!("unexpected mesh kind"),
+    }
+}
+
+#[test]
+fn pv_curves_certified_with_catalog_topology() {
+    for e in catalog::curves().into_iter().filter(|e| e.smooth) {
+        let f = e.function();
+        let out = PlantingaVegter2::default()
+            .mesh(&f, &e.domain, &NoProgress)
+            .unwrap();
+        assert!(
+            out.certificate.is_certified(),
+            "{}: {:?}",
+            e.name,
+            out.certificate.reason()
+        );
+        check_topology(e.name, &out, &f);
+    }
+}
+
+#[test]
+fn pv_surfaces_certified_with_catalog_topology() {
+    for e in catalog::surfaces().into_iter().filter(|e| e.smooth) {
+        let f = e.function();
+        let out = PlantingaVegter::default()
+            .mesh(&f, &e.domain, &NoProgress)
+            .unwrap();
+        eprintln!("{}: {:?}", e.name, out.stats.get("leaves"));
+        assert!(
+            out.certificate.is_certified(),
+            "{}: {:?}",
+            e.name,
+            out.certificate.reason()
+        );
+        check_topology(e.name, &out, &f);
+    }
+}
