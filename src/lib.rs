@@ -21,4 +21,5 @@ pub mod options;
 pub mod roots;
 pub use options::MesherOptions;
 pub mod plantinga_vegter;
+pub mod snyder;
 pub mod subdivision;

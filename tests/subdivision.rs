@@ -179,3 +179,74 @@ fn pv_surfaces_certified_with_catalog_topology() {
         check_topology(e.name, &out, &f);
     }
 }
+
+use certmesh::snyder::{Snyder, Snyder2, SnyderParams};
+
+#[test]
+fn snyder_curves_certified_with_catalog_topology() {
+    for e in catalog::curves().into_iter().filter(|e| e.smooth) {
+        let f = e.function();
+        let out = Snyder2::default().mesh(&f, &e.domain, &NoProgress).unwrap();
+        eprintln!(
+            "snyder {}: {:?} {:?}",
+            e.name,
+            out.stats.get("leaves"),
+            out.certificate.reason()
+        );
+        if out.certificate.is_certified() {
+            check_topology(e.name, &out, &f);
+        }
+    }
+}
+
+#[test]
+fn snyder_surfaces_generic_position() {
+    for e in catalog::surfaces().into_iter().filter(|e| e.smooth) {
+        let f = e.function();
+        let t0 = std::time::Instant::now();
+        let p = SnyderParams::new(3)
+            .with_max_depth(7)
+            .with_generic_shift(true);
+        let out = Snyder::new(p).mesh(&f, &e.domain, &NoProgress).unwrap();
+        eprintln!(
+            "snyder {}: {:?} {:?} {:?}",
+            e.name,
+            out.stats.get("leaves"),
+            out.certificate.reason(),
+            t0.elapsed()
+        );
+        if out.certificate.is_certified() {
+            check_topology(e.name, &out, &f);
+        }
+    }
+}
+
+#[test]
+fn snyder_paraboloid_needs_generic_shift() {
+    let e = catalog::get("paraboloid-cap").unwrap();
+    let f = e.function();
+    let p = SnyderParams::new(3).with_max_depth(8);
+    let plain = Snyder::new(p.clone())
+        .mesh(&f, &e.domain, &NoProgress)
+        .unwrap();
+    assert!(!plain.certificate.is_certified());
+    let shifted = Snyder::new(p.with_generic_shift(true))
+        .mesh(&f, &e.domain, &NoProgress)
+        .unwrap();
+    eprintln!(
+        "{:?} / {:?}",
+        plain.certificate.reason(),
+        shifted.certificate.reason()
+    );
+    if let certmesh::Certificate::Uncertified { regions, .. } = &shifted.certificate {
+        for r in regions.iter().take(30) {
+            eprintln!("{:?} {:?} {}", r.region.min, r.region.size(), r.reason);
+        }
+    }
+    assert!(
+        shifted.certificate.is_certified(),
+        "{:?}",
+        shifted.certificate.reason()
+    );
+    check_topology("paraboloid-cap", &shifted, &f);
+}

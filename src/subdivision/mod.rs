@@ -320,6 +320,26 @@ pub fn no_zero_plus(i: Interval) -> bool {
     i.inf() >= 0.0 || i.sup() < 0.0
 }
 
+/// An enclosure of f over a box: the natural interval extension intersected with the
+/// mean-value form f(c) + Σ □∂_k f(B)·(B_k − c_k). The mean-value form's width is O(h²)
+/// near points where the partials vanish, where the natural extension of a rotated
+/// formula (generic position) only reaches O(h) — without it Snyder's face test never
+/// proves a face near a tangency empty (the dependency problem). Returns it with the
+/// gradient enclosure.
+pub fn enclose(f: &dyn Implicit, b: &IBox) -> (Interval, [Interval; 3]) {
+    let d = f.grad_interval(b);
+    let c = [0, 1, 2].map(|k| b[k].mid());
+    let cb = c.map(|x| Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE));
+    let mut mv = f.eval_interval(&cb);
+    for k in 0..3 {
+        if b[k].wid() > 0.0 {
+            mv = mv + d.g[k] * (b[k] - cb[k]);
+        }
+    }
+    let v = d.v.intersection(mv);
+    (if v.is_empty() { d.v } else { v }, d.g)
+}
+
 /// The interval scalar product ⟨□∇f, □∇f⟩ over the first `dim` components (eq 1.2):
 /// each factor varies independently, so its lower bound is exactly the minimum of
 /// ⟨u, v⟩ over u, v in the gradient box.
@@ -885,6 +905,7 @@ pub fn assemble(
             });
         }
     }
+    let bad_tiles = AtomicU64::new(0);
     // 4. Pair the crossings on each tile and collect directed segments per leaf.
     let outs: Vec<LeafOut> = tiles
         .par_iter()
@@ -926,7 +947,20 @@ pub fn assemble(
                     continue;
                 }
                 let corners = t.corners.map(|p| g.point(p));
-                for (i, j) in pairing.pair(f, &corners, t.axis, &cross) {
+                let pairs = pairing.pair(f, &corners, t.axis, &cross);
+                // A chord must join a crossing where f turns negative to one where it
+                // turns positive; otherwise the rule's premise failed on this tile.
+                let consistent = pairs.len() * 2 == cross.len()
+                    && pairs
+                        .iter()
+                        .all(|&(i, j)| cross[i].after_pos != cross[j].after_pos);
+                let pairs = if consistent {
+                    pairs
+                } else {
+                    bad_tiles.fetch_add(1, Relaxed);
+                    cut_arcs(&cross, true)
+                };
+                for (i, j) in pairs {
                     // Direct the chord so that f > 0 lies on its left seen from outside:
                     // the region left of i→j contains the arc just after j.
                     if cross[j].after_pos {
@@ -953,6 +987,15 @@ pub fn assemble(
         }
     }
     let root_steps = steps.load(Relaxed);
+    let nbad = bad_tiles.load(Relaxed);
+    if nbad > 0 {
+        uncertain.push(Uncertified {
+            region: g.domain,
+            reason: format!(
+                "{nbad} face tile(s) whose crossing pattern contradicts the connection rule"
+            ),
+        });
+    }
     let nseg: usize = outs.iter().map(|o| o.segs.len()).sum();
     if g.dim == 2 {
         // Each leaf segment is a curve segment; store with f < 0 on the left
@@ -1174,7 +1217,8 @@ impl IntervalIsolation {
         let ib = [0, 1, 2].map(|j| {
             Interval::try_from((a[j].min(b[j]), a[j].max(b[j]))).unwrap_or(Interval::ENTIRE)
         });
-        let d = f.grad_interval(&ib);
+        let (v, dg) = enclose(f, &ib);
+        let d = crate::implicit::Dual { v, g: dg };
         if no_zero_plus(d.v) {
             return s0 == s1;
         }
@@ -1269,4 +1313,101 @@ pub fn leaf_boxes(tree: &Tree) -> Vec<(Aabb, Verdict)> {
         .iter()
         .map(|l| (tree.grid.cell_aabb(l.cell), l.verdict))
         .collect()
+}
+
+/// The "generic position" remedy of §1.2.3: a fixed rotation R and translation t, so that
+/// no grid plane is tangent to the surface at a dyadic point. The meshers mesh
+/// g(p) = f(R p + t) over the box `domain` of p-space that covers the original domain and
+/// map each output vertex p back to R p + t (a rigid motion: orientation is kept).
+#[derive(Clone, Copy, Debug)]
+pub struct GenericMotion {
+    pub rot: [[f64; 3]; 3],
+    pub shift: [f64; 3],
+    /// The box meshed in the moved coordinates (covers R⁻¹(domain − t)).
+    pub domain: Aabb,
+}
+
+impl GenericMotion {
+    /// Rotation by 0.0837 rad (about 4.8°) about the axis (1, 2, 3)/√14 (3D) or about z
+    /// (2D), translation by (0.01234567, 0.02345679, 0.01357913) times the domain size:
+    /// arbitrary, non-dyadic, fixed so runs are reproducible.
+    pub fn new(domain: &Aabb, dim: usize) -> Self {
+        let th: f64 = 0.0837;
+        let (c, s) = (th.cos(), th.sin());
+        let rot = if dim == 2 {
+            [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+        } else {
+            let n = 14f64.sqrt();
+            let (x, y, z) = (1.0 / n, 2.0 / n, 3.0 / n);
+            let t = 1.0 - c;
+            [
+                [c + x * x * t, x * y * t - z * s, x * z * t + y * s],
+                [y * x * t + z * s, c + y * y * t, y * z * t - x * s],
+                [z * x * t - y * s, z * y * t + x * s, c + z * z * t],
+            ]
+        };
+        let size = domain.size();
+        let mut shift = [
+            0.01234567 * size[0],
+            0.02345679 * size[1],
+            0.01357913 * size[2],
+        ];
+        if dim == 2 {
+            shift[2] = 0.0;
+        }
+        // Cover the domain: the preimage of its corners under q = R p + t.
+        let mut pts = Vec::new();
+        for m in 0..8 {
+            let q = [0, 1, 2].map(|k| {
+                if m >> k & 1 == 0 {
+                    domain.min[k]
+                } else {
+                    domain.max[k]
+                }
+            });
+            let d = [0, 1, 2].map(|k| q[k] - shift[k]);
+            // Rᵀ d
+            pts.push([0, 1, 2].map(|j| rot[0][j] * d[0] + rot[1][j] * d[1] + rot[2][j] * d[2]));
+        }
+        let mut dom = Aabb::of_points(&pts).unwrap_or(*domain);
+        // Grow the box unevenly: a box symmetric about R⁻¹(centre − t) would put its
+        // level-1 grid corner exactly on the domain centre again.
+        let ds = dom.size();
+        for k in 0..3 {
+            dom.min[k] -= 0.0173 * ds[k];
+            dom.max[k] += 0.0411 * ds[k];
+        }
+        if dim == 2 {
+            dom.min[2] = domain.min[2];
+            dom.max[2] = domain.min[2];
+        }
+        GenericMotion {
+            rot,
+            shift,
+            domain: dom,
+        }
+    }
+    /// The moved oracle g(p) = f(R p + t).
+    pub fn apply<'a>(&self, f: &'a dyn Implicit) -> crate::implicit::Transformed<'a> {
+        crate::implicit::Transformed {
+            inner: f,
+            rot: self.rot,
+            shift: self.shift,
+        }
+    }
+    /// Map a vertex of the moved mesh back: R p + t.
+    pub fn map(&self, p: [f64; 3]) -> [f64; 3] {
+        [0, 1, 2].map(|i| {
+            self.rot[i][0] * p[0] + self.rot[i][1] * p[1] + self.rot[i][2] * p[2] + self.shift[i]
+        })
+    }
+    /// Map a box of the moved coordinates back (its bounding box).
+    pub fn map_box(&self, b: &Aabb) -> Aabb {
+        let mut pts = Vec::new();
+        for m in 0..8 {
+            let q = [0, 1, 2].map(|k| if m >> k & 1 == 0 { b.min[k] } else { b.max[k] });
+            pts.push(self.map(q));
+        }
+        Aabb::of_points(&pts).unwrap_or(*b)
+    }
 }
