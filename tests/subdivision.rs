@@ -250,3 +250,124 @@ fn snyder_paraboloid_needs_generic_shift() {
     );
     check_topology("paraboloid-cap", &shifted, &f);
 }
+
+fn uncertified_regions(out: &MeshOutput) -> Vec<certmesh::mesher::Uncertified> {
+    match &out.certificate {
+        certmesh::Certificate::Uncertified { regions, .. } => regions.clone(),
+        _ => Vec::new(),
+    }
+}
+
+#[test]
+fn singular_entries_reported_near_the_singular_point() {
+    for (name, mesher) in [
+        (
+            "double-cone",
+            Box::new(PlantingaVegter::new(
+                certmesh::plantinga_vegter::PvParams::new(3).with_max_depth(8),
+            )) as Box<dyn Mesher>,
+        ),
+        (
+            "double-cone",
+            Box::new(Snyder::new(SnyderParams::new(3).with_max_depth(7))),
+        ),
+        ("lemniscate", Box::new(PlantingaVegter2::default())),
+        ("lemniscate", Box::new(Snyder2::default())),
+    ] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        let out = mesher.mesh(&f, &e.domain, &NoProgress).unwrap();
+        assert!(
+            !out.certificate.is_certified(),
+            "{name} must not be certified"
+        );
+        let regions = uncertified_regions(&out);
+        let singular: Vec<_> = regions
+            .iter()
+            .filter(|r| r.reason.contains("singular"))
+            .collect();
+        assert!(
+            !singular.is_empty(),
+            "{name}: no region names a singular point"
+        );
+        for r in singular {
+            // Every box suspected of a singular point lies near the node at the origin.
+            let d = certmesh::geom::norm(r.region.center());
+            assert!(
+                d < 0.1,
+                "{name}: singular box at distance {d} from the node"
+            );
+        }
+        // The boxes containing the origin are among the reported ones.
+        assert!(regions
+            .iter()
+            .any(|r| r.region.inflate(1e-12).contains([0.0; 3])));
+    }
+}
+
+#[test]
+fn bad_input_is_an_error_not_a_panic() {
+    let e = catalog::get("sphere").unwrap();
+    let f = e.function();
+    // A 3D function given to the 2D mesher.
+    assert!(PlantingaVegter2::default()
+        .mesh(&f, &e.domain, &NoProgress)
+        .is_err());
+    // A flat domain.
+    let flat = certmesh::Aabb {
+        min: [0.0; 3],
+        max: [1.0, 1.0, 0.0],
+    };
+    assert!(PlantingaVegter::default()
+        .mesh(&f, &flat, &NoProgress)
+        .is_err());
+    // Options out of range.
+    let o = certmesh::MesherOptions {
+        max_depth: Some(40),
+        ..Default::default()
+    };
+    assert!(PlantingaVegter::from_options(&o).is_err());
+    let mut o = certmesh::MesherOptions::default();
+    o.extra.insert("max_angel".into(), "45".into());
+    assert!(PlantingaVegter::from_options(&o).is_err());
+}
+
+mod props {
+    use super::*;
+    use certmesh::Formula;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+        #[test]
+        fn pv_random_ellipse(a in 0.2f64..1.0, b in 0.2f64..1.0, cx in -0.3f64..0.3, cy in -0.3f64..0.3,
+                             ox in -0.2f64..0.2, oy in -0.2f64..0.2) {
+            let f = Formula::curve(&format!("(x - ({cx}))^2/{a}^2 + (y - ({cy}))^2/{b}^2 - 1")).unwrap();
+            let dom = certmesh::Aabb::rect([-1.5 + ox, -1.5 + oy], [1.5 + ox, 1.4 + oy]);
+            for m in [&PlantingaVegter2::default() as &dyn Mesher, &Snyder2::default()] {
+                let out = m.mesh(&f, &dom, &NoProgress).unwrap();
+                prop_assert!(out.certificate.is_certified());
+                if let Mesh::Curve(c) = &out.mesh {
+                    prop_assert_eq!(curve_components(c), Some(1));
+                }
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+        #[test]
+        fn pv_random_ellipsoid(a in 0.3f64..1.0, b in 0.3f64..1.0, c in 0.3f64..1.0,
+                               cx in -0.2f64..0.2, o in -0.2f64..0.2) {
+            let f = Formula::surface(&format!("(x - ({cx}))^2/{a}^2 + y^2/{b}^2 + z^2/{c}^2 - 1")).unwrap();
+            let dom = certmesh::Aabb { min: [-1.3 + o, -1.25, -1.2 - o], max: [1.3 + o, 1.2, 1.25] };
+            let out = PlantingaVegter::new(certmesh::plantinga_vegter::PvParams::new(3).with_min_depth(1))
+                .mesh(&f, &dom, &NoProgress).unwrap();
+            prop_assert!(out.certificate.is_certified());
+            if let Mesh::Surface(m) = &out.mesh {
+                prop_assert_eq!(surface_genera(m), Some(vec![0]));
+                prop_assert!(outward_fraction(&f, m) > 0.9);
+            }
+        }
+    }
+}
