@@ -21,5 +21,6 @@ pub mod options;
 pub mod roots;
 pub use options::MesherOptions;
 pub mod plantinga_vegter;
+pub mod plot_subdivision;
 pub mod snyder;
 pub mod subdivision;

@@ -371,3 +371,248 @@ mod props {
         }
     }
 }
+
+/// A tiny local marching-squares component counter for the Fig 1.5 comparison (the shared
+/// marching-squares mesher lives elsewhere): an n × m grid over the domain, a vertex on
+/// every sign-change edge, the saddle case resolved by the centre value. Returns the
+/// number of closed components.
+fn ms_components(f: &dyn Implicit, dom: &certmesh::Aabb, n: usize) -> usize {
+    let s = dom.size();
+    let m = ((n as f64) * s[1] / s[0]).round().max(1.0) as usize;
+    let p = |i: usize, j: usize| {
+        [
+            dom.min[0] + s[0] * i as f64 / n as f64,
+            dom.min[1] + s[1] * j as f64 / m as f64,
+            0.0,
+        ]
+    };
+    let v: Vec<Vec<bool>> = (0..=n)
+        .map(|i| (0..=m).map(|j| f.eval(p(i, j)) >= 0.0).collect())
+        .collect();
+    // Edge ids: horizontal (i,j)-(i+1,j) and vertical (i,j)-(i,j+1).
+    let hid = |i: usize, j: usize| i * (m + 1) + j;
+    let vid = |i: usize, j: usize| (n * (m + 1)) + i * m + j;
+    let total = n * (m + 1) + (n + 1) * m;
+    let mut parent: Vec<usize> = (0..total).collect();
+    fn find(p: &mut Vec<usize>, x: usize) -> usize {
+        let mut r = x;
+        while p[r] != r {
+            r = p[r];
+        }
+        p[x] = r;
+        r
+    }
+    let mut used = vec![false; total];
+    for i in 0..n {
+        for j in 0..m {
+            // Corners CCW: (i,j) (i+1,j) (i+1,j+1) (i,j+1); edges: bottom, right, top, left.
+            let c = [v[i][j], v[i + 1][j], v[i + 1][j + 1], v[i][j + 1]];
+            let e = [hid(i, j), vid(i + 1, j), hid(i, j + 1), vid(i, j)];
+            let cut: Vec<usize> = (0..4).filter(|&k| c[k] != c[(k + 1) % 4]).collect();
+            let pairs: Vec<(usize, usize)> = match cut.len() {
+                2 => vec![(cut[0], cut[1])],
+                4 => {
+                    let centre = f.eval([
+                        dom.min[0] + s[0] * (i as f64 + 0.5) / n as f64,
+                        dom.min[1] + s[1] * (j as f64 + 0.5) / m as f64,
+                        0.0,
+                    ]) >= 0.0;
+                    if centre == c[0] {
+                        vec![(0, 3), (1, 2)]
+                    } else {
+                        vec![(0, 1), (2, 3)]
+                    }
+                }
+                _ => vec![],
+            };
+            for (a, b) in pairs {
+                used[e[a]] = true;
+                used[e[b]] = true;
+                let (ra, rb) = (find(&mut parent, e[a]), find(&mut parent, e[b]));
+                parent[ra] = rb;
+            }
+        }
+    }
+    let mut roots = std::collections::HashSet::new();
+    for k in 0..total {
+        if used[k] {
+            roots.insert(find(&mut parent, k));
+        }
+    }
+    roots.len()
+}
+
+/// Regenerates the tables and figures of papers/meshing-of-surfaces/ (run with
+/// `cargo test --release --test subdivision paper -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn paper_tables_and_figures() {
+    use certmesh::plantinga_vegter::{run_pv, PvParams};
+    use certmesh::snyder::run_snyder;
+    use certmesh::subdivision::{leaf_boxes, AngleBound};
+    use std::fmt::Write;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/meshing-of-surfaces");
+    let mut md = String::new();
+    let boxes = |o: &MeshOutput| o.stats["boxes"].as_u64().unwrap();
+    let leaves = |o: &MeshOutput| o.stats["leaves"].as_u64().unwrap();
+    // 1. Curves.
+    writeln!(md, "### Curves: Plantinga–Vegter and Snyder\n\n| curve | expected | PV leaves | PV certified | PV components | Snyder leaves | Snyder certified | Snyder components |\n|---|---|---|---|---|---|---|---|").unwrap();
+    for e in catalog::curves() {
+        let f = e.function();
+        let (t1, pv) = run_pv(&f, &e.domain, &PvParams::new(2), 2, &NoProgress).unwrap();
+        let (t2, sn) = run_snyder(&f, &e.domain, &SnyderParams::new(2), 2, &NoProgress).unwrap();
+        let comp = |o: &MeshOutput| match &o.mesh {
+            Mesh::Curve(c) => curve_components(c)
+                .map(|x| x.to_string())
+                .unwrap_or("open".into()),
+            _ => "-".into(),
+        };
+        writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            e.name,
+            e.topology
+                .map(|t| t.components.to_string())
+                .unwrap_or("singular".into()),
+            leaves(&pv),
+            pv.certificate.is_certified(),
+            comp(&pv),
+            leaves(&sn),
+            sn.certificate.is_certified(),
+            comp(&sn)
+        )
+        .unwrap();
+        if let Mesh::Curve(c) = &pv.mesh {
+            certmesh::plot_subdivision::draw_subdivision_svg(
+                &dir.join(format!("fig-pv-{}", e.name)),
+                &f,
+                &e.domain,
+                &leaf_boxes(&t1),
+                c,
+                720,
+            )
+            .unwrap();
+        }
+        if let Mesh::Curve(c) = &sn.mesh {
+            certmesh::plot_subdivision::draw_subdivision_svg(
+                &dir.join(format!("fig-snyder-{}", e.name)),
+                &f,
+                &e.domain,
+                &leaf_boxes(&t2),
+                c,
+                720,
+            )
+            .unwrap();
+        }
+    }
+    // 2. Fig 1.5: marching squares on regular grids vs PV on the protrusion.
+    let e = catalog::get("protrusion").unwrap();
+    let f = e.function();
+    writeln!(md, "\n### Fig 1.5: `protrusion` (1 component)\n\n| method | grid / leaves | point evaluations | components |\n|---|---|---|---|").unwrap();
+    for n in [4usize, 6, 8, 10, 12, 16, 24, 32] {
+        let m = ((n as f64) * e.domain.size()[1] / e.domain.size()[0]).round() as usize;
+        writeln!(
+            md,
+            "| marching squares | {n} x {m} | {} | {} |",
+            (n + 1) * (m + 1),
+            ms_components(&f, &e.domain, n)
+        )
+        .unwrap();
+    }
+    for md_ in [0u32, 2] {
+        let cf = certmesh::implicit::Counted::new(&f);
+        let (_, pv) = run_pv(
+            &cf,
+            &e.domain,
+            &PvParams::new(2).with_min_depth(md_),
+            2,
+            &NoProgress,
+        )
+        .unwrap();
+        let c = cf.counts();
+        let comp = match &pv.mesh {
+            Mesh::Curve(c) => curve_components(c),
+            _ => None,
+        };
+        writeln!(md, "| PV (min_depth {md_}), certified={} | {} leaves | {} points + {} interval + {} interval-gradient | {:?} |", pv.certificate.is_certified(), leaves(&pv), c.points, c.intervals, c.interval_gradients, comp).unwrap();
+    }
+    // 3. Surfaces.
+    writeln!(md, "\n### Surfaces\n\n| surface | PV boxes | PV leaves | PV certified | PV genera | PV time (ms) | Snyder (generic shift, depth 8) leaves | Snyder certified | Snyder uncertified boxes |\n|---|---|---|---|---|---|---|---|---|").unwrap();
+    for e in catalog::surfaces() {
+        let f = e.function();
+        let t0 = std::time::Instant::now();
+        let (_, pv) = run_pv(&f, &e.domain, &PvParams::new(3), 3, &NoProgress).unwrap();
+        let ms = t0.elapsed().as_secs_f64() * 1e3;
+        let (_, sn) = run_snyder(
+            &f,
+            &e.domain,
+            &SnyderParams::new(3)
+                .with_max_depth(8)
+                .with_generic_shift(true),
+            3,
+            &NoProgress,
+        )
+        .unwrap();
+        let gen = match &pv.mesh {
+            Mesh::Surface(m) => surface_genera(m)
+                .map(|g| format!("{g:?}"))
+                .unwrap_or("not closed".into()),
+            _ => "-".into(),
+        };
+        writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {:.0} | {} | {} | {} |",
+            e.name,
+            boxes(&pv),
+            leaves(&pv),
+            pv.certificate.is_certified(),
+            gen,
+            ms,
+            leaves(&sn),
+            sn.certificate.is_certified(),
+            sn.stats["uncertified_boxes"]
+        )
+        .unwrap();
+        eprintln!("{}", e.name);
+    }
+    // 4. Exercise 9: crude vs sharp angle bound.
+    writeln!(md, "\n### Exercise 9: boxes (leaves + internal) needed for a gradient-cone angle bound\n\n| entry | 90° (SNV) | 60° crude | 60° sharp | 45° crude | 45° sharp | 30° crude | 30° sharp |\n|---|---|---|---|---|---|---|---|").unwrap();
+    let mut tot = [0u64; 7];
+    for e in catalog::entries().into_iter().filter(|e| e.smooth) {
+        let f = e.function();
+        let mut row = Vec::new();
+        let mut cfgs = vec![(90.0, AngleBound::Sharp)];
+        for a in [60.0, 45.0, 30.0] {
+            cfgs.push((a, AngleBound::Crude));
+            cfgs.push((a, AngleBound::Sharp));
+        }
+        for (k, (a, b)) in cfgs.into_iter().enumerate() {
+            let p = PvParams::new(e.dim)
+                .with_max_angle(a, b)
+                .with_max_depth(if e.dim == 2 { 14 } else { 9 });
+            let (_, o) = run_pv(&f, &e.domain, &p, e.dim, &NoProgress).unwrap();
+            let n = boxes(&o);
+            tot[k] += n;
+            row.push(format!(
+                "{n}{}",
+                if o.certificate.is_certified() {
+                    ""
+                } else {
+                    "*"
+                }
+            ));
+        }
+        writeln!(md, "| {} | {} |", e.name, row.join(" | ")).unwrap();
+    }
+    writeln!(
+        md,
+        "| **total** | {} |",
+        tot.iter()
+            .map(|t| t.to_string())
+            .collect::<Vec<_>>()
+            .join(" | ")
+    )
+    .unwrap();
+    std::fs::write(dir.join("subdivision-tables.md"), &md).unwrap();
+    println!("{md}");
+}
