@@ -1055,7 +1055,11 @@ pub fn assemble(
                 }
             }
             match cyc.len() {
-                0..=2 => ok = false,
+                0 | 1 => ok = false,
+                // A two-gon (a → b on one tile, b → a on another: a cap cutting one edge
+                // twice, Snyder): the disk collapses to the edge ab, which the two
+                // neighbouring boxes already use in opposite directions.
+                2 => {}
                 3 => tris.push([cyc[0], cyc[1], cyc[2]]),
                 n => {
                     let mut cen = [0.0; 3];
