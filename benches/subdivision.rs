@@ -15,10 +15,10 @@ fn bench(c: &mut Criterion) {
         let meshers: Vec<(&str, Box<dyn Mesher>)> = vec![
             ("pv", Box::new(PlantingaVegter::default())),
             (
-                "snyder-shift-d8",
+                "snyder-shift-d14",
                 Box::new(Snyder::new(
                     SnyderParams::new(3)
-                        .with_max_depth(8)
+                        .with_max_depth(14)
                         .with_generic_shift(true),
                 )),
             ),
