@@ -623,3 +623,140 @@ fn paper_tables_and_figures() {
     std::fs::write(dir.join("subdivision-tables.md"), &md).unwrap();
     println!("{md}");
 }
+
+mod primitives {
+    use certmesh::subdivision::{
+        cos_lower_bound, enclose, AngleBound, GenericMotion, IntervalIsolation,
+    };
+    use certmesh::{Formula, Implicit};
+    use inari::Interval;
+    use proptest::prelude::*;
+    use std::sync::atomic::AtomicU64;
+
+    fn iv(a: f64, b: f64) -> Interval {
+        Interval::try_from((a.min(b), a.max(b))).unwrap()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+        /// The mean-value ∩ natural enclosure contains f at every point of the box.
+        #[test]
+        fn enclose_contains_values(x0 in -2.0f64..2.0, y0 in -2.0f64..2.0, z0 in -2.0f64..2.0,
+                                   w in 0.0f64..1.0, t in proptest::array::uniform3(0.0f64..1.0)) {
+            let f = Formula::surface("x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8 + x*y*z").unwrap();
+            let b = [iv(x0, x0 + w), iv(y0, y0 + 0.5 * w), iv(z0, z0 + 0.25 * w)];
+            let (v, g) = enclose(&f, &b);
+            let p = [x0 + t[0] * w, y0 + t[1] * 0.5 * w, z0 + t[2] * 0.25 * w];
+            prop_assert!(v.contains(f.eval(p)));
+            let gp = f.grad(p).g;
+            for k in 0..3 {
+                prop_assert!(g[k].contains(gp[k]));
+            }
+        }
+
+        /// Both angle bounds are lower bounds of the cosine of any two vectors in the box,
+        /// and the sharp one is never worse than the crude one.
+        #[test]
+        fn angle_bounds_are_sound(lo in proptest::array::uniform3(-1.0f64..3.0),
+                                  wid in proptest::array::uniform3(0.0f64..1.0),
+                                  s in proptest::array::uniform3(0.0f64..1.0),
+                                  t in proptest::array::uniform3(0.0f64..1.0)) {
+            let g = [0, 1, 2].map(|k| iv(lo[k], lo[k] + wid[k]));
+            let u = [0, 1, 2].map(|k| lo[k] + s[k] * wid[k]);
+            let v = [0, 1, 2].map(|k| lo[k] + t[k] * wid[k]);
+            let nu = certmesh::geom::norm(u);
+            let nv = certmesh::geom::norm(v);
+            prop_assume!(nu > 1e-9 && nv > 1e-9);
+            let cos = certmesh::geom::dot(u, v) / (nu * nv);
+            let crude = cos_lower_bound(&g, 3, AngleBound::Crude);
+            let sharp = cos_lower_bound(&g, 3, AngleBound::Sharp);
+            if let Some(c) = crude {
+                prop_assert!(c <= cos + 1e-12);
+                prop_assert!(sharp.is_some_and(|s| s + 1e-12 >= c));
+            }
+            if let Some(c) = sharp {
+                prop_assert!(c <= cos + 1e-12);
+            }
+        }
+
+        /// Root isolation finds exactly the roots of a polynomial with known simple roots
+        /// on the segment, each located within the tolerance.
+        #[test]
+        fn isolation_counts_roots(r in proptest::collection::vec(-0.95f64..0.95, 1..5)) {
+            let mut rs = r.clone();
+            rs.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            prop_assume!(rs.windows(2).all(|w| w[1] - w[0] > 1e-3));
+            let text = rs.iter().map(|a| format!("(x - ({a}))")).collect::<Vec<_>>().join("*");
+            let f = Formula::curve(&text).unwrap();
+            let iso = IntervalIsolation { max_depth: 40, tol: 1e-12 };
+            let (pa, pb) = ([-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+            let steps = AtomicU64::new(0);
+            let pieces = iso.isolate(&f, pa, f.eval(pa) >= 0.0, pb, f.eval(pb) >= 0.0, &steps).unwrap();
+            prop_assert_eq!(pieces.len(), rs.len());
+            for ((t0, t1, _), a) in pieces.iter().zip(&rs) {
+                let (x0, x1) = (-1.0 + 2.0 * t0, -1.0 + 2.0 * t1);
+                prop_assert!(x0 <= *a && *a <= x1);
+            }
+        }
+    }
+
+    /// A double root touching from below (grazing: f + ε has two roots there) is never
+    /// isolated; touching from above is provably no root of f + ε (sign⁺ convention).
+    #[test]
+    fn isolation_fails_on_a_grazing_root() {
+        let iso = IntervalIsolation {
+            max_depth: 30,
+            tol: 1e-12,
+        };
+        let steps = AtomicU64::new(0);
+        let below = Formula::curve("0 - (x - 0.3)^2").unwrap();
+        assert!(iso
+            .isolate(
+                &below,
+                [-1.0, 0.0, 0.0],
+                false,
+                [1.0, 0.0, 0.0],
+                false,
+                &steps
+            )
+            .is_none());
+        let above = Formula::curve("(x - 0.3)^2").unwrap();
+        assert_eq!(
+            iso.isolate(
+                &above,
+                [-1.0, 0.0, 0.0],
+                true,
+                [1.0, 0.0, 0.0],
+                true,
+                &steps
+            ),
+            Some(vec![])
+        );
+    }
+
+    /// The generic motion's meshed box covers the domain, and the motion is rigid.
+    #[test]
+    fn generic_motion_covers_the_domain() {
+        let d = certmesh::Aabb::cube(2.0);
+        let m = GenericMotion::new(&d, 3);
+        let back = m.map_box(&m.domain);
+        for k in 0..3 {
+            assert!(back.min[k] <= d.min[k] && back.max[k] >= d.max[k]);
+        }
+        let (p, q) = ([0.1, 0.2, 0.3], [-0.4, 0.5, 0.9]);
+        let d0 = certmesh::geom::dist(p, q);
+        let d1 = certmesh::geom::dist(m.map(p), m.map(q));
+        assert!((d0 - d1).abs() < 1e-12);
+        // The domain centre is not a grid point of any level up to 20 of the moved box.
+        let c = [0, 1, 2].map(|k| {
+            let r = &m.rot;
+            // Rᵀ(0 - t)
+            -(r[0][k] * m.shift[0] + r[1][k] * m.shift[1] + r[2][k] * m.shift[2])
+        });
+        for k in 0..3 {
+            let t = (c[k] - m.domain.min[k]) / (m.domain.max[k] - m.domain.min[k])
+                * (1u64 << 20) as f64;
+            assert!((t - t.round()).abs() > 1e-6);
+        }
+    }
+}
