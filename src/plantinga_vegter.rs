@@ -23,8 +23,8 @@ use crate::implicit::Implicit;
 use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use crate::options::{Crossing, MesherOptions};
 use crate::subdivision::{
-    assemble, cos_lower_bound, cut_arcs, excludes_zero, snv_dot, subdivide, tree_stats, AngleBound,
-    Decision, Grid, Pairing, SignChange, TileCrossing, Tree, Verdict, MAX_LEVEL,
+    assemble, cos_lower_bound, cut_arcs, excludes_zero, mean_value, snv_dot, subdivide, tree_stats,
+    AngleBound, Decision, Grid, Pairing, SignChange, TileCrossing, Tree, Verdict, MAX_LEVEL,
 };
 
 /// The claim of a certified run.
@@ -253,6 +253,10 @@ pub(crate) fn pv_classify(
         return Decision::Leaf(Verdict::Empty);
     }
     let d = f.grad_interval(&ib);
+    // The mean-value form proves more boxes near (but off) the curve empty.
+    if excludes_zero(mean_value(f, &ib, &d)) {
+        return Decision::Leaf(Verdict::Empty);
+    }
     let ok = if p.max_angle >= 90.0 {
         snv_dot(&d.g, g.dim).inf() > 0.0
     } else {

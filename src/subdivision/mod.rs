@@ -328,6 +328,12 @@ pub fn no_zero_plus(i: Interval) -> bool {
 /// gradient enclosure.
 pub fn enclose(f: &dyn Implicit, b: &IBox) -> (Interval, [Interval; 3]) {
     let d = f.grad_interval(b);
+    (mean_value(f, b, &d), d.g)
+}
+
+/// The natural enclosure `d.v` intersected with the mean-value form built from the
+/// gradient enclosure `d.g` (see [`enclose`]).
+pub fn mean_value(f: &dyn Implicit, b: &IBox, d: &crate::implicit::Dual<Interval>) -> Interval {
     let c = [0, 1, 2].map(|k| b[k].mid());
     let cb = c.map(|x| Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE));
     let mut mv = f.eval_interval(&cb);
@@ -337,7 +343,11 @@ pub fn enclose(f: &dyn Implicit, b: &IBox) -> (Interval, [Interval; 3]) {
         }
     }
     let v = d.v.intersection(mv);
-    (if v.is_empty() { d.v } else { v }, d.g)
+    if v.is_empty() {
+        d.v
+    } else {
+        v
+    }
 }
 
 /// The interval scalar product ⟨□∇f, □∇f⟩ over the first `dim` components (eq 1.2):
