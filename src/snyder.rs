@@ -35,7 +35,9 @@ pub const SNYDER_CLAIM: &str = "isotopic to f = 0 inside the domain (Snyder, Lem
 pub struct SnyderParams {
     /// Minimum level (default 2).
     pub min_depth: u32,
-    /// Depth limit (default 10 for surfaces, 16 for curves).
+    /// Depth limit (default 10 for surfaces, 16 for curves; 14 for surfaces built by
+    /// [`SnyderParams::from_options`] with `generic_shift`, the depth at which every smooth
+    /// catalog surface certifies in generic position).
     pub max_depth: u32,
     /// Bisections allowed when isolating the roots on one edge (default 40; `--set root_depth=N`).
     pub root_depth: u32,
@@ -72,6 +74,9 @@ impl SnyderParams {
     pub fn from_options(o: &MesherOptions, dim: usize) -> Result<Self> {
         o.check_keys("snyder", &["root_depth"])?;
         let mut p = SnyderParams::new(dim);
+        if o.generic_shift && dim == 3 {
+            p.max_depth = 14;
+        }
         if let Some(d) = o.max_depth {
             p.max_depth = d;
         }
