@@ -760,3 +760,30 @@ mod primitives {
         }
     }
 }
+
+/// Curve segments run counter-clockwise around the solid {f <= 0} (f < 0 on the left).
+#[test]
+fn curve_orientation_is_ccw_around_the_solid() {
+    let e = catalog::get("cassini-2").unwrap();
+    let f = e.function();
+    for m in [
+        &PlantingaVegter2::default() as &dyn Mesher,
+        &Snyder2::default(),
+    ] {
+        let out = m.mesh(&f, &e.domain, &NoProgress).unwrap();
+        let Mesh::Curve(c) = &out.mesh else {
+            panic!("not a curve")
+        };
+        // Each segment's left normal points to f < 0.
+        let mut good = 0;
+        for s in &c.segments {
+            let (a, b) = (c.vertices[s[0] as usize], c.vertices[s[1] as usize]);
+            let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0, 0.0];
+            let left = [-(b[1] - a[1]), b[0] - a[0], 0.0];
+            if certmesh::geom::dot(left, f.grad(mid).g) < 0.0 {
+                good += 1;
+            }
+        }
+        assert_eq!(good, c.segments.len(), "{}", m.name());
+    }
+}
