@@ -30,3 +30,7 @@ pub mod plot;
 pub mod grid;
 pub mod marching;
 pub mod octree;
+pub mod plantinga_vegter;
+pub mod plot_subdivision;
+pub mod snyder;
+pub mod subdivision;

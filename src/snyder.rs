@@ -1,0 +1,437 @@
+//! Snyder's mesher by global parameterizability (chapter §1.2.3, Lemma 2), for curves
+//! ([`Snyder2`]) and surfaces ([`Snyder`]).
+//!
+//! A box is accepted when 0 ∉ □f, or when some partial □∂f/∂x_k excludes 0 (the zero set
+//! is a graph over the other variables, eq 1.1), the two faces normal to x_k (the "top"
+//! and "bottom") each have 0 ∉ □f or an in-plane partial excluding 0, and the zeros of f
+//! on all box edges are isolated by interval root isolation (each piece has 0 ∉ □f or
+//! 0 ∉ □f'). The mesh of each box is built from the sorted crossings: on every face tile
+//! (a face of the box, or of a smaller neighbour — the smaller boxes' pattern transmitted
+//! to the larger box) the crossings sorted along the parameter direction are joined in
+//! consecutive pairs (Fig 1.7), and in 3D the resulting boundary cycles of the box are
+//! fanned into triangles (Fig 1.8e).
+//!
+//! Termination is not guaranteed (grazing edges, faces tangent to the surface as in the
+//! chapter's paraboloid example): the depth is bounded, failing boxes are meshed by sign
+//! changes only and reported. `generic_shift` moves the grid to a generic position
+//! ([`GenericMotion`]).
+use crate::error::{Error, Result};
+use crate::geom::Aabb;
+use crate::implicit::Implicit;
+use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
+use crate::options::MesherOptions;
+use crate::plantinga_vegter::{check_input, PvPairing};
+use crate::subdivision::{
+    assemble, enclose, excludes_zero, no_zero_plus, point_sign, subdivide, tree_stats, Cell,
+    Decision, GenericMotion, Grid, IntervalIsolation, Pairing, TileCrossing, Tree, Verdict,
+    MAX_LEVEL,
+};
+use std::sync::atomic::AtomicU64;
+
+pub const SNYDER_CLAIM: &str = "isotopic to f = 0 inside the domain (Snyder, Lemma 2)";
+
+/// Parameters of both Snyder meshers.
+#[derive(Clone, Debug)]
+pub struct SnyderParams {
+    /// Minimum level (default 2).
+    pub min_depth: u32,
+    /// Depth limit (default 10 for surfaces, 16 for curves; 14 for surfaces built by
+    /// [`SnyderParams::from_options`] with `generic_shift`, the depth at which every smooth
+    /// catalog surface certifies in generic position).
+    pub max_depth: u32,
+    /// Bisections allowed when isolating the roots on one edge (default 40; `--set root_depth=N`).
+    pub root_depth: u32,
+    /// Root location tolerance relative to the edge (default 1e-9).
+    pub tolerance: f64,
+    /// Mesh in generic position (default false).
+    pub generic_shift: bool,
+}
+
+impl SnyderParams {
+    pub fn new(dim: usize) -> Self {
+        SnyderParams {
+            min_depth: 2,
+            max_depth: if dim == 2 { 16 } else { 10 },
+            root_depth: 40,
+            tolerance: 1e-9,
+            generic_shift: false,
+        }
+    }
+    pub fn with_max_depth(mut self, d: u32) -> Self {
+        self.max_depth = d;
+        self
+    }
+    pub fn with_min_depth(mut self, d: u32) -> Self {
+        self.min_depth = d;
+        self
+    }
+    pub fn with_generic_shift(mut self, on: bool) -> Self {
+        self.generic_shift = on;
+        self
+    }
+    /// From the shared options: `max_depth`, `min_depth`, `tolerance`, `generic_shift`,
+    /// and `--set root_depth=N`.
+    pub fn from_options(o: &MesherOptions, dim: usize) -> Result<Self> {
+        o.check_keys("snyder", &["root_depth"])?;
+        let mut p = SnyderParams::new(dim);
+        if o.generic_shift && dim == 3 {
+            p.max_depth = 14;
+        }
+        if let Some(d) = o.max_depth {
+            p.max_depth = d;
+        }
+        if let Some(d) = o.min_depth {
+            p.min_depth = d;
+        }
+        if let Some(t) = o.tolerance {
+            p.tolerance = t;
+        }
+        if let Some(r) = o.get::<u32>("root_depth")? {
+            p.root_depth = r;
+        }
+        p.generic_shift = o.generic_shift;
+        p.validate()?;
+        Ok(p)
+    }
+    pub fn validate(&self) -> Result<()> {
+        if self.max_depth > MAX_LEVEL {
+            return Err(Error::Param(format!(
+                "max_depth {} exceeds the limit {MAX_LEVEL}",
+                self.max_depth
+            )));
+        }
+        if self.min_depth > self.max_depth {
+            return Err(Error::Param(format!(
+                "min_depth {} exceeds max_depth {}",
+                self.min_depth, self.max_depth
+            )));
+        }
+        if self.root_depth == 0 || self.root_depth > 60 {
+            return Err(Error::Param(format!(
+                "root_depth {} must lie in 1..=60",
+                self.root_depth
+            )));
+        }
+        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
+            return Err(Error::Param(format!(
+                "tolerance {} must lie in (0, 1)",
+                self.tolerance
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Snyder for surfaces. Name `snyder`, dim 3.
+#[derive(Clone, Debug)]
+pub struct Snyder {
+    pub params: SnyderParams,
+}
+/// Snyder for curves. Name `snyder`, dim 2.
+#[derive(Clone, Debug)]
+pub struct Snyder2 {
+    pub params: SnyderParams,
+}
+
+impl Default for Snyder {
+    fn default() -> Self {
+        Snyder {
+            params: SnyderParams::new(3),
+        }
+    }
+}
+impl Default for Snyder2 {
+    fn default() -> Self {
+        Snyder2 {
+            params: SnyderParams::new(2),
+        }
+    }
+}
+impl Snyder {
+    pub fn new(params: SnyderParams) -> Self {
+        Snyder { params }
+    }
+    pub fn from_options(o: &MesherOptions) -> Result<Self> {
+        Ok(Snyder {
+            params: SnyderParams::from_options(o, 3)?,
+        })
+    }
+}
+impl Snyder2 {
+    pub fn new(params: SnyderParams) -> Self {
+        Snyder2 { params }
+    }
+    pub fn from_options(o: &MesherOptions) -> Result<Self> {
+        Ok(Snyder2 {
+            params: SnyderParams::from_options(o, 2)?,
+        })
+    }
+}
+
+impl Mesher for Snyder {
+    fn name(&self) -> &'static str {
+        "snyder"
+    }
+    fn dim(&self) -> usize {
+        3
+    }
+    fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
+        Ok(run_snyder(f, domain, &self.params, 3, progress)?.1)
+    }
+}
+impl Mesher for Snyder2 {
+    fn name(&self) -> &'static str {
+        "snyder"
+    }
+    fn dim(&self) -> usize {
+        2
+    }
+    fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
+        Ok(run_snyder(f, domain, &self.params, 2, progress)?.1)
+    }
+}
+
+/// Face criterion of Lemma 2: 0 ∉ □f, or one of the two in-plane partials excludes 0.
+fn face_ok(f: &dyn Implicit, ib: &crate::implicit::IBox, normal: usize) -> bool {
+    let (v, g) = enclose(f, ib);
+    no_zero_plus(v) || (0..3).any(|j| j != normal && excludes_zero(g[j]))
+}
+
+fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Decision {
+    let ib = g.cell_ibox(c);
+    let (v, grad) = enclose(f, &ib);
+    let d = crate::implicit::Dual { v, g: grad };
+    if no_zero_plus(d.v) {
+        return Decision::Leaf(Verdict::Empty);
+    }
+    let dim = g.dim;
+    let (lo, hi) = g.cell_lo_hi(c);
+    let mut any_param = false;
+    let mut faces_failed = false;
+    for k in 0..dim {
+        if !excludes_zero(d.g[k]) {
+            continue;
+        }
+        any_param = true;
+        if dim == 3 {
+            let mut ok = true;
+            for w in [lo[k], hi[k]] {
+                let (mut a, mut b) = (lo, hi);
+                a[k] = w;
+                b[k] = w;
+                if !face_ok(f, &g.ibox(a, b), k) {
+                    ok = false;
+                    break;
+                }
+            }
+            if !ok {
+                faces_failed = true;
+                continue;
+            }
+        }
+        if !edges_isolated(f, g, lo, hi, p) {
+            return Decision::Split("grazing intersection: roots on a box edge not isolated");
+        }
+        return Decision::Leaf(Verdict::Param(k as u8));
+    }
+    if !any_param {
+        // No partial excludes 0: the box may hold a singular point (∇f = 0).
+        if (0..dim).all(|k| d.g[k].contains(0.0)) {
+            return Decision::Split("possible singular point: 0 in □f and 0 in □∇f");
+        }
+        return Decision::Split("depth limit hit: no partial derivative excludes 0");
+    }
+    if faces_failed {
+        return Decision::Split(
+            "top/bottom face neither empty nor parameterizable (face tangent to the surface?)",
+        );
+    }
+    Decision::Split("depth limit hit")
+}
+
+fn edges_isolated(
+    f: &dyn Implicit,
+    g: &Grid,
+    lo: [u32; 3],
+    hi: [u32; 3],
+    p: &SnyderParams,
+) -> bool {
+    let iso = IntervalIsolation {
+        max_depth: p.root_depth,
+        tol: p.tolerance,
+    };
+    let steps = AtomicU64::new(0);
+    for k in 0..g.dim {
+        for m in 0..(1 << (g.dim - 1)) {
+            let others: Vec<usize> = (0..g.dim).filter(|&j| j != k).collect();
+            let mut a = lo;
+            for (bit, &j) in others.iter().enumerate() {
+                if m >> bit & 1 == 1 {
+                    a[j] = hi[j];
+                }
+            }
+            let mut b = a;
+            b[k] = hi[k];
+            let (pa, pb) = (g.point(a), g.point(b));
+            let (sa, sb) = (point_sign(f, pa), point_sign(f, pb));
+            if !sa.rigorous || !sb.rigorous {
+                return false;
+            }
+            if iso.isolate(f, pa, sa.pos, pb, sb.pos, &steps).is_none() {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Run Snyder; also returns the tree (in moved coordinates when `generic_shift`).
+pub fn run_snyder(
+    f: &dyn Implicit,
+    domain: &Aabb,
+    p: &SnyderParams,
+    dim: usize,
+    progress: &dyn Progress,
+) -> Result<(Tree, MeshOutput)> {
+    check_input(f, domain, dim, "snyder")?;
+    p.validate()?;
+    let motion = p.generic_shift.then(|| GenericMotion::new(domain, dim));
+    let moved;
+    let (g, dom): (&dyn Implicit, Aabb) = match &motion {
+        Some(m) => {
+            moved = m.apply(f);
+            (&moved, m.domain)
+        }
+        None => (f, *domain),
+    };
+    let grid = Grid {
+        domain: dom,
+        dim,
+        depth: p.max_depth,
+    };
+    progress.start("subdivision", 0);
+    let mut tree = subdivide(grid, p.min_depth, p.max_depth, &|gr: &Grid, c| {
+        snyder_classify(g, gr, c, p)
+    });
+    tree.collect_points();
+    progress.finish();
+    let finder = IntervalIsolation {
+        max_depth: p.root_depth,
+        tol: p.tolerance,
+    };
+    let asm = assemble(g, &tree, &finder, &SnyderPairing);
+    let mut stats = tree_stats(&tree, &asm);
+    stats.insert("generic_shift".into(), serde_json::json!(p.generic_shift));
+    let mut regions = tree.failures();
+    regions.extend(asm.uncertain.iter().cloned());
+    let mut mesh = if dim == 2 {
+        Mesh::Curve(asm.curve.unwrap_or_default())
+    } else {
+        Mesh::Surface(asm.surface.unwrap_or_default())
+    };
+    if let Some(m) = &motion {
+        for r in &mut regions {
+            r.region = m.map_box(&r.region);
+        }
+        match &mut mesh {
+            Mesh::Curve(c) => {
+                for v in &mut c.vertices {
+                    let q = m.map([v[0], v[1], dom.min[2]]);
+                    *v = [q[0], q[1]];
+                }
+            }
+            Mesh::Surface(s) => {
+                for v in &mut s.vertices {
+                    *v = m.map(*v);
+                }
+            }
+            Mesh::Volume { .. } => {}
+        }
+    }
+    let certificate = if regions.is_empty() {
+        let claim = if motion.is_some() {
+            format!("{SNYDER_CLAIM}, grid in generic position (the meshed region is a rotated box containing the domain)")
+        } else {
+            SNYDER_CLAIM.to_string()
+        };
+        Certificate::Certified {
+            claims: vec![claim],
+        }
+    } else {
+        Certificate::Uncertified {
+            reason: format!(
+                "{} region(s) not certified (first: {})",
+                regions.len(),
+                regions[0].reason
+            ),
+            claims: Vec::new(),
+            regions,
+        }
+    };
+    Ok((
+        tree,
+        MeshOutput {
+            mesh,
+            certificate,
+            stats,
+        },
+    ))
+}
+
+/// Fig 1.7: on a tile parameterizable in u (□∂f/∂v ∌ 0), the crossings sorted by u pair
+/// up consecutively. A crossing on the side u = u_min sorts before any other at the same
+/// u, one on u = u_max after (the sign⁺ convention moves a root at a corner into the
+/// edge where f < 0).
+pub struct SnyderPairing;
+
+impl Pairing for SnyderPairing {
+    fn pair(
+        &self,
+        f: &dyn Implicit,
+        corners: &[[f64; 3]; 4],
+        normal_axis: usize,
+        cross: &[TileCrossing],
+    ) -> Vec<(usize, usize)> {
+        let ib = [0, 1, 2].map(|k| {
+            let lo = corners.iter().map(|c| c[k]).fold(f64::INFINITY, f64::min);
+            let hi = corners
+                .iter()
+                .map(|c| c[k])
+                .fold(f64::NEG_INFINITY, f64::max);
+            inari::Interval::try_from((lo, hi)).unwrap_or(inari::Interval::ENTIRE)
+        });
+        let d = f.grad_interval(&ib);
+        let inplane: Vec<usize> = (0..3).filter(|&j| j != normal_axis).collect();
+        let sort_axis = if excludes_zero(d.g[inplane[1]]) {
+            Some(inplane[0])
+        } else if excludes_zero(d.g[inplane[0]]) {
+            Some(inplane[1])
+        } else {
+            None
+        };
+        let Some(u) = sort_axis else {
+            return PvPairing.pair(f, corners, normal_axis, cross);
+        };
+        if cross.len() % 2 == 1 {
+            return PvPairing.pair(f, corners, normal_axis, cross);
+        }
+        let (umin, umax) = (ib[u].inf(), ib[u].sup());
+        let rank = |side: usize| {
+            let (a, b) = (corners[side], corners[(side + 1) % 4]);
+            if a[u] == umin && b[u] == umin {
+                0
+            } else if a[u] == umax && b[u] == umax {
+                2
+            } else {
+                1
+            }
+        };
+        let mut order: Vec<usize> = (0..cross.len()).collect();
+        order.sort_by(|&i, &j| {
+            (cross[i].pos[u], rank(cross[i].side))
+                .partial_cmp(&(cross[j].pos[u], rank(cross[j].side)))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        order.chunks(2).map(|c| (c[0], c[1])).collect()
+    }
+}
