@@ -9,6 +9,7 @@
 pub mod catalog;
 pub mod error;
 pub mod geom;
+pub mod gradnormal;
 pub mod implicit;
 pub mod mesh;
 pub mod mesher;
