@@ -427,3 +427,31 @@ fn planar_circle_and_cassini() {
         assert!(residual[1] < 0.1 * residual[0], "{name}: {residual:?}");
     }
 }
+
+#[test]
+fn goldberg_markdown_names_the_appendix_value() {
+    let md = certmesh::gradnormal::reproduce::goldberg_markdown();
+    assert_eq!(md.matches("**yes**").count(), 1);
+    let yes_line = md.lines().find(|l| l.contains("**yes**")).unwrap();
+    assert!(yes_line.contains("Appendix A"), "{yes_line}");
+    assert!(yes_line.contains("90.0000°") && yes_line.contains("60.0000°"));
+}
+
+/// `certmesh reproduce gradnormal --quick` into a temporary directory.
+#[test]
+#[ignore = "reproduction: run with --ignored (about a minute)"]
+fn reproduce_quick() {
+    let dir = std::env::temp_dir().join("certmesh-gradnormal-quick");
+    certmesh::gradnormal::reproduce(&dir, true).unwrap();
+    let md = std::fs::read_to_string(dir.join("README.md")).unwrap();
+    assert!(md.contains("## Table 1") && md.contains("Random planes"));
+    assert!(dir.join("angles.svg").exists() && dir.join("angles.png").exists());
+}
+
+/// Regenerates `papers/gradnormal/` (full mode).
+#[test]
+#[ignore = "full reproduction: writes papers/gradnormal (several minutes)"]
+fn reproduce_full() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/gradnormal");
+    certmesh::gradnormal::reproduce(&dir, false).unwrap();
+}
