@@ -455,3 +455,45 @@ fn reproduce_full() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/gradnormal");
     certmesh::gradnormal::reproduce(&dir, false).unwrap();
 }
+
+#[test]
+#[ignore = "diagnostic"]
+fn diagnose_extremes() {
+    use certmesh::gradnormal::reproduce::{explain_plane_extreme, plane_angles};
+    let p = GradNormalParams::new().with_scale(0.2);
+    for (n, c) in [
+        ([-0.16272, 0.87218, 0.46134], -0.11084),
+        ([-0.64082, -0.05754, -0.76553], 0.05978),
+    ] {
+        println!("{:?}", plane_angles(n, c, &p, false).unwrap());
+        println!("max: {}", explain_plane_extreme(n, c, &p, true).unwrap());
+        println!("min: {}", explain_plane_extreme(n, c, &p, false).unwrap());
+    }
+}
+
+#[test]
+#[ignore = "diagnostic"]
+fn refine_max() {
+    use certmesh::gradnormal::reproduce::{plane_angles, Rng};
+    let p = GradNormalParams::new().with_scale(0.2);
+    let mut best = (([-0.16272f64, 0.87218, 0.46134], -0.11084f64), 0.0f64);
+    best.1 = plane_angles(best.0 .0, best.0 .1, &p, false).unwrap().1;
+    let mut rng = Rng::new(7);
+    for it in 0..1500 {
+        let sigma = 0.02 * (1.0 - it as f64 / 1500.0) + 0.0002;
+        let ((n, c), _) = best;
+        let m = [
+            n[0] + sigma * rng.normal(),
+            n[1] + sigma * rng.normal(),
+            n[2] + sigma * rng.normal(),
+        ];
+        let l = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+        let m = [m[0] / l, m[1] / l, m[2] / l];
+        let c2 = c + 0.05 * sigma * rng.normal();
+        let v = plane_angles(m, c2, &p, false).unwrap().1;
+        if v > best.1 {
+            best = ((m, c2), v);
+        }
+    }
+    println!("best max {:.6} at {:?}", best.1, best.0);
+}
