@@ -497,3 +497,96 @@ fn refine_max() {
     }
     println!("best max {:.6} at {:?}", best.1, best.0);
 }
+
+/// Independent of the mesher: the valence-four square K L K₂ L₂ of the octahedron
+/// around AD (Fig 12), split by the paper's K K₂, projected onto planes whose normal m
+/// lies in Y = {m : m·A > m·X for X = B, C, D, B₂, C₂} (planes cutting off A alone).
+/// The paper (Fig 14–15) finds the largest angle ≈ 101.445° < 101.45°; a normal in Y
+/// giving more is a witness against it.
+#[test]
+fn valence4_square_exceeds_paper_bound() {
+    use certmesh::geom::{angle_deg, cross, dot, normalize};
+    let t = Goldberg::sommerville(1.0).tetrahedron();
+    let [a, b, c, d] = t;
+    let b2 = sub(add(a, d), b);
+    let c2 = sub(add(a, d), c);
+    let mid = |p: [f64; 3], q: [f64; 3]| scale(add(p, q), 0.5);
+    let (k, l, k2, l2) = (mid(a, b), mid(a, c), mid(a, b2), mid(a, c2));
+    let in_y = |m: [f64; 3]| [b, c, d, b2, c2].iter().all(|x| dot(m, sub(a, *x)) > 0.0);
+    let proj = |p: [f64; 3], m: [f64; 3]| sub(p, scale(m, dot(p, m)));
+    let max_angle = |m: [f64; 3]| {
+        let mut best: f64 = 0.0;
+        for tri in [[k, l, k2], [k, k2, l2]] {
+            let [p, q, r] = tri.map(|x| proj(x, m));
+            best = best
+                .max(angle_deg(r, p, q))
+                .max(angle_deg(p, q, r))
+                .max(angle_deg(q, r, p));
+        }
+        best
+    };
+    // Coarse search over the sphere, then local refinement inside Y.
+    let mut best = (0.0, [0.0; 3]);
+    let n = 200;
+    for i in 0..n {
+        for j in 0..2 * n {
+            let th = std::f64::consts::PI * (i as f64 + 0.5) / n as f64;
+            let ph = std::f64::consts::PI * j as f64 / n as f64;
+            let m = [th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()];
+            if in_y(m) {
+                let v = max_angle(m);
+                if v > best.0 {
+                    best = (v, m);
+                }
+            }
+        }
+    }
+    let mut step = 0.01;
+    while step > 1e-9 {
+        let mut improved = false;
+        for dv in [
+            [1.0, 0.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+        ] {
+            let m = normalize(add(best.1, scale(dv, step)));
+            if in_y(m) && max_angle(m) > best.0 {
+                best = (max_angle(m), m);
+                improved = true;
+            }
+        }
+        if !improved {
+            step *= 0.5;
+        }
+    }
+    let _ = cross;
+    println!(
+        "max angle of K L K2 over Y: {:.6} deg at m = {:?}",
+        best.0, best.1
+    );
+    assert!(best.0 > 101.5, "{best:?}");
+}
+
+#[test]
+fn appendix_arcs_table() {
+    let rows = certmesh::gradnormal::reproduce::valence4_square_arcs(2000);
+    assert_eq!(rows.len(), 10);
+    let paper_max = rows
+        .iter()
+        .filter(|r| r.0.starts_with("K K2"))
+        .map(|r| r.3)
+        .fold(0.0, f64::max);
+    assert!(paper_max > 101.5 && paper_max < 101.6, "{paper_max}");
+    // The minimum over the arcs is arctan(1/sqrt 2) = 35.2644°.
+    let min = rows.iter().map(|r| r.2).fold(f64::INFINITY, f64::min);
+    assert!(
+        (min - (0.5f64.sqrt()).atan().to_degrees()).abs() < 1e-3,
+        "{min}"
+    );
+    // The diagonal arc n_ABC -> n_AB2C2 stays at 90°.
+    let diag = rows.iter().find(|r| r.1.contains("diagonal")).unwrap();
+    assert!((diag.3 - 90.0).abs() < 1e-6, "{diag:?}");
+}

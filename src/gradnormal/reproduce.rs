@@ -714,6 +714,19 @@ pub fn reproduce_with(out_dir: &Path, o: &ReproduceOptions) -> Result<()> {
         let _ = writeln!(md, "\nWith the paper's rules: {verdict} The paper claims [35.2°, 101.5°] (abstract, Theorem 1.1) and the sharper [35.25°, 101.45°] (Appendix A).\n");
     }
 
+    // --- Appendix A, Figs 14-15 --------------------------------------------------
+    let _ = writeln!(
+        md,
+        "## The valence-four square along the boundary of Y (Appendix A, Figs 14–15)\n"
+    );
+    let _ = writeln!(md, "The square K L K₂ L₂ around a removed valence-four vertex, projected onto planes with normals on the great-circle arcs between the vertices of Y (Claim 7.1), 20,000 samples per arc. This is computed from the tiling data alone, not by the mesher.\n");
+    let _ = writeln!(md, "| diagonal | arc of normals | min angle | max angle |");
+    let _ = writeln!(md, "|---|---|---|---|");
+    for (dname, arc, lo, hi) in valence4_square_arcs(20_000) {
+        let _ = writeln!(md, "| {dname} | {arc} | {lo:.4}° | {hi:.4}° |");
+    }
+    let _ = writeln!(md, "\nThe paper (Appendix A) says it parameterises the arc from n_ABC to n_AB₂C₂ and finds a maximum ≈ 101.445° < 101.45°; but n_ABC and n_AB₂C₂ are *opposite* vertices of Y (that arc is a diagonal, where the maximum is 90°), while Fig 14's caption names the boundary arc n_ABC → n_AB₂C. On the boundary arcs n_ABC → n_AB₂C and n_ABC₂ → n_AB₂C₂ the paper's split K K₂ reaches **101.537°**, above both 101.45° and the headline 101.5°; the alternate split L L₂ reaches the same value on the other two arcs, so neither *fixed* diagonal of the square keeps the maximum below 101.5°; choosing the shorter diagonal after projection (`--set v4_rule=shorter --set quad_rule=shorter`) kept every measured angle at or below 90° in the random-plane experiment above. The minimum 35.2644° (= arctan(1/√2)) agrees with the paper's 35.25°/35.2°. The random-plane experiment above approaches this supremum from inside Y (101.52°). The `proofs` crate certifies the exact values.\n");
+
     // --- Timing ----------------------------------------------------------------------
     let _ = writeln!(md, "## Timing and cost\n");
     let _ = writeln!(
@@ -850,4 +863,71 @@ pub fn explain_plane_extreme(
             "made by the valence-four removal"
         }
     ))
+}
+
+/// Appendix A, Figs 14–15, recomputed: the valence-four square K L K₂ L₂ of the
+/// octahedron around AD (K, L, K₂, L₂ the midpoints of AB, AC, AB₂, AC₂ with
+/// B₂ = A + D − B, C₂ = A + D − C), split by K K₂ (paper) or L L₂ (alternate), projected
+/// onto planes whose unit normal runs along great-circle arcs between the face normals
+/// n_ABC, n_ABC₂, n_AB₂C, n_AB₂C₂ (the vertices of the region Y of Claim 7.1), sampled
+/// at `samples` points per arc. Rows: (diagonal, arc, min angle, max angle).
+pub fn valence4_square_arcs(samples: usize) -> Vec<(&'static str, String, f64, f64)> {
+    use crate::geom::{add, angle_deg, cross, normalize, sub};
+    let [a, b, c, d] = Goldberg::sommerville(1.0).tetrahedron();
+    let b2 = sub(add(a, d), b);
+    let c2 = sub(add(a, d), c);
+    let mid = |p: [f64; 3], q: [f64; 3]| crate::geom::scale(add(p, q), 0.5);
+    let (k, l, k2, l2) = (mid(a, b), mid(a, c), mid(a, b2), mid(a, c2));
+    // Face normals oriented towards A's side of the octahedron (away from D).
+    let face = |p: [f64; 3], q: [f64; 3], r: [f64; 3]| {
+        let n = normalize(cross(sub(q, p), sub(r, p)));
+        if dot(n, sub(a, d)) > 0.0 {
+            n
+        } else {
+            crate::geom::scale(n, -1.0)
+        }
+    };
+    let normals = [
+        ("n_ABC", face(a, b, c)),
+        ("n_ABC2", face(a, b, c2)),
+        ("n_AB2C", face(a, b2, c)),
+        ("n_AB2C2", face(a, b2, c2)),
+    ];
+    let arcs = [(0, 1), (0, 2), (1, 3), (2, 3), (0, 3)];
+    let mut rows = Vec::new();
+    for (name, tris) in [
+        ("K K2 (paper)", [[k, l, k2], [k, k2, l2]]),
+        ("L L2 (alternate)", [[l, k2, l2], [l, l2, k]]),
+    ] {
+        for (p, q) in arcs {
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for s in 0..=samples {
+                let t = s as f64 / samples as f64;
+                let m = normalize(add(
+                    crate::geom::scale(normals[p].1, 1.0 - t),
+                    crate::geom::scale(normals[q].1, t),
+                ));
+                let pr = |x: [f64; 3]| sub(x, crate::geom::scale(m, dot(x, m)));
+                for tri in &tris {
+                    let [x, y, z] = tri.map(pr);
+                    for v in [angle_deg(z, x, y), angle_deg(x, y, z), angle_deg(y, z, x)] {
+                        lo = lo.min(v);
+                        hi = hi.max(v);
+                    }
+                }
+            }
+            let diag = if (p, q) == (0, 3) {
+                " (a diagonal of Y, not a boundary arc)"
+            } else {
+                ""
+            };
+            rows.push((
+                name,
+                format!("{} → {}{}", normals[p].0, normals[q].0, diag),
+                lo,
+                hi,
+            ));
+        }
+    }
+    rows
 }
