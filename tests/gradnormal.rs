@@ -114,7 +114,7 @@ proptest! {
             }
         }
         // On a shared face a point may be in two tetrahedra; generic points in one.
-        prop_assert!(hits >= 1 && hits <= 2, "hits = {}", hits);
+        prop_assert!((1..=2).contains(&hits), "hits = {}", hits);
     }
 
     /// Lemma 4.1 on random planes: every MidNormal angle is in [45°, 90°], and the mesh

@@ -110,16 +110,11 @@ pub fn topology(m: &TriMesh) -> Topo {
         let next: HashMap<u32, u32> = l.iter().copied().collect();
         let mut x = l[0].0;
         let mut steps = 0;
-        loop {
-            match next.get(&x) {
-                Some(&y) => {
-                    x = y;
-                    steps += 1;
-                    if x == l[0].0 || steps > l.len() {
-                        break;
-                    }
-                }
-                None => break,
+        while let Some(&y) = next.get(&x) {
+            x = y;
+            steps += 1;
+            if x == l[0].0 || steps > l.len() {
+                break;
             }
         }
         if next.len() != l.len() || steps != l.len() || x != l[0].0 {
@@ -128,8 +123,8 @@ pub fn topology(m: &TriMesh) -> Topo {
     }
     // Per component V − E + F.
     let mut comp: HashMap<u32, (i64, i64, i64)> = HashMap::new();
-    for v in 0..nv {
-        if used[v] {
+    for (v, &u) in used.iter().enumerate() {
+        if u {
             comp.entry(find(&mut parent, v as u32)).or_default().0 += 1;
         }
     }

@@ -21,6 +21,9 @@ use crate::implicit::Implicit;
 use crate::mesher::Progress;
 use rayon::prelude::*;
 
+/// An oriented quadrilateral cycle (midpoint indices) and its diagonal position.
+type QuadEntry = Option<([u8; 4], u8)>;
+
 /// Per tetrahedron type and sign pattern: the oriented triangles (midpoint indices)
 /// and the oriented quadrilateral cycle, if the pattern gives one.
 #[derive(Clone, Debug)]
@@ -29,7 +32,7 @@ struct Table {
     tris: [[([[u8; 3]; 2], u8); 16]; 6],
     /// [type][pattern] -> oriented quadrilateral cycle and the paper's diagonal position
     /// (0: diagonal cycle[0]-cycle[2], 1: cycle[1]-cycle[3]).
-    quads: [[Option<([u8; 4], u8)>; 16]; 6],
+    quads: [[QuadEntry; 16]; 6],
     /// [type][midpoint] -> (origin offset, direction) of the lattice edge.
     edges: [[([i64; 3], usize); 6]; 6],
 }

@@ -18,6 +18,10 @@ use rayon::prelude::*;
 use serde_json::{json, Map};
 
 const H: f64 = 0.866_025_403_784_438_6;
+
+/// A triangle's vertices and, for each vertex, the (origin i, origin j, direction) key
+/// of the edge opposite it.
+type TriEdges = ([[i64; 2]; 3], [(i64, i64, u64); 3]);
 const OFF: i64 = 1 << 30;
 
 /// Keys of the three edge directions from a lattice point: (1,0), (0,1), (−1,1).
@@ -153,7 +157,7 @@ pub fn extract2(
                 for j in lo[1]..hi[1] {
                     // Up and down triangles with their three edges: edge k is opposite
                     // vertex k; (origin, dir) keys.
-                    let tris: [([[i64; 2]; 3], [(i64, i64, u64); 3]); 2] = [
+                    let tris: [TriEdges; 2] = [
                         (
                             [[i, j], [i + 1, j], [i, j + 1]],
                             [(i + 1, j, 2), (i, j, 1), (i, j, 0)],
@@ -270,10 +274,18 @@ fn params2(o: &MesherOptions, algo: &str) -> Result<GradNormalParams> {
         }
     }
     if let Some(v) = o.get::<usize>("newton_steps")? {
-        p.newton_steps = v.min(100);
+        if v > 100 {
+            return Err(Error::Param(format!(
+                "newton_steps = {v} must be at most 100"
+            )));
+        }
+        p.newton_steps = v;
     }
     if let Some(v) = o.get::<usize>("leaf")? {
-        p.leaf = v.clamp(1, 256);
+        if v == 0 || v > 256 {
+            return Err(Error::Param(format!("leaf = {v} must be in 1..=256")));
+        }
+        p.leaf = v;
     }
     if let Some(v) = o.get::<bool>("prune")? {
         p.prune = v;

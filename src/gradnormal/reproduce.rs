@@ -1,4 +1,8 @@
-//! Regenerates `papers/gradnormal/` (`certmesh reproduce gradnormal`).
+//! Regenerates `papers/gradnormal/` (`certmesh reproduce gradnormal`): `GOLDBERG.md`
+//! (which a/e is the Sommerville tetrahedron, by computation), and `README.md` with
+//! Table 1, Figs 1–2, the random-plane experiment with adversarial refinement and the
+//! witnesses of its extremes, the Appendix A arcs of the valence-four square, timings,
+//! and `angles.svg`/`angles.png` (normalised angle histograms as in Fig 4).
 use super::tiling::{Goldberg, LABELS, MIDPOINT_EDGES, PAPER_RATIOS};
 use crate::error::{Error, Result};
 use std::fmt::Write as _;
@@ -241,7 +245,7 @@ pub fn plane_angles(
             .mesh
         {
             crate::mesher::Mesh::Surface(m) => m,
-            _ => unreachable!("MidNormal returns a surface"),
+            _ => return Err(Error::Param("MidNormal returned no surface".into())),
         }
     } else {
         GradNormal::new(params.clone()).run(&f, &b, &NoProgress)?.0
