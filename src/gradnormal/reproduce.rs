@@ -627,6 +627,37 @@ pub fn reproduce_with(out_dir: &Path, o: &ReproduceOptions) -> Result<()> {
     )?;
     let _ = writeln!(md, "\n![angle histograms](angles.svg)\n\nNormalised as in Fig 4 (counts divided by three times the number of faces). MidNormal angles are exactly 45°, 60° or 90°-type values (Lemma 4.1); GradNormal spreads them.\n");
 
+    // --- Newton iterations ----------------------------------------------------------
+    let _ = writeln!(
+        md,
+        "## One projection step (the paper) vs iterated Newton projection\n"
+    );
+    let _ = writeln!(md, "`--set newton_steps=N` repeats v ← v − f∇f/|∇f|². Same tilings as Figs 1–2 (869,652 tetrahedra of the unit cube).\n");
+    let _ = writeln!(
+        md,
+        "| surface | steps | θ_m | θ_M | max \\|f\\| at vertices | max displacement / e |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|");
+    for (name, side) in [("torus", 2.0), ("genus2", 3.0), ("genus5", 3.0)] {
+        let entry = catalog::get(name)?;
+        let f = entry.function();
+        for steps in [1usize, 3] {
+            let (mesh, rep) = GradNormal::new(
+                GradNormalParams::new()
+                    .with_scale(side * e_unit)
+                    .with_newton_steps(steps),
+            )
+            .run(&f, &entry.domain, &NoProgress)?;
+            let (lo, hi) = angle_range(&mesh);
+            let _ = writeln!(
+                md,
+                "| {name} | {steps} | {lo:.2}° | {hi:.2}° | {:.2e} | {:.3} |",
+                rep.max_residual, rep.max_displacement
+            );
+        }
+    }
+    let _ = writeln!(md, "\nIterating drives the vertices onto f = 0 (the residual falls by orders of magnitude; the first step already lands within O(e²)), while the angle range changes little, most where the curvature is large relative to e (genus 5 here). The paper's single step is the default.\n");
+
     // --- Random planes -------------------------------------------------------------
     let (n_random, n_refine) = if o.quick { (150, 25) } else { (3000, 150) };
     let _ = writeln!(md, "## Random planes (the asymptotic case)\n");
