@@ -161,6 +161,16 @@ fn lemma_4_1_spheres_closed_manifold() {
         let m = out.mesh.surface().unwrap();
         let (lo, hi) = angle_range(m);
         assert!(lo >= 45.0 - 1e-9 && hi <= 90.0 + 1e-9, "[{lo}, {hi}]");
+        // Only four angle values: half squares and the isosceles BCC midpoint triangles.
+        let allowed = [
+            45.0,
+            (1.0f64 / 3f64.sqrt()).acos().to_degrees(),
+            (1.0f64 / 3.0).acos().to_degrees(),
+            90.0,
+        ];
+        for x in certmesh::gradnormal::check::angles(m) {
+            assert!(allowed.iter().any(|y| (x - y).abs() < 1e-9), "{x}");
+        }
         let t = topology(m);
         assert!(t.is_closed_manifold(), "{t:?}");
         assert_eq!((t.components, t.genus.clone()), (1, vec![0]), "{t:?}");

@@ -631,7 +631,7 @@ pub fn reproduce_with(out_dir: &Path, o: &ReproduceOptions) -> Result<()> {
         "GradNormal / MidNormal angle distributions (869,652-tet tiling)",
         &hist_series,
     )?;
-    let _ = writeln!(md, "\n![angle histograms](angles.svg)\n\nNormalised as in Fig 4 (counts divided by three times the number of faces). MidNormal angles are exactly 45°, 60° or 90°-type values (Lemma 4.1); GradNormal spreads them.\n");
+    let _ = writeln!(md, "\n![angle histograms](angles.svg)\n\nNormalised as in Fig 4 (counts divided by three times the number of faces). MidNormal angles take only the values 45°, 54.74° (arccos 1/√3), 70.53° (arccos 1/3) and 90°: the elementary triangles of the BCC tetrahedron are isosceles (b/2, b/2, c/2) with b = (√3/2)c, and the quadrilaterals are squares split into 45°-45°-90° halves (Lemma 4.1). GradNormal spreads them around these values.\n");
 
     // --- Newton iterations ----------------------------------------------------------
     let _ = writeln!(
