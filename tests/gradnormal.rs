@@ -232,6 +232,8 @@ fn gradnormal_catalog_topology() {
             out.certificate.reason(),
             Some("angle bound is asymptotic (e → 0): measured range reported")
         );
+        assert!(out.certificate.claims().is_empty(), "nothing is proven");
+        assert_eq!(out.stats["topology_certified"], serde_json::json!(false));
         let lo = out.stats["min_angle_deg"].as_f64().unwrap();
         let hi = out.stats["max_angle_deg"].as_f64().unwrap();
         assert!(lo > 10.0 && hi < 160.0, "{name}: [{lo}, {hi}]");

@@ -340,15 +340,18 @@ fn base_stats(p: &GradNormalParams, g: &Goldberg, ns: &NormalSurface) -> Map<Str
     s
 }
 
-fn uncertified(what: &str) -> Certificate {
-    Certificate::Uncertified {
-        reason: "angle bound is asymptotic (e → 0): measured range reported".into(),
-        claims: vec![format!(
-            "{what}: topology not certified (Theorem 1.1(1) holds only for e small enough, \
-             which is not quantified)"
-        )],
-        regions: Vec::new(),
-    }
+/// Nothing is proven: the angle bound is asymptotic and the topology claim holds only
+/// below an unquantified scale (recorded in the statistics, never as a claim).
+fn uncertified(stats: &mut Map<String, Value>) -> Certificate {
+    stats.insert("topology_certified".into(), json!(false));
+    stats.insert(
+        "topology_note".into(),
+        json!(
+            "Theorem 1.1(1) gives the topology of f = 0 only for e small enough, \
+             which is not quantified"
+        ),
+    );
+    Certificate::none("angle bound is asymptotic (e → 0): measured range reported")
 }
 
 impl Mesher for MidNormal {
@@ -372,7 +375,7 @@ impl Mesher for MidNormal {
         );
         Ok(MeshOutput {
             mesh: Mesh::Surface(mesh),
-            certificate: uncertified("midnormal"),
+            certificate: uncertified(&mut stats),
             stats,
         })
     }
@@ -524,7 +527,7 @@ impl Mesher for GradNormal {
         stats.insert("max_residual".into(), json!(r.max_residual));
         Ok(MeshOutput {
             mesh: Mesh::Surface(mesh),
-            certificate: uncertified("gradnormal"),
+            certificate: uncertified(&mut stats),
             stats,
         })
     }
