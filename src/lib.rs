@@ -10,6 +10,7 @@ pub mod bvh;
 pub mod catalog;
 pub mod error;
 pub mod geom;
+pub mod gradnormal;
 pub mod implicit;
 pub mod io;
 pub mod mesh;
