@@ -6,12 +6,14 @@
 //! * [`metrics`]: angles, topology, fidelity;
 //! * [`mesher`]: the one interface every algorithm implements, and its honest report;
 //! * the meshers, one module per algorithm.
+pub mod bcc;
 pub mod catalog;
 pub mod error;
 pub mod geom;
 pub mod implicit;
 pub mod mesh;
 pub mod mesher;
+pub mod stuffing;
 
 pub use error::{Error, Result};
 pub use geom::Aabb;
