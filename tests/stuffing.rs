@@ -525,6 +525,16 @@ fn mesher_interface_and_options() {
         }
         _ => panic!("volume expected"),
     }
+    // The graded variant through the options.
+    let mut og = o.clone();
+    og.graded = true;
+    og.resolution = Some(16);
+    let out_g = Stuffing::from_options(&og)
+        .unwrap()
+        .mesh(&f, &e.domain, &NoProgress)
+        .unwrap();
+    assert!(out_g.stats["octants"].as_u64().unwrap() > 0);
+    assert!(out_g.stats["graded"].as_bool().unwrap());
     // Bad options are errors naming the problem.
     let mut bad = o.clone();
     bad.params = Some("no-such-row".into());
@@ -555,4 +565,124 @@ fn mesher_interface_and_options() {
         .unwrap()
         .mesh(&nan, &e.domain, &NoProgress);
     assert!(matches!(r, Err(certmesh::Error::NotFinite(_))), "{r:?}");
+}
+
+#[test]
+fn reproduce_quick_writes_tables_and_histograms() {
+    let dir = std::env::temp_dir().join(format!("certmesh-stuffing-{}", std::process::id()));
+    certmesh::stuffing::reproduce(&dir, true).unwrap();
+    let md = std::fs::read_to_string(dir.join("README.md")).unwrap();
+    for r in TABLE1.iter() {
+        assert!(md.contains(r.name), "{}", r.name);
+    }
+    assert!(md.contains("within the guaranteed bounds: **yes**"));
+    assert!(!md.contains("VIOLATED"));
+    for f in ["hist-sphere.svg", "hist-sphere.png", "hist-torus.svg"] {
+        assert!(std::fs::metadata(dir.join(f)).unwrap().len() > 1000, "{f}");
+    }
+    let svg = std::fs::read_to_string(dir.join("hist-sphere.svg")).unwrap();
+    assert!(svg.contains("<rect"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Regenerates `papers/stuffing/` (slow; run with `--ignored`).
+#[test]
+#[ignore]
+fn reproduce_papers_stuffing() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/stuffing");
+    certmesh::stuffing::reproduce(&dir, false).unwrap();
+}
+
+#[test]
+fn histogram_bins_are_two_degrees() {
+    let b = certmesh::stuffing::report_bins(&[0.5, 1.9, 2.0, 59.99, 60.0, 179.9, 180.0]);
+    assert_eq!(b[0], 2);
+    assert_eq!(b[1], 1);
+    assert_eq!(b[29], 1);
+    assert_eq!(b[30], 1);
+    assert_eq!(b[89], 2);
+    assert_eq!(b.iter().sum::<u64>(), 7);
+}
+
+fn check_bounds_with(ctx: &str, b: certmesh::stuffing::params::Bounds, q: &quality::AngleSummary) {
+    let ok = |lo: Option<f64>, x: f64| lo.is_none_or(|l| x >= l);
+    let okh = |hi: Option<f64>, x: f64| hi.is_none_or(|h| x <= h);
+    assert!(
+        ok(b.min_dihedral, q.min_dihedral_deg),
+        "min dihedral {ctx} {q:?}"
+    );
+    assert!(
+        okh(b.max_dihedral, q.max_dihedral_deg),
+        "max dihedral {ctx} {q:?}"
+    );
+    assert!(ok(b.min_plane, q.min_plane_deg), "min plane {ctx} {q:?}");
+    assert!(okh(b.max_plane, q.max_plane_deg), "max plane {ctx} {q:?}");
+    assert!(
+        ok(b.min_exposed, q.min_exposed_deg),
+        "min exposed {ctx} {q:?}"
+    );
+    assert!(
+        okh(b.max_exposed, q.max_exposed_deg),
+        "max exposed {ctx} {q:?}"
+    );
+}
+
+#[test]
+fn graded_meshes_conform_and_meet_the_bounds() {
+    use certmesh::stuffing::graded::stuff_graded;
+    // Unordered rows (graded warping is arbitrary-order), incl. the daggered
+    // min-exposed-unsafe row with its weaker graded bound 158.1918°.
+    let rows = [
+        "min-dihedral-unsafe",
+        "max-dihedral-safe",
+        "min-exposed-unsafe",
+        "max-exposed-safe",
+        "min-dihedral-double",
+    ];
+    for (k, (name, res)) in [("sphere", 20usize), ("torus", 28), ("blob", 20)]
+        .into_iter()
+        .enumerate()
+    {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        for (ri, rn) in rows.iter().enumerate() {
+            let row = certmesh::stuffing::row(rn).unwrap();
+            let off = offsets((k * 10 + ri) as u64 + 99, 1)[0];
+            let p = StuffingParams::new()
+                .with_row(row.name)
+                .unwrap()
+                .with_resolution(res)
+                .with_offset(off);
+            let (g, st) = stuff_graded(&f, &e.domain, &p).unwrap();
+            let b = g.mesh.boundary();
+            assert_eq!(check_conforming(&g.mesh, &b), Ok(0), "{name} {}", row.name);
+            assert_eq!(
+                Some(euler_characteristic_private(&b)),
+                e.euler_characteristic(),
+                "{name}"
+            );
+            let q = quality::summarize(&g.mesh, &b);
+            assert_eq!(q.inverted, 0, "{name}");
+            check_bounds_with(
+                &format!("{name} {} {st:?}", row.name),
+                row.graded_bounds(),
+                &q,
+            );
+            // Grading pays: fewer tetrahedra than the uniform mesh, same surface.
+            let u = stuff(&f, &e.domain, &p).unwrap();
+            assert!(
+                g.mesh.tets.len() < u.mesh.tets.len(),
+                "{name}: {} vs {}",
+                g.mesh.tets.len(),
+                u.mesh.tets.len()
+            );
+            assert!(st.background.iter().all(|&c| c > 0), "{st:?}");
+            let ub = u.mesh.boundary();
+            assert_eq!(
+                ub.triangles.len(),
+                b.triangles.len(),
+                "{name}: same surface triangles"
+            );
+        }
+    }
 }

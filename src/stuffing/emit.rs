@@ -77,6 +77,13 @@ pub fn emit(fl: &mut Field, side: Side, parallel: bool) -> Emitted {
         for j in 0..=n[1] {
             for i in 0..=n[0] {
                 let base = [2 * i as i64, 2 * j as i64, 2 * k as i64];
+                // The base point is a vertex of all 12 tetrahedra: if it is not in P,
+                // none of them has a positive vertex (P holds every neighbour of one)
+                // and none is quadruple-zero.
+                let b = lat.id(base).expect("base in window");
+                if f.sign[b as usize] == OUT {
+                    continue;
+                }
                 for (ti, t) in TET_TEMPLATES.iter().enumerate() {
                     let mut ids = [0u32; 4];
                     let mut ok = true;
