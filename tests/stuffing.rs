@@ -346,7 +346,30 @@ fn continuation_evaluates_only_near_the_domain() {
 }
 
 #[test]
-fn ordered_warping_never_warps_both_ends_of_a_violating_edge() {
+fn warping_never_moves_both_ends_of_an_edge_toward_each_other() {
+    use certmesh::stuffing::{prepare, warp};
+    for name in ["tanglecube", "genus2"] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        for order in [Order::Arbitrary, Order::Ordered] {
+            let p = StuffingParams::new().with_resolution(19).with_order(order);
+            let mut fl = prepare(&f, &e.domain, &p).unwrap();
+            let n = warp::warp(&mut fl, 0.28511, 0.39882, order, true);
+            assert!(n > 50 && n == fl.warp_toward.len(), "{name}: {n}");
+            for (&q, &o) in &fl.warp_toward {
+                // §4.1: two vertices sharing an edge cannot both warp toward each other.
+                assert_ne!(fl.warp_toward.get(&o), Some(&q), "{name} {order:?}");
+                if order == Order::Ordered {
+                    // Ordered warping: never along an edge whose other end also warps.
+                    assert!(!fl.warp_toward.contains_key(&o), "{name}: {q} -> {o}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn ordered_warping_meets_the_ordered_row_bounds() {
     // With ordered warping, the output is still conforming and within the ordered
     // row's bounds on a surface with many cut points.
     let e = catalog::get("tanglecube").unwrap();

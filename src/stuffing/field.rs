@@ -44,6 +44,8 @@ pub struct Field {
     pub cuts: Vec<CutRec>,
     /// Warped positions of lattice points (§3.2).
     pub warp: HashMap<u32, [f64; 3]>,
+    /// For each warped point, the other end of the edge it moved along.
+    pub warp_toward: HashMap<u32, u32>,
     /// Number of f evaluations at lattice points.
     pub evaluated: usize,
     /// A positive point has a neighbour outside the lattice window: the mesh is cut off.
@@ -100,6 +102,7 @@ impl Field {
             surf: vec![NONE; np],
             cuts: Vec::new(),
             warp: HashMap::new(),
+            warp_toward: HashMap::new(),
             evaluated: 0,
             clipped: false,
         }
@@ -355,8 +358,8 @@ impl Field {
         lerp(self.lat.position(q), self.lat.position(other), t)
     }
 
-    /// Warp `q` to `pos`: value zero, all adjoining cut points discarded (§3, step 3).
-    pub fn warp_to(&mut self, q: u32, pos: [f64; 3]) {
+    /// Warp `q` to `pos` (a cut point on the edge towards `toward`): value zero, all adjoining cut points discarded (§3, step 3).
+    pub fn warp_to(&mut self, q: u32, pos: [f64; 3], toward: u32) {
         match self.sign[q as usize] {
             1 => {
                 let r = self.surf[q as usize];
@@ -380,6 +383,7 @@ impl Field {
         }
         self.sign[q as usize] = 0;
         self.warp.insert(q, pos);
+        self.warp_toward.insert(q, toward);
     }
 
     /// Position of a lattice point after warping.

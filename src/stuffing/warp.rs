@@ -40,20 +40,20 @@ fn nearest_violation(
     al: f64,
     as_: f64,
     ok: impl Fn(usize, u32) -> bool,
-) -> Option<[f64; 3]> {
+) -> Option<([f64; 3], u32)> {
     let odd = fl.is_odd(q);
-    let mut best: Option<(f64, [f64; 3])> = None;
+    let mut best: Option<(f64, [f64; 3], u32)> = None;
     for d in 0..14 {
         if let Some((t, other)) = fl.cut_at(q, d) {
             if violates(odd, d, t, al, as_) && ok(d, other) {
                 let dist = t * fl.lat.edge_length(d);
-                if best.is_none_or(|(b, _)| dist < b) {
-                    best = Some((dist, fl.cut_position(q, other, t)));
+                if best.is_none_or(|(b, _, _)| dist < b) {
+                    best = Some((dist, fl.cut_position(q, other, t), other));
                 }
             }
         }
     }
-    best.map(|b| b.1)
+    best.map(|b| (b.1, b.2))
 }
 
 /// Points that may be violated: positive points with cut edges and their negative
@@ -99,14 +99,14 @@ fn warp_arbitrary(fl: &mut Field, al: f64, as_: f64, parallel: bool) -> usize {
     for class in &by_colour {
         let f: &Field = fl;
         let decide = |&q: &u32| nearest_violation(f, q, al, as_, |_, _| true).map(|p| (q, p));
-        let moves: Vec<(u32, [f64; 3])> = if parallel {
+        let moves: Vec<(u32, ([f64; 3], u32))> = if parallel {
             class.par_iter().filter_map(decide).collect()
         } else {
             class.iter().filter_map(decide).collect()
         };
         n += moves.len();
         for (q, p) in moves {
-            fl.warp_to(q, p);
+            fl.warp_to(q, p.0, p.1);
         }
     }
     n
@@ -138,7 +138,9 @@ fn warp_ordered(fl: &mut Field, al: f64, as_: f64) -> usize {
             let cnt = &count;
             nearest_violation(f, q, al, as_, |_, p| cnt[f.surf[p as usize] as usize] == 0)
         };
-        let Some(pos) = target else { continue };
+        let Some((pos, toward)) = target else {
+            continue;
+        };
         // The cut points of q disappear: update the positive ends' counts.
         for d in 0..14 {
             if let Some((t, p)) = fl.cut_at(q, d) {
@@ -158,7 +160,7 @@ fn warp_ordered(fl: &mut Field, al: f64, as_: f64) -> usize {
                 }
             }
         }
-        fl.warp_to(q, pos);
+        fl.warp_to(q, pos, toward);
         n += 1;
     }
     // Second loop: positive points are never adjacent through a cut edge, so any order.
@@ -167,8 +169,8 @@ fn warp_ordered(fl: &mut Field, al: f64, as_: f64) -> usize {
         if fl.sign[p as usize] != 1 {
             continue;
         }
-        if let Some(pos) = nearest_violation(fl, p, al, as_, |_, _| true) {
-            fl.warp_to(p, pos);
+        if let Some((pos, toward)) = nearest_violation(fl, p, al, as_, |_, _| true) {
+            fl.warp_to(p, pos, toward);
             n += 1;
         }
     }
