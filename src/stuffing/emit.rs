@@ -70,6 +70,25 @@ pub fn emit(fl: &mut Field, side: Side, parallel: bool) -> Emitted {
     let lat = &fl.lat;
     let f: &Field = fl;
     let n = lat.n;
+    let n_even = lat.n_even();
+    // Index offsets of each template's vertices from its base point's even index (even
+    // vertices) or from the odd point (2i+1, 2j+1, 2k+1)'s index (odd vertices).
+    let deltas: [[i64; 4]; 12] = std::array::from_fn(|ti| {
+        std::array::from_fn(|v| {
+            let o = TET_TEMPLATES[ti].offsets[v];
+            if o[0] & 1 == 0 {
+                let d = [o[0] / 2, o[1] / 2, o[2] / 2];
+                (d[2] * (n[1] as i64 + 1) + d[1]) * (n[0] as i64 + 1) + d[0]
+            } else {
+                let d = [
+                    (o[0] - 1).div_euclid(2),
+                    (o[1] - 1).div_euclid(2),
+                    (o[2] - 1).div_euclid(2),
+                ];
+                (d[2] * n[1] as i64 + d[1]) * n[0] as i64 + d[0]
+            }
+        })
+    });
     let slab = |k: usize| -> (Vec<[u32; 4]>, Vec<[u32; 4]>, bool) {
         let mut tets = Vec::new();
         let mut qz = Vec::new();
@@ -84,10 +103,26 @@ pub fn emit(fl: &mut Field, side: Side, parallel: bool) -> Emitted {
                 if f.sign[b as usize] == OUT {
                     continue;
                 }
+                let interior = i >= 1 && j >= 1 && k >= 1 && i < n[0] && j < n[1] && k < n[2];
+                let odd_base = (n_even + (k * n[1] + j) * n[0] + i) as i64;
                 for (ti, t) in TET_TEMPLATES.iter().enumerate() {
                     let mut ids = [0u32; 4];
                     let mut ok = true;
+                    if interior {
+                        // Fast path: constant index offsets away from the window border.
+                        for v in 0..4 {
+                            ids[v] = (deltas[ti][v]
+                                + if t.offsets[v][0] & 1 == 0 {
+                                    b as i64
+                                } else {
+                                    odd_base
+                                }) as u32;
+                        }
+                    }
                     for v in 0..4 {
+                        if interior {
+                            break;
+                        }
                         let o = t.offsets[v];
                         match lat.id([base[0] + o[0], base[1] + o[1], base[2] + o[2]]) {
                             Some(id) => ids[v] = id,
@@ -101,6 +136,16 @@ pub fn emit(fl: &mut Field, side: Side, parallel: bool) -> Emitted {
                         continue;
                     }
                     let raw = ids.map(|id| f.sign[id as usize]);
+                    if raw == [pos_sign; 4] {
+                        // Wholly inside: the ++++ stencil is the tetrahedron itself.
+                        let mut g = ids.map(|id| vid[id as usize]);
+                        // (e0, e1, o0, o1) is positively oriented iff the template is.
+                        if t.orientation < 0 {
+                            g.swap(0, 1);
+                        }
+                        tets.push(g);
+                        continue;
+                    }
                     if !raw.contains(&pos_sign) && !(raw == [0, 0, 0, 0]) {
                         continue;
                     }
