@@ -15,9 +15,9 @@
 //! Coordinates are doubled finest-lattice coordinates (see [`crate::bcc`]); an octant
 //! of level `L` has corners at multiples of `2^(L+1)` and half-width `2^L`.
 //!
-//! Limitations of this implementation: the lattice values come from the uniform
-//! continuation (so f is evaluated at the fine lattice inside the domain too), and
-//! warping is always in arbitrary order (for the ordered rows no bound is claimed).
+//! Limitation of this implementation: the lattice values come from the uniform
+//! continuation (so f is evaluated at the fine lattice inside the domain too, which
+//! costs evaluations but not tetrahedra).
 use super::field::{Field, OUT};
 use super::stencils::{pattern_index, EDGES, TABLE};
 use super::warp::violates;
@@ -437,32 +437,42 @@ pub fn stuff_graded(
             }
         }
     }
-    // Arbitrary-order warping by colour classes (as in the uniform mesher).
+    // Warping (§3.2) on the background grid's cut edges: arbitrary order by colour
+    // classes (as in the uniform mesher), or the two loops of ordered warping.
     let mut adj: HashMap<Coord, Vec<(Coord, Coord)>> = HashMap::new();
     for &(a, b) in cuts.keys() {
         adj.entry(a).or_default().push((a, b));
         adj.entry(b).or_default().push((a, b));
+    }
+    for v in adj.values_mut() {
+        v.sort_unstable();
     }
     let mut pts: Vec<Coord> = adj.keys().copied().collect();
     pts.sort_unstable_by_key(|&c| (fl.colour(fl.lat.id(c).expect("in window")), c));
     let mut warp: HashMap<Coord, [f64; 3]> = HashMap::new();
     let mut alive: HashSet<(Coord, Coord)> = cuts.keys().copied().collect();
     let mut nwarp = 0;
-    for q in pts {
-        let id = fl.lat.id(q).expect("in window");
-        let odd = fl.is_odd(id);
+    // Does the cut on edge (a = +, b = −) violate endpoint q? Returns (t from q, other).
+    let viol = |q: Coord, (a, b): (Coord, Coord)| -> Option<(f64, Coord)> {
+        let t = cuts[&(a, b)];
+        let (tq, other) = if a == q { (t, b) } else { (1.0 - t, a) };
+        let d = crate::bcc::dir_of([other[0] - q[0], other[1] - q[1], other[2] - q[2]])?;
+        let odd = q[0] & 1 != 0;
+        violates(odd, d, tq, al, as_).then_some((tq * fl.lat.edge_length(d), other))
+    };
+    let nearest = |q: Coord,
+                   alive: &HashSet<(Coord, Coord)>,
+                   ok: &dyn Fn(Coord) -> bool|
+     -> Option<[f64; 3]> {
         let mut best: Option<(f64, [f64; 3])> = None;
-        for &(a, b) in &adj[&q] {
-            if !alive.contains(&(a, b)) {
+        for &e in &adj[&q] {
+            if !alive.contains(&e) {
                 continue;
             }
-            let t = cuts[&(a, b)];
-            let (tq, other) = if a == q { (t, b) } else { (1.0 - t, a) };
-            let d = crate::bcc::dir_of([other[0] - q[0], other[1] - q[1], other[2] - q[2]])
-                .expect("BCC edge");
-            if violates(odd, d, tq, al, as_) {
-                let dist = tq * fl.lat.edge_length(d);
-                if best.is_none_or(|(bd, _)| dist < bd) {
+            if let Some((dist, other)) = viol(q, e) {
+                if ok(other) && best.is_none_or(|(bd, _)| dist < bd) {
+                    let tq = cuts[&e];
+                    let tq = if e.0 == q { tq } else { 1.0 - tq };
                     best = Some((
                         dist,
                         lerp(fl.lat.position_of(q), fl.lat.position_of(other), tq),
@@ -470,13 +480,74 @@ pub fn stuff_graded(
                 }
             }
         }
-        if let Some((_, pos)) = best {
+        best.map(|b| b.1)
+    };
+    if p.order == super::Order::Arbitrary {
+        for q in pts {
+            if let Some(pos) = nearest(q, &alive, &|_| true) {
+                for e in &adj[&q] {
+                    alive.remove(e);
+                }
+                sg.insert(q, 0);
+                warp.insert(q, pos);
+                nwarp += 1;
+            }
+        }
+    } else {
+        let mut count: HashMap<Coord, u32> = HashMap::new();
+        for &q in &pts {
+            if sg[&q] == 1 {
+                let c = adj[&q].iter().filter(|&&e| viol(q, e).is_some()).count() as u32;
+                count.insert(q, c);
+            }
+        }
+        let mut queue: std::collections::VecDeque<Coord> =
+            pts.iter().copied().filter(|q| sg[q] == -1).collect();
+        while let Some(q) = queue.pop_front() {
+            if sg[&q] != -1 {
+                continue;
+            }
+            let target = {
+                let cnt = &count;
+                nearest(q, &alive, &|o: Coord| cnt.get(&o) == Some(&0))
+            };
+            let Some(pos) = target else { continue };
+            for &e in &adj[&q] {
+                if !alive.contains(&e) {
+                    continue;
+                }
+                let pp = e.0;
+                if viol(pp, e).is_some() {
+                    let c = count.get_mut(&pp).expect("positive end");
+                    *c -= 1;
+                    if *c == 0 {
+                        for &e2 in &adj[&pp] {
+                            if alive.contains(&e2) && e2.1 != q {
+                                queue.push_back(e2.1);
+                            }
+                        }
+                    }
+                }
+            }
             for e in &adj[&q] {
                 alive.remove(e);
             }
             sg.insert(q, 0);
             warp.insert(q, pos);
             nwarp += 1;
+        }
+        for &q in &pts {
+            if sg[&q] != 1 {
+                continue;
+            }
+            if let Some(pos) = nearest(q, &alive, &|_| true) {
+                for e in &adj[&q] {
+                    alive.remove(e);
+                }
+                sg.insert(q, 0);
+                warp.insert(q, pos);
+                nwarp += 1;
+            }
         }
     }
     // Emission.

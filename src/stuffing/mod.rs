@@ -6,7 +6,13 @@
 //! linear interpolation, which keeps only the angle guarantee); [`warp`] snaps violated
 //! lattice points onto the surface; [`emit`] fills each BCC tetrahedron with a positive
 //! vertex from the [`stencils`] table, which is *derived by code* from the paper's
-//! rules for all 81 sign patterns.
+//! rules for all 81 sign patterns. [`graded`] builds the graded background grid of §5
+//! (sparse octree, Fig 10) and reuses the same cut points, warping rule and stencils.
+//!
+//! For the `proofs` crate: the stencil of a BCC tetrahedron with signs `s` (in the
+//! canonical naming of [`crate::bcc`]) is `stencils::TABLE.stencils[pattern_index(s)]`;
+//! its local ids 0..4 are the tetrahedron's vertices and `4 + k` the cut point on
+//! `stencils::EDGES[k]`; `stencils::reference_point` gives reference coordinates.
 //!
 //! **Sign convention.** The paper meshes `{g >= 0}`; certmesh's solid is `{f <= 0}`, so
 //! the paper's `+` (inside) is `f < 0` here, `−` is `f > 0`, `0` is `f == 0`.
