@@ -282,4 +282,36 @@ mod tests {
         // combinatorial table serves both, with a vertex swap for the mirror family).
         assert_eq!(vols.len(), 2, "classes: {vols:?}");
     }
+
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The Parity Rule's choice depends only on the tetrahedron's shape, not on its
+        /// position: every translate of a template (by an even lattice vector) makes the
+        /// same choices, so the table derived on one reference tetrahedron is valid
+        /// everywhere.
+        #[test]
+        fn parity_rule_is_translation_invariant(t in 0usize..12, x in -50i64..50, y in -50i64..50, z in -50i64..50) {
+            let tp = TET_TEMPLATES[t];
+            let b = [2 * x, 2 * y, 2 * z];
+            let p = tp.offsets.map(|o| [o[0] + b[0], o[1] + b[1], o[2] + b[2]]);
+            prop_assert!(parity_diagonal_from_a(p[0], p[1], p[2]));
+            prop_assert!(!parity_diagonal_from_a(p[1], p[0], p[2]));
+            prop_assert!(!parity_diagonal_from_a(p[0], p[1], p[3]));
+            prop_assert_eq!(parity_diagonal_from_a(p[2], p[3], p[0]), tp.odd_parity_from_o0);
+            prop_assert_eq!(orient(&p).signum() as i8, tp.orientation);
+        }
+
+        #[test]
+        fn ids_and_neighbours_round_trip(nx in 1usize..7, ny in 1usize..7, nz in 1usize..7, pick in 0usize..10_000, d in 0usize..14) {
+            let l = Lattice::new([0.5, -1.0, 2.0], 0.25, [nx, ny, nz]);
+            let id = (pick % l.n_points()) as u32;
+            prop_assert_eq!(l.id(l.coord(id)), Some(id));
+            if let Some(q) = l.neighbor(id, d) {
+                prop_assert_eq!(l.neighbor(q, d ^ 1), Some(id));
+                let len = crate::geom::dist(l.position(id), l.position(q));
+                prop_assert!((len - l.edge_length(d)).abs() < 1e-12);
+            }
+        }
+    }
 }

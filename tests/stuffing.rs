@@ -656,6 +656,7 @@ fn graded_meshes_conform_and_meet_the_bounds() {
     // Unordered rows (graded warping is arbitrary-order), incl. the daggered
     // min-exposed-unsafe row with its weaker graded bound 158.1918°.
     let rows = [
+        "max-dihedral-unsafe",
         "min-dihedral-unsafe",
         "max-dihedral-safe",
         "min-exposed-unsafe",

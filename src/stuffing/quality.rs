@@ -130,4 +130,35 @@ mod tests {
         assert!(orientation(p) < 0.0);
         assert!(orientation([p[1], p[0], p[2], p[3]]) > 0.0);
     }
+
+    use proptest::prelude::*;
+
+    fn pt() -> impl Strategy<Value = [f64; 3]> {
+        [-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0]
+    }
+
+    proptest! {
+        /// Dihedral angles are in [0°, 180°], invariant under vertex permutations, and
+        /// a swap of two vertices flips the exact orientation.
+        #[test]
+        fn dihedral_invariants(a in pt(), b in pt(), c in pt(), d in pt()) {
+            let p = [a, b, c, d];
+            let o = orientation(p);
+            prop_assume!(o != 0.0);
+            let mut x = dihedrals(p).to_vec();
+            let mut y = dihedrals([b, a, d, c]).to_vec();
+            x.sort_by(f64::total_cmp);
+            y.sort_by(f64::total_cmp);
+            for (u, v) in x.iter().zip(&y) {
+                prop_assert!((0.0..=180.0).contains(u));
+                prop_assert!((u - v).abs() < 1e-6);
+            }
+            prop_assert_eq!(orientation([b, a, c, d]).signum(), -o.signum());
+            // Face angles of each face sum to 180°.
+            let pa = plane_angles(p);
+            for f in 0..4 {
+                prop_assert!((pa[3 * f] + pa[3 * f + 1] + pa[3 * f + 2] - 180.0).abs() < 1e-6);
+            }
+        }
+    }
 }
