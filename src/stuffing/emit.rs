@@ -146,7 +146,7 @@ pub fn emit(fl: &mut Field, side: Side, parallel: bool) -> Emitted {
                         tets.push(g);
                         continue;
                     }
-                    if !raw.contains(&pos_sign) && !(raw == [0, 0, 0, 0]) {
+                    if !raw.contains(&pos_sign) && raw != [0, 0, 0, 0] {
                         continue;
                     }
                     if raw.contains(&OUT) || raw.contains(&-3) {

@@ -398,8 +398,8 @@ pub fn stuff_graded(
         stats.background[*k as usize] += 1;
     }
     // (7) Cut points and warping on the BCC tetrahedra that cross the surface.
-    let mut tets: Vec<([Coord; 4], Kind)> = bg.into_iter().map(|(k, v)| (k, v)).collect();
-    tets.sort_unstable_by(|a, b| a.0.cmp(&b.0));
+    let mut tets: Vec<([Coord; 4], Kind)> = bg.into_iter().collect();
+    tets.sort_unstable_by_key(|a| a.0);
     let mut sg: HashMap<Coord, i8> = HashMap::new();
     for (t, _) in &tets {
         for v in t {

@@ -274,7 +274,7 @@ impl StuffingParams {
         if al.is_some() || as_.is_some() {
             let (a0, b0) = p.alphas();
             let (a, b) = (al.unwrap_or(a0), as_.unwrap_or(b0));
-            if !(a >= 0.0 && a < 0.5 && b >= 0.0 && b <= 0.5) {
+            if !((0.0..0.5).contains(&a) && (0.0..=0.5).contains(&b)) {
                 return Err(Error::Param(format!(
                     "alpha_long = {a} must lie in [0, 0.5) and alpha_short = {b} in [0, 0.5]"
                 )));

@@ -36,13 +36,15 @@ fn histogram(angles: &[f64], path: &Path, title: &str, emphasis: bool) -> Result
             .caption(title, ("sans-serif", 18))
             .margin(10)
             .x_label_area_size(30)
-            .y_label_area_size(50)
+            .y_label_area_size(70)
             .build_cartesian_2d(0f64..180f64, 0f64..max * 1.05)
             .map_err(|e| e.to_string())?;
         chart
             .configure_mesh()
             .x_desc("dihedral angle (degrees)")
             .y_desc("count")
+            .y_label_formatter(&|v| format!("{v:.0}"))
+            .x_label_formatter(&|v| format!("{v:.0}"))
             .draw()
             .map_err(|e| e.to_string())?;
         if emphasis {

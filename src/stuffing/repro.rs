@@ -149,7 +149,7 @@ pub(super) fn run(out_dir: &Path, quick: bool) -> Result<()> {
         writeln!(md, "- `{name}` at resolution {res}: {} tetrahedra, dihedral angles {lo:.2}°..{hi:.2}° ![{name}](hist-{name}.svg)", s.mesh.tets.len()).ok();
     }
     // Graded vs uniform.
-    writeln!(md, "## Graded interior (§5) vs uniform\n").ok();
+    writeln!(md, "\n## Graded interior (§5) vs uniform\n").ok();
     writeln!(md, "Row `min-dihedral-unsafe` (the paper's Fig 6 parameters). The paper's Fig 6: 42,053 graded tetrahedra (its uniform count is not given). Graded bounds: the Table 1 bounds with the daggered entries weakened to 158.1918° and 147.0470°.\n").ok();
     writeln!(md, "| surface | resolution | uniform tets | graded tets | ratio | graded dihedral range | octree leaves / octants | background BCC / bisected / quadrisected / half-pyramids |").ok();
     writeln!(md, "|---|---|---|---|---|---|---|---|").ok();
