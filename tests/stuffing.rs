@@ -710,3 +710,24 @@ fn graded_meshes_conform_and_meet_the_bounds() {
         }
     }
 }
+
+#[test]
+fn f_is_evaluated_once_per_lattice_point() {
+    // With linear cut points the only point evaluations are the lattice values.
+    let e = catalog::get("torus").unwrap();
+    let f = e.function();
+    for seeding in [Seeding::Continuation, Seeding::BoundingBox] {
+        let counted = certmesh::implicit::Counted::new(&f);
+        let p = StuffingParams::new()
+            .with_resolution(20)
+            .with_crossing(Crossing::Linear)
+            .with_seeding(seeding);
+        let s = stuff(&counted, &e.domain, &p).unwrap();
+        assert_eq!(
+            counted.counts().points,
+            s.lattice_points_evaluated as u64,
+            "{seeding:?}"
+        );
+        assert!(s.mesh.tets.len() > 1000);
+    }
+}
