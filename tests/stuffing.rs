@@ -548,6 +548,15 @@ fn mesher_interface_and_options() {
         }
         _ => panic!("volume expected"),
     }
+    // Too fine a lattice is a clear error, not an allocation failure.
+    let mut huge = o.clone();
+    huge.resolution = Some(2000);
+    assert!(matches!(
+        Stuffing::from_options(&huge)
+            .unwrap()
+            .mesh(&f, &e.domain, &NoProgress),
+        Err(certmesh::Error::TooLarge(_))
+    ));
     // The graded variant through the options.
     let mut og = o.clone();
     og.graded = true;

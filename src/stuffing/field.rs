@@ -86,9 +86,12 @@ impl Field {
             n[k] = cells as usize + 1;
             origin[k] = domain.min[k] - h * (1.0 + offset[k].rem_euclid(1.0));
         }
+        // About 17 bytes per lattice point (value, sign, cut index, vertex id).
         let total = (n[0] + 1) * (n[1] + 1) * (n[2] + 1) * 2;
-        if total > 400_000_000 {
-            return Err(Error::TooLarge(format!("{total} lattice points")));
+        if total > 80_000_000 {
+            return Err(Error::TooLarge(format!(
+                "{total} lattice points (spacing {h}); at most 80,000,000 (about 1.4 GB)"
+            )));
         }
         Ok(Lattice::new(origin, h, n))
     }

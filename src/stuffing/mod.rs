@@ -327,6 +327,12 @@ impl StuffingParams {
         if let Some(b) = o.get::<bool>("parallel")? {
             p.parallel = b;
         }
+        if p.graded && p.side == Side::Outside {
+            return Err(Error::Param(
+                "graded stuffing meshes the inside only (side=outside needs the uniform variant)"
+                    .into(),
+            ));
+        }
         Ok(p)
     }
 }
