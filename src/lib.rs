@@ -7,6 +7,7 @@
 //! * [`mesher`]: the one interface every algorithm implements, and its honest report;
 //! * the meshers, one module per algorithm.
 pub mod bvh;
+pub mod bcc;
 pub mod catalog;
 pub mod error;
 pub mod geom;
@@ -16,6 +17,7 @@ pub mod io;
 pub mod mesh;
 pub mod mesher;
 pub mod metrics;
+pub mod stuffing;
 
 pub use error::{Error, Result};
 pub use geom::Aabb;
