@@ -397,10 +397,12 @@ pub fn check_case(domains: &[&dyn Objective], cert: &CaseCert) -> Result<Recompu
                         hi[k] = hi[k].max(vals[k].sup());
                     }
                 }
-                (Enclosure::Values(_), None) => return Err(format!(
+                (Enclosure::Values(_), None) => {
+                    return Err(format!(
                     "domain {di}: leaf {:?} is recorded as outside but is not certified outside",
                     l.cell
-                )),
+                ))
+                }
                 (Enclosure::Outside, Some(_)) => {
                     // A conservative certificate: bounds on an excluded box are harmless,
                     // but recomputing them is impossible; still include them.

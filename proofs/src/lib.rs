@@ -8,4 +8,5 @@ pub mod exact;
 pub mod geometry;
 pub mod gradnormal;
 pub mod ival;
+pub mod maps;
 pub mod report;

@@ -54,6 +54,11 @@ enum Cmd {
     },
     /// Re-verify a certificate independently of the search.
     Check { cert: PathBuf },
+    /// Print the derived regions of plane normals (exact vertex rays) as markdown.
+    Regions {
+        #[arg(long, default_value = "sommerville")]
+        a: String,
+    },
     /// Merge shard certificates into one.
     Merge {
         parts: Vec<PathBuf>,
@@ -186,6 +191,10 @@ fn run() -> Result<(), String> {
             for cl in &r.claims {
                 println!("  {:9} {}", cl.verdict.name(), cl.claim);
             }
+            Ok(())
+        }
+        Cmd::Regions { a } => {
+            print!("{}", proofs::report::regions_markdown(Ratio::parse(&a)?)?);
             Ok(())
         }
         Cmd::Merge { parts, out } => {
