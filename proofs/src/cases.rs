@@ -656,14 +656,23 @@ impl Derived {
 pub fn describe_f64(mu: [f64; 3], pts: &[(String, Xi)]) -> String {
     let mut v: Vec<(f64, &str)> = pts
         .iter()
-        .map(|(n, x)| (mu[0] * x[0] as f64 + mu[1] * x[1] as f64 + mu[2] * x[2] as f64, n.as_str()))
+        .map(|(n, x)| {
+            (
+                mu[0] * x[0] as f64 + mu[1] * x[1] as f64 + mu[2] * x[2] as f64,
+                n.as_str(),
+            )
+        })
         .collect();
     v.sort_by(|a, b| b.0.total_cmp(&a.0));
     let spread = (v[0].0 - v[v.len() - 1].0).abs().max(1e-300);
     let mut s = String::new();
     for (i, (d, n)) in v.iter().enumerate() {
         if i > 0 {
-            s.push_str(if (v[i - 1].0 - d).abs() <= 1e-7 * spread { "=" } else { " > " });
+            s.push_str(if (v[i - 1].0 - d).abs() <= 1e-7 * spread {
+                "="
+            } else {
+                " > "
+            });
         }
         s.push_str(n);
     }

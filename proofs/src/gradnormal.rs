@@ -177,7 +177,7 @@ fn finish(cert: &mut Certificate) -> Result<(), String> {
         && cert.cases.iter().enumerate().all(|(i, c)| c.index == i);
     if complete {
         let ratio = Ratio::parse(&cert.ratio)?;
-        let rule: DiagonalRule = cert.rule.parse()?;
+        let rule: DiagonalRule = cert.rule.parse().map_err(|e| format!("{e}"))?;
         let (s, c) = summarize(ratio, rule, &cert.cases);
         cert.summary = Some(s);
         cert.claims = c;
@@ -401,7 +401,7 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
         return Err(format!("unknown certificate format `{}`", cert.format));
     }
     let ratio = Ratio::parse(&cert.ratio)?;
-    let rule: DiagonalRule = cert.rule.parse()?;
+    let rule: DiagonalRule = cert.rule.parse().map_err(|e| format!("{e}"))?;
     let derived = Derived::new(ratio);
     let cases = derived.cases(rule)?;
     if cases.len() != cert.n_cases {

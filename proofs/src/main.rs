@@ -45,7 +45,7 @@ enum Cmd {
         #[arg(long, default_value_t = 1e-6)]
         tol_deg: f64,
         /// Plot the certified bounds against a/e over this many values in [0.2, 0.6]
-        /// (coarser tolerance), into the --papers directory or `scan/`.
+        /// (tolerance 1e-4°), into papers/gradnormal/figures/scan-RULE.svg/png.
         #[arg(long)]
         scan: Option<usize>,
         /// Write PROOF.md and the figures into this directory (runs every rule).
@@ -129,12 +129,12 @@ fn run() -> Result<(), String> {
             write_papers,
         } => {
             let ratio = Ratio::parse(&a)?;
-            let rule: DiagonalRule = rule.parse()?;
+            let rule: DiagonalRule = rule.parse().map_err(|e| format!("{e}"))?;
             if let Some(dir) = write_papers {
                 return proofs::report::write_papers(&dir, ratio);
             }
             if let Some(n) = scan {
-                let dir = PathBuf::from("scan");
+                let dir = PathBuf::from("papers/gradnormal/figures");
                 let rows = proofs::report::scan(rule, n, &dir)?;
                 for r in rows {
                     println!("{r}");

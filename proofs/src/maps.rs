@@ -189,6 +189,7 @@ pub fn write_maps(dir: &Path, ratio: Ratio, cases: &[Case], which: &[usize]) -> 
         let svg = dir.join(format!("map-case{i}.svg"));
         {
             let area = SVGBackend::new(&svg, (1100, 520)).into_drawing_area();
+            area.fill(&WHITE).map_err(|e| e.to_string())?;
             let (top, rest) = area.split_vertically(30);
             top.titled(&title, ("sans-serif", 16))
                 .map_err(|e| e.to_string())?;
@@ -199,6 +200,7 @@ pub fn write_maps(dir: &Path, ratio: Ratio, cases: &[Case], which: &[usize]) -> 
         let png = dir.join(format!("map-case{i}.png"));
         {
             let area = BitMapBackend::new(&png, (1100, 520)).into_drawing_area();
+            area.fill(&WHITE).map_err(|e| e.to_string())?;
             let (top, rest) = area.split_vertically(30);
             top.titled(&title, ("sans-serif", 16))
                 .map_err(|e| e.to_string())?;
