@@ -185,7 +185,7 @@ pub fn write_maps(dir: &Path, ratio: Ratio, cases: &[Case], which: &[usize]) -> 
     for &i in which {
         let Some(case) = cases.get(i) else { continue };
         let title = format!("{}: {}", case.name, case.region);
-        let g = grid(ratio, case, 110);
+        let g = grid(ratio, case, 60);
         let svg = dir.join(format!("map-case{i}.svg"));
         {
             let area = SVGBackend::new(&svg, (1100, 520)).into_drawing_area();

@@ -83,3 +83,19 @@ fn shards_merge_to_the_full_certificate() {
     // A duplicated shard is refused.
     assert!(merge(vec![parts[0].clone(), parts[0].clone()]).is_err());
 }
+
+#[test]
+fn shorter_rule_certificate_checks() {
+    // The shorter-diagonal rule has regions cut by a quadric and cases that exist only
+    // on tie sets (no certified interior point): the certificate must still verify.
+    let mut c = Config::new(Ratio::Sommerville, DiagonalRule::Shorter);
+    c.tol_cos = 1e-2;
+    c.max_depth = 5;
+    let cert = run(&c).unwrap();
+    assert_eq!(cert.n_cases, 32);
+    let r = check(&cert).unwrap();
+    assert!(r.complete);
+    let mut t = cert.clone();
+    t.cases[7].cert.leaves[0][0].vals = Some(vec![[0.0, 0.0]; 3]);
+    assert!(check(&t).is_err());
+}
