@@ -1,7 +1,12 @@
 //! `proofs`: computer-assisted proofs about certmesh's meshers, re-checked with rigorous
 //! interval arithmetic (inari) and exact rational arithmetic, written as certificates
 //! that can be re-verified independently.
-use clap::Parser;
+use clap::{Parser, Subcommand};
+use proofs::cases::Ratio;
+use proofs::geometry::DiagonalRule;
+use proofs::gradnormal::{self, Certificate, Config};
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 /// Computer-assisted proofs and certificates for certmesh.
 ///
@@ -10,9 +15,204 @@ use clap::Parser;
 /// a certificate speaks about the meshes certmesh actually produces.
 #[derive(Parser)]
 #[command(name = "proofs", version, about, long_about)]
-struct Cli {}
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
 
-fn main() {
-    let _ = Cli::parse();
-    println!("no proof is implemented in this build yet; see `proofs --help`");
+#[derive(Subcommand)]
+enum Cmd {
+    /// Certify the GradNormal angle bounds over the full regions of plane normals
+    /// (Hass & Trnkova 2020, Thm 1.1, Lemma 4.1, Appendix A) and write a certificate.
+    Gradnormal {
+        /// Goldberg parameter a/e: a number or `sommerville` (√2/4, the paper's Appendix).
+        #[arg(long, default_value = "sommerville")]
+        a: String,
+        /// Diagonal rule for the quadrilaterals and the valence-four square:
+        /// paper | alternate | shorter.
+        #[arg(long, default_value = "paper")]
+        rule: String,
+        /// Certificate output path.
+        #[arg(long, short, default_value = "gradnormal-cert.json")]
+        out: PathBuf,
+        /// Run only the cases with index ≡ i (mod N): `--shard i/N`.
+        #[arg(long)]
+        shard: Option<String>,
+        /// Print the JSON summary (min_deg, max_deg, claims) on stdout.
+        #[arg(long)]
+        json: bool,
+        /// Target enclosure width in degrees (default 1e-6).
+        #[arg(long, default_value_t = 1e-6)]
+        tol_deg: f64,
+        /// Plot the certified bounds against a/e over this many values in [0.2, 0.6]
+        /// (tolerance 1e-4°), into papers/gradnormal/figures/scan-RULE.svg/png.
+        #[arg(long)]
+        scan: Option<usize>,
+        /// Write PROOF.md and the figures into this directory (runs every rule).
+        #[arg(long)]
+        write_papers: Option<PathBuf>,
+    },
+    /// Re-verify a certificate independently of the search.
+    Check { cert: PathBuf },
+    /// Print the derived regions of plane normals (exact vertex rays) as markdown.
+    Regions {
+        #[arg(long, default_value = "sommerville")]
+        a: String,
+    },
+    /// Merge shard certificates into one.
+    Merge {
+        parts: Vec<PathBuf>,
+        #[arg(long, short)]
+        out: PathBuf,
+    },
+}
+
+fn load(p: &PathBuf) -> Result<Certificate, String> {
+    let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+    serde_json::from_str(&text).map_err(|e| format!("{}: not a certificate: {e}", p.display()))
+}
+
+fn save(p: &PathBuf, c: &Certificate) -> Result<(), String> {
+    let text = serde_json::to_string(c).map_err(|e| e.to_string())?;
+    std::fs::write(p, text).map_err(|e| format!("{}: {e}", p.display()))
+}
+
+fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let (i, n) = s.split_once('/').ok_or("--shard expects i/N")?;
+    let i: usize = i.parse().map_err(|_| "--shard expects i/N")?;
+    let n: usize = n.parse().map_err(|_| "--shard expects i/N")?;
+    if n == 0 || i >= n {
+        return Err(format!("--shard {i}/{n}: need 0 <= i < N"));
+    }
+    Ok((i, n))
+}
+
+fn print_human(c: &Certificate) {
+    println!(
+        "GradNormal angle proof: a/e = {}, rule = {}, {} of {} cases, {:.2} s",
+        c.ratio,
+        c.rule,
+        c.cases.len(),
+        c.n_cases,
+        c.seconds
+    );
+    if let Some(s) = &c.summary {
+        println!(
+            "  smallest projected angle in [{:.9}°, {:.9}°]",
+            s.min_deg[0], s.min_deg[1]
+        );
+        println!(
+            "  largest projected angle  in [{:.9}°, {:.9}°]",
+            s.max_deg[0], s.max_deg[1]
+        );
+        println!(
+            "  valence-four triangles: [{:.7}°, {:.7}°] .. [{:.7}°, {:.7}°]",
+            s.v4_min_deg[0], s.v4_min_deg[1], s.v4_max_deg[0], s.v4_max_deg[1]
+        );
+        for cl in &c.claims {
+            println!("  {:9} {}", cl.verdict.name(), cl.claim);
+        }
+    }
+}
+
+fn run() -> Result<(), String> {
+    let cli = Cli::parse();
+    match cli.cmd {
+        Cmd::Gradnormal {
+            a,
+            rule,
+            out,
+            shard,
+            json,
+            tol_deg,
+            scan,
+            write_papers,
+        } => {
+            let ratio = Ratio::parse(&a)?;
+            let rule: DiagonalRule = rule.parse().map_err(|e| format!("{e}"))?;
+            if let Some(dir) = write_papers {
+                return proofs::report::write_papers(&dir, ratio);
+            }
+            if let Some(n) = scan {
+                let dir = PathBuf::from("papers/gradnormal/figures");
+                let rows = proofs::report::scan(rule, n, &dir)?;
+                for r in rows {
+                    println!("{r}");
+                }
+                return Ok(());
+            }
+            let mut cfg = Config::new(ratio, rule);
+            if !(tol_deg > 0.0) {
+                return Err("--tol-deg must be positive".into());
+            }
+            cfg.tol_cos = 0.5 * tol_deg * std::f64::consts::PI / 180.0;
+            cfg.shard = shard.as_deref().map(parse_shard).transpose()?;
+            cfg.progress = !json;
+            let cert = gradnormal::run(&cfg)?;
+            save(&out, &cert)?;
+            if json {
+                let v = serde_json::json!({
+                    "ratio": cert.ratio,
+                    "rule": cert.rule,
+                    "seconds": cert.seconds,
+                    "certificate": out.display().to_string(),
+                    "min_deg": cert.summary.as_ref().map(|s| s.min_deg),
+                    "max_deg": cert.summary.as_ref().map(|s| s.max_deg),
+                    "v4_min_deg": cert.summary.as_ref().map(|s| s.v4_min_deg),
+                    "v4_max_deg": cert.summary.as_ref().map(|s| s.v4_max_deg),
+                    "claims": cert.claims,
+                    "cases": cert.summary.as_ref().map(|s| &s.cases),
+                });
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+                );
+            } else {
+                print_human(&cert);
+                println!("  certificate: {}", out.display());
+            }
+            Ok(())
+        }
+        Cmd::Check { cert } => {
+            let c = load(&cert)?;
+            let t0 = std::time::Instant::now();
+            let r = gradnormal::check(&c)?;
+            println!(
+                "certificate OK: {} cases, {} leaves re-evaluated{} ({:.2} s)",
+                r.cases,
+                r.leaves,
+                if r.complete {
+                    ", complete"
+                } else {
+                    " (partial: a shard)"
+                },
+                t0.elapsed().as_secs_f64()
+            );
+            for cl in &r.claims {
+                println!("  {:9} {}", cl.verdict.name(), cl.claim);
+            }
+            Ok(())
+        }
+        Cmd::Regions { a } => {
+            print!("{}", proofs::report::regions_markdown(Ratio::parse(&a)?)?);
+            Ok(())
+        }
+        Cmd::Merge { parts, out } => {
+            let certs: Result<Vec<Certificate>, String> = parts.iter().map(load).collect();
+            let m = gradnormal::merge(certs?)?;
+            save(&out, &m)?;
+            print_human(&m);
+            Ok(())
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }
