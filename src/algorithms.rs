@@ -18,8 +18,114 @@ pub struct AlgoInfo {
 
 type Ctor = fn(&MesherOptions) -> Result<Box<dyn Mesher>>;
 
+macro_rules! entry {
+    ($name:expr, $dim:expr, $cert:expr, $summary:expr, $ty:ty) => {
+        (
+            AlgoInfo {
+                name: $name,
+                dim: $dim,
+                certifying: $cert,
+                summary: $summary,
+            },
+            (|o: &MesherOptions| -> Result<Box<dyn Mesher>> {
+                Ok(Box::new(<$ty>::from_options(o)?))
+            }) as Ctor,
+        )
+    };
+}
+
 fn table() -> Vec<(AlgoInfo, Ctor)> {
-    vec![]
+    use crate::gradnormal::{planar, GradNormal, MidNormal};
+    use crate::marching::{MarchingCubes, MarchingSquares, MarchingTetrahedra};
+    use crate::plantinga_vegter::{PlantingaVegter, PlantingaVegter2};
+    use crate::snyder::{Snyder, Snyder2};
+    use crate::stuffing::Stuffing;
+    vec![
+        entry!(
+            "mc",
+            3,
+            false,
+            "marching cubes on a regular grid (baseline)",
+            MarchingCubes
+        ),
+        entry!(
+            "mt",
+            3,
+            false,
+            "marching tetrahedra (Kuhn split) on a regular grid (baseline)",
+            MarchingTetrahedra
+        ),
+        entry!(
+            "pv",
+            3,
+            true,
+            "Plantinga–Vegter octree, small normal variation: certified isotopy",
+            PlantingaVegter
+        ),
+        entry!(
+            "snyder",
+            3,
+            true,
+            "Snyder octree, global parameterizability: certified isotopy where it terminates",
+            Snyder
+        ),
+        entry!(
+            "midnormal",
+            3,
+            false,
+            "MidNormal on the Sommerville/BCC tiling (Hass–Trnkova Alg. 1)",
+            MidNormal
+        ),
+        entry!(
+            "gradnormal",
+            3,
+            false,
+            "GradNormal: MidNormal + gradient projection + valence-4 removal (Alg. 2)",
+            GradNormal
+        ),
+        entry!(
+            "stuffing",
+            3,
+            false,
+            "isosurface stuffing (Labelle–Shewchuk): tetrahedral mesh of f <= 0",
+            Stuffing
+        ),
+        entry!(
+            "ms",
+            2,
+            false,
+            "marching squares on a regular grid (baseline)",
+            MarchingSquares
+        ),
+        entry!(
+            "pv",
+            2,
+            true,
+            "Plantinga–Vegter quadtree: certified isotopy",
+            PlantingaVegter2
+        ),
+        entry!(
+            "snyder",
+            2,
+            true,
+            "Snyder quadtree: certified isotopy where it terminates",
+            Snyder2
+        ),
+        entry!(
+            "midnormal",
+            2,
+            false,
+            "planar MidNormal on the triangle tiling",
+            planar::MidNormal2
+        ),
+        entry!(
+            "gradnormal",
+            2,
+            false,
+            "planar GradNormal (midpoints + projection)",
+            planar::GradNormal2
+        ),
+    ]
 }
 
 /// Every registered algorithm.

@@ -68,7 +68,7 @@ pub fn run(out: &Path, quick: bool, json: bool, progress: &dyn Progress) -> Resu
             Mesh::Surface(m) => {
                 io::write_tri(base.with_extension("obj"), m)?;
                 angles.entry(r.algo.clone()).or_default().extend(
-                    metrics::angles::per_triangle(m)
+                    metrics::angles::per_triangle(m)?
                         .into_iter()
                         .flatten()
                         .flatten(),
@@ -78,7 +78,7 @@ pub fn run(out: &Path, quick: bool, json: bool, progress: &dyn Progress) -> Resu
                 io::write_tet(base.with_extension("vtk"), tets)?;
                 io::write_tri(base.with_extension("obj"), boundary)?;
                 angles.entry(r.algo.clone()).or_default().extend(
-                    metrics::angles::per_triangle(boundary)
+                    metrics::angles::per_triangle(boundary)?
                         .into_iter()
                         .flatten()
                         .flatten(),
@@ -130,7 +130,7 @@ pub fn run(out: &Path, quick: bool, json: bool, progress: &dyn Progress) -> Resu
 }
 
 /// The papers `certmesh reproduce` knows.
-pub const PAPERS: &[&str] = &[];
+pub const PAPERS: &[&str] = &["gradnormal", "stuffing"];
 
 /// Regenerate a paper's reproduction folder.
 pub fn reproduce(paper: &str, out: Option<&Path>, quick: bool) -> Result<()> {

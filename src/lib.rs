@@ -6,8 +6,8 @@
 //! * [`metrics`]: angles, topology, fidelity;
 //! * [`mesher`]: the one interface every algorithm implements, and its honest report;
 //! * the meshers, one module per algorithm.
-pub mod bvh;
 pub mod bcc;
+pub mod bvh;
 pub mod catalog;
 pub mod error;
 pub mod geom;
@@ -29,11 +29,11 @@ pub use options::MesherOptions;
 pub mod algorithms;
 pub mod compare;
 pub mod demo;
-pub mod plot;
 pub mod grid;
 pub mod marching;
 pub mod octree;
 pub mod plantinga_vegter;
+pub mod plot;
 pub mod plot_subdivision;
 pub mod snyder;
 pub mod subdivision;

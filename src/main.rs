@@ -489,7 +489,7 @@ fn stats_cmd(
         None => None,
     };
     if let Some(h) = &histogram {
-        let a: Vec<f64> = metrics::angles::per_triangle(&m)
+        let a: Vec<f64> = metrics::angles::per_triangle(&m)?
             .into_iter()
             .flatten()
             .flatten()
