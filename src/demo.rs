@@ -136,10 +136,13 @@ pub const PAPERS: &[&str] = &["gradnormal", "stuffing"];
 pub fn reproduce(paper: &str, out: Option<&Path>, quick: bool) -> Result<()> {
     let default = Path::new("papers").join(paper);
     let out = out.unwrap_or(&default);
-    let _ = (out, quick);
-    Err(Error::Unknown {
-        kind: "paper",
-        name: paper.to_string(),
-        known: PAPERS.join(" "),
-    })
+    match paper {
+        "gradnormal" => crate::gradnormal::reproduce::reproduce(out, quick),
+        "stuffing" => crate::stuffing::reproduce(out, quick),
+        _ => Err(Error::Unknown {
+            kind: "paper",
+            name: paper.to_string(),
+            known: PAPERS.join(" "),
+        }),
+    }
 }
