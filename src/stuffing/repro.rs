@@ -211,4 +211,20 @@ const FINDINGS: &str = r#"
 * **Quadruple-zero tetrahedra** do occur on catalog surfaces at coarse resolution (e.g.
   genus2 at 10 cubes: 24, all well shaped; torus at 16 cubes with the unsafe row: 8, all
   poor or inverted — the "poor quality is not a resolution problem" case of §3.3).
+* **The graded dagger bound 147.0470° is wrong (refuted with a witness).** §5 says the
+  graded mesh keeps Table 1's bounds except the two daggered ones, which "deteriorate to
+  158.1918° and 147.0470°". The second (largest plane angle, row
+  `min-exposed-safe-ordered`, α_short = 0.5) does not hold. Witness: `genus5`, 21 cubes
+  across, lattice offset (3.17e-7, 0.70842, 0.013406): a half-pyramid whose apex is the
+  (unwarped) centre of a fine cube bordering a coarse octant, and whose base diagonal (a blue
+  edge) has *both* ends warped away from the apex along red edges into the neighbouring
+  fine cubes; the red-red-blue triangle's angle at the apex is **150.35°**. The rules allow it:
+  ordered warping only forbids warping toward a vertex that also warps, and the §5
+  "asterisk" leaves only prevent all *three* vertices of that triangle from warping. The
+  supremum for this configuration is arccos(−17/19) = 153.435° (both corners warped by
+  α_short = ½ of their red edges). Second computation: the closed form above, independent of
+  the mesher; the test `graded_dagger_147_is_exceeded_on_a_half_pyramid` checks both.
+  A scan of all 13 rows × 6 surfaces × 3 resolutions × 4 random offsets
+  (`graded_scan_all_rows`, ignored test) finds no other graded bound exceeded (also
+  148.85° and 150.98° for genus5 at 30 cubes), and no inverted tetrahedra.
 "#;
