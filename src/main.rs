@@ -70,6 +70,10 @@ enum Cmd {
         /// Histogram bin width in degrees.
         #[arg(long, default_value_t = 2.0)]
         bin: f64,
+        /// Draw rare bins magnified by this factor on top of the true bars (the
+        /// stuffing paper's Figs 1 and 4 use 20); 1 draws the plain histogram.
+        #[arg(long, default_value_t = 1.0, value_name = "K")]
+        emphasis: f64,
         #[arg(long)]
         json: bool,
     },
@@ -429,6 +433,7 @@ fn stats_cmd(
     formula: Option<String>,
     histogram: Option<PathBuf>,
     bin: f64,
+    emphasis: f64,
     json: bool,
 ) -> Result<()> {
     let fmt = io::Format::from_path(mesh)?;
@@ -441,6 +446,11 @@ fn stats_cmd(
     let fref = f.as_deref();
     if !(bin.is_finite() && bin > 0.0) {
         return Err(Error::Param(format!("--bin must be positive, got {bin}")));
+    }
+    if !(emphasis.is_finite() && emphasis >= 1.0) {
+        return Err(Error::Param(format!(
+            "--emphasis must be a factor >= 1, got {emphasis}"
+        )));
     }
     let params = {
         let p = metrics::FidelityParams::default();
@@ -469,7 +479,7 @@ fn stats_cmd(
                 "tetrahedra",
                 &certmesh::plot::bin(d, bin, false),
                 &[],
-                1.0,
+                emphasis,
             )?;
         }
         if json {
@@ -501,7 +511,7 @@ fn stats_cmd(
             "density",
             &certmesh::plot::bin(a, bin, true),
             &[],
-            1.0,
+            emphasis,
         )?;
     }
     if json {
@@ -629,8 +639,9 @@ fn run(cli: Cli) -> Result<()> {
             formula,
             histogram,
             bin,
+            emphasis,
             json,
-        } => stats_cmd(&mesh, surface, formula, histogram, bin, json)?,
+        } => stats_cmd(&mesh, surface, formula, histogram, bin, emphasis, json)?,
         Cmd::Compare {
             surfaces,
             curves,

@@ -151,3 +151,34 @@ fn malformed_mesh_files_name_the_line() {
     assert_eq!(code, 2);
     assert!(err.contains("line 4"), "{err}");
 }
+
+#[test]
+fn stats_histogram_with_emphasis_and_bad_factor() {
+    let dir = std::env::temp_dir().join(format!("certmesh-emph-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mesh = dir.join("t.vtk");
+    let (code, _, err) = certmesh(&[
+        "mesh",
+        "sphere",
+        "--algo",
+        "stuffing",
+        "-o",
+        mesh.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let base = dir.join("h");
+    let (code, _, err) = certmesh(&[
+        "stats",
+        mesh.to_str().unwrap(),
+        "--histogram",
+        base.to_str().unwrap(),
+        "--emphasis",
+        "20",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(base.with_extension("svg").exists() && base.with_extension("png").exists());
+    let (code, _, err) = certmesh(&["stats", mesh.to_str().unwrap(), "--emphasis", "0.5"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--emphasis"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
