@@ -203,6 +203,31 @@ proptest! {
         }
     }
 
+    /// The fast interval kernel (`Iv`, used by `eval_interval`, `grad_interval` and
+    /// `hessian_interval`) gives exactly inari's bounds: the generic interpreter run on
+    /// inari intervals is an independent second computation of the same enclosure.
+    #[test]
+    fn fast_interval_kernel_equals_inari(text in arb_formula(), (lo, w, _t) in arb_box()) {
+        let f = Formula::surface(&text).unwrap();
+        let b = ibox(lo, w);
+        let same = |a: Interval, c: Interval| a == c || (a.is_empty() && c.is_empty());
+        let fast = f.eval_interval(&b);
+        let slow: Interval = f.tape().eval(&b, &mut Vec::new());
+        prop_assert!(same(fast, slow), "{} over {:?}: {:?} vs inari {:?}", text, b, fast, slow);
+        let gf = f.grad_interval(&b);
+        let vars = [0, 1, 2].map(|k| Dual::var(b[k], k));
+        let gs: Dual<Interval> = f.tape().eval(&vars, &mut Vec::new());
+        for k in 0..3 {
+            prop_assert!(same(gf.g[k], gs.g[k]), "d/d{} of {}: {:?} vs inari {:?}", k, text, gf.g[k], gs.g[k]);
+        }
+        let hf = f.hessian_interval(&b);
+        let vars = [0, 1, 2].map(|k| Hyper::var(b[k], k));
+        let hs: Hyper<Interval> = f.tape().eval(&vars, &mut Vec::new());
+        for k in 0..6 {
+            prop_assert!(same(hf.h[k], hs.h[k]), "h[{}] of {}: {:?} vs inari {:?}", k, text, hf.h[k], hs.h[k]);
+        }
+    }
+
     /// Point gradients agree with central differences (away from kinks and poles).
     #[test]
     fn gradient_matches_finite_differences(text in arb_formula(), (lo, w, t) in arb_box()) {

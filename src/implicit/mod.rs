@@ -7,10 +7,12 @@
 //! * [`FromGeneric`]: Rust code generic over [`Num`] (every mode, rigorous);
 //! * [`PointFn`]: a plain `Fn([f64;3]) -> f64` with a Lipschitz bound (intervals from
 //!   the bound; used for signed distance to a mesh).
+pub mod directed;
 pub mod expr;
 pub mod number;
 pub mod tape;
 
+pub use directed::Iv;
 pub use expr::{parse, Expr};
 pub use number::{Const, Dual, Hyper, Num};
 pub use tape::Tape;
@@ -114,11 +116,11 @@ pub struct Formula {
 
 thread_local! {
     static S_F64: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
-    static S_IV: RefCell<Vec<Interval>> = const { RefCell::new(Vec::new()) };
+    static S_IV: RefCell<Vec<Iv>> = const { RefCell::new(Vec::new()) };
     static S_DF: RefCell<Vec<Dual<f64>>> = const { RefCell::new(Vec::new()) };
-    static S_DI: RefCell<Vec<Dual<Interval>>> = const { RefCell::new(Vec::new()) };
+    static S_DI: RefCell<Vec<Dual<Iv>>> = const { RefCell::new(Vec::new()) };
     static S_HF: RefCell<Vec<Hyper<f64>>> = const { RefCell::new(Vec::new()) };
-    static S_HI: RefCell<Vec<Hyper<Interval>>> = const { RefCell::new(Vec::new()) };
+    static S_HI: RefCell<Vec<Hyper<Iv>>> = const { RefCell::new(Vec::new()) };
 }
 
 impl Formula {
@@ -167,15 +169,26 @@ impl Implicit for Formula {
         S_DF.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
     }
     fn grad_interval(&self, b: &IBox) -> Dual<Interval> {
-        S_DI.with(|s| self.tape.eval(&ivars(b), &mut s.borrow_mut()))
+        // Derivatives over the fast kernel `Iv` (same bounds as inari, see `directed`).
+        let v = [0, 1, 2].map(|k| Dual::var(Iv::from_interval(b[k]), k));
+        let d = S_DI.with(|s| self.tape.eval(&v, &mut s.borrow_mut()));
+        Dual {
+            v: d.v.to_interval(),
+            g: d.g.map(Iv::to_interval),
+        }
     }
     fn hessian(&self, p: [f64; 3]) -> Hyper<f64> {
         let v = [0, 1, 2].map(|k| Hyper::var(p[k], k));
         S_HF.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
     }
     fn hessian_interval(&self, b: &IBox) -> Hyper<Interval> {
-        let v = [0, 1, 2].map(|k| Hyper::var(b[k], k));
-        S_HI.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
+        let v = [0, 1, 2].map(|k| Hyper::var(Iv::from_interval(b[k]), k));
+        let h = S_HI.with(|s| self.tape.eval(&v, &mut s.borrow_mut()));
+        Hyper {
+            v: h.v.to_interval(),
+            g: h.g.map(Iv::to_interval),
+            h: h.h.map(Iv::to_interval),
+        }
     }
     fn describe(&self) -> String {
         self.text.clone()

@@ -47,32 +47,46 @@ impl Const {
     }
 }
 
-/// True when `value` equals the decimal `text` exactly. Conservative: may say false
-/// for some exact values (those are then merely widened by an ulp).
+/// True when `value` equals the decimal `text` (digits, optional fraction, optional
+/// exponent, as the parser accepts them) exactly, decided in exact rational arithmetic.
+///
+/// A float-based shortcut is not safe here: `1.00000000000000000001` parses to the
+/// integer 1.0 and `1e-400` to 0.0, yet neither decimal is that float; both must be
+/// enclosed, not rounded. Conservative: an unreadable text or an absurd exponent says
+/// false (the value is then merely widened by an ulp each way, still an enclosure).
 fn is_exact_decimal(text: &str, value: f64) -> bool {
-    if value.fract() == 0.0 && value.abs() < 9.007_199_254_740_992e15 {
-        return true;
-    }
-    // A decimal d = m / 10^k is dyadic iff m*... ; check with at most 60 fraction bits:
-    // value * 2^60 is an integer and the decimal expansion of value reproduces `text`.
-    let scaled = value * (1u64 << 52) as f64;
-    if scaled.fract() != 0.0 {
+    use num_bigint::BigInt;
+    use num_rational::BigRational;
+    use num_traits::Zero;
+    let (mant, exp) = match text.find(['e', 'E']) {
+        Some(i) => (&text[..i], text[i + 1..].parse::<i64>()),
+        None => (text, Ok(0)),
+    };
+    let Ok(exp) = exp else { return false };
+    let (int, frac) = mant.split_once('.').unwrap_or((mant, ""));
+    let digits = format!("{int}{frac}");
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
         return false;
     }
-    // Compare digit strings: a finite binary fraction has a finite decimal expansion;
-    // Rust prints the shortest round-trip string, which for a dyadic with few bits is
-    // the exact expansion when it is short enough to be unambiguous.
-    let printed = format!("{}", value);
-    let norm = |s: &str| -> String {
-        let s = s.trim_start_matches('+');
-        let s = if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.')
-        } else {
-            s
-        };
-        s.to_string()
+    let Some(m) = BigInt::parse_bytes(digits.as_bytes(), 10) else {
+        return false;
     };
-    !text.contains(['e', 'E']) && norm(text) == norm(&printed) && printed.len() <= 17
+    if m.is_zero() {
+        return value == 0.0;
+    }
+    // A non-zero decimal that parsed to 0 underflowed; one that needs more than 2000
+    // decimal places or digits is not worth the big numbers (conservatively inexact).
+    let e10 = exp - frac.len() as i64;
+    if value == 0.0 || e10.abs() > 2000 {
+        return false;
+    }
+    let ten = BigInt::from(10u32);
+    let exact = if e10 >= 0 {
+        BigRational::from_integer(m * ten.pow(e10 as u32))
+    } else {
+        BigRational::new(m, ten.pow((-e10) as u32))
+    };
+    BigRational::from_float(value) == Some(exact)
 }
 
 pub fn next_up(x: f64) -> f64 {
@@ -110,6 +124,38 @@ pub trait Num:
     fn lit(v: f64) -> Self {
         Self::cst(Const::exact(v))
     }
+    /// `self + c`. The tape's fused constant operations call these so that each type
+    /// does the cheapest rigorous thing (derivative types leave the gradient alone,
+    /// intervals multiply by a point constant with two roundings instead of four).
+    #[inline]
+    fn add_const(&self, c: &Const) -> Self {
+        self.clone() + Self::cst(*c)
+    }
+    /// `self - c`.
+    #[inline]
+    fn sub_const(&self, c: &Const) -> Self {
+        self.clone() - Self::cst(*c)
+    }
+    /// `c - self`.
+    #[inline]
+    fn const_sub(&self, c: &Const) -> Self {
+        Self::cst(*c) - self.clone()
+    }
+    /// `self * c`.
+    #[inline]
+    fn mul_const(&self, c: &Const) -> Self {
+        self.clone() * Self::cst(*c)
+    }
+    /// `self / c`.
+    #[inline]
+    fn div_const(&self, c: &Const) -> Self {
+        self.clone() / Self::cst(*c)
+    }
+    /// `self²` (for intervals tight: x² over [-1, 2] is [0, 4]).
+    #[inline]
+    fn square(&self) -> Self {
+        self.powi(2)
+    }
     /// Integer power; for intervals tight on even powers (x² over [-1,2] is [0,4]).
     fn powi(&self, n: i32) -> Self;
     fn sqrt(&self) -> Self;
@@ -131,6 +177,30 @@ impl Num for f64 {
     #[inline]
     fn cst(c: Const) -> Self {
         c.value
+    }
+    #[inline]
+    fn add_const(&self, c: &Const) -> Self {
+        self + c.value
+    }
+    #[inline]
+    fn sub_const(&self, c: &Const) -> Self {
+        self - c.value
+    }
+    #[inline]
+    fn const_sub(&self, c: &Const) -> Self {
+        c.value - self
+    }
+    #[inline]
+    fn mul_const(&self, c: &Const) -> Self {
+        self * c.value
+    }
+    #[inline]
+    fn div_const(&self, c: &Const) -> Self {
+        self / c.value
+    }
+    #[inline]
+    fn square(&self) -> Self {
+        self * self
     }
     #[inline]
     fn powi(&self, n: i32) -> Self {
@@ -233,6 +303,10 @@ impl Num for Interval {
     #[inline]
     fn cst(c: Const) -> Self {
         Interval::try_from((c.lo, c.hi)).unwrap_or(Interval::ENTIRE)
+    }
+    #[inline]
+    fn square(&self) -> Self {
+        self.sqr()
     }
     fn powi(&self, n: i32) -> Self {
         if n >= 0 {
@@ -398,6 +472,48 @@ impl<T: Num> Num for Dual<T> {
             v: T::cst(c),
             g: [T::lit(0.0), T::lit(0.0), T::lit(0.0)],
         }
+    }
+    // Constants have zero derivatives: shifting leaves the gradient alone, scaling
+    // scales it (no products with zero gradients, no materialised constant Duals).
+    #[inline]
+    fn add_const(&self, c: &Const) -> Self {
+        Dual {
+            v: self.v.add_const(c),
+            g: self.g.clone(),
+        }
+    }
+    #[inline]
+    fn sub_const(&self, c: &Const) -> Self {
+        Dual {
+            v: self.v.sub_const(c),
+            g: self.g.clone(),
+        }
+    }
+    #[inline]
+    fn const_sub(&self, c: &Const) -> Self {
+        Dual {
+            v: self.v.const_sub(c),
+            g: self.g.clone().map(|x| -x),
+        }
+    }
+    #[inline]
+    fn mul_const(&self, c: &Const) -> Self {
+        Dual {
+            v: self.v.mul_const(c),
+            g: self.g.clone().map(|x| x.mul_const(c)),
+        }
+    }
+    #[inline]
+    fn div_const(&self, c: &Const) -> Self {
+        Dual {
+            v: self.v.div_const(c),
+            g: self.g.clone().map(|x| x.div_const(c)),
+        }
+    }
+    #[inline]
+    fn square(&self) -> Self {
+        // (u²)' = 2u u'; 2u = u + u is exact (or rounded outward for intervals).
+        self.chain(self.v.square(), self.v.clone() + self.v.clone())
     }
     fn powi(&self, n: i32) -> Self {
         if n == 0 {
@@ -574,6 +690,53 @@ impl<T: Num> Num for Hyper<T> {
             g: [z.clone(), z.clone(), z.clone()],
             h: [z.clone(), z.clone(), z.clone(), z.clone(), z.clone(), z],
         }
+    }
+    // As for `Dual`: constants shift the value only and scale every derivative.
+    #[inline]
+    fn add_const(&self, c: &Const) -> Self {
+        Hyper {
+            v: self.v.add_const(c),
+            g: self.g.clone(),
+            h: self.h.clone(),
+        }
+    }
+    #[inline]
+    fn sub_const(&self, c: &Const) -> Self {
+        Hyper {
+            v: self.v.sub_const(c),
+            g: self.g.clone(),
+            h: self.h.clone(),
+        }
+    }
+    #[inline]
+    fn const_sub(&self, c: &Const) -> Self {
+        Hyper {
+            v: self.v.const_sub(c),
+            g: self.g.clone().map(|x| -x),
+            h: self.h.clone().map(|x| -x),
+        }
+    }
+    #[inline]
+    fn mul_const(&self, c: &Const) -> Self {
+        Hyper {
+            v: self.v.mul_const(c),
+            g: self.g.clone().map(|x| x.mul_const(c)),
+            h: self.h.clone().map(|x| x.mul_const(c)),
+        }
+    }
+    #[inline]
+    fn div_const(&self, c: &Const) -> Self {
+        Hyper {
+            v: self.v.div_const(c),
+            g: self.g.clone().map(|x| x.div_const(c)),
+            h: self.h.clone().map(|x| x.div_const(c)),
+        }
+    }
+    #[inline]
+    fn square(&self) -> Self {
+        // (u²)' = 2u, (u²)'' = 2.
+        let two_u = self.v.clone() + self.v.clone();
+        self.chain(self.v.square(), two_u, T::lit(2.0))
     }
     fn powi(&self, n: i32) -> Self {
         if n == 0 {

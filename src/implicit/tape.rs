@@ -1,5 +1,6 @@
 //! A formula compiled to a flat instruction tape (SSA: instruction `i` writes slot `i`),
 //! with common subexpressions shared. One generic interpreter serves every [`Num`].
+use super::directed::Iv;
 use super::expr::{BinOp, Expr, UnOp};
 use super::number::{Const, Num};
 use inari::Interval;
@@ -15,7 +16,17 @@ pub enum Op {
     Div(u32, u32),
     Min(u32, u32),
     Max(u32, u32),
+    /// Fused constant operations `(register, constant index)`: `r + c`, `r - c`,
+    /// `c - r`, `r * c`, `r / c`. A formula's constants mostly appear as such operands;
+    /// fusing them saves an instruction and lets each number type use the cheapest
+    /// rigorous form ([`Num::mul_const`] etc.).
+    AddC(u32, u32),
+    SubC(u32, u32),
+    CSub(u32, u32),
+    MulC(u32, u32),
+    DivC(u32, u32),
     Neg(u32),
+    /// `r²`, also for `r * r` (tight for intervals).
     Square(u32),
     Powi(u32, i32),
     Sqrt(u32),
@@ -30,9 +41,84 @@ pub enum Op {
 #[derive(Clone, Debug, Default)]
 pub struct Tape {
     // Private: the unchecked register reads below rely on the SSA invariant that
-    // `compile` establishes (every operand index is smaller than its instruction's).
+    // `compile` establishes (every operand index is smaller than its instruction's,
+    // every constant index is within `consts`).
     ops: Vec<Op>,
+    /// The constants, materialised once: `value` serves f64, `lo`/`hi` intervals.
     consts: Vec<Const>,
+}
+
+/// One interpreter body for the `Copy` hot-path types (f64, [`Iv`]): registers are
+/// written in place into a buffer sized once (no per-instruction capacity checks).
+macro_rules! interpret_copy {
+    ($self:ident, $vars:expr, $regs:ident, $T:ty, $zero:expr,
+     cst: |$c:ident| $cst:expr,
+     add_c: |$a1:ident, $k1:ident| $add_c:expr, sub_c: |$a2:ident, $k2:ident| $sub_c:expr,
+     c_sub: |$a3:ident, $k3:ident| $c_sub:expr, mul_c: |$a4:ident, $k4:ident| $mul_c:expr,
+     div_c: |$a5:ident, $k5:ident| $div_c:expr, square: |$a6:ident| $square:expr,
+     powi: |$a7:ident, $n:ident| $powi:expr) => {{
+        let n = $self.ops.len();
+        if $regs.len() < n {
+            $regs.resize(n, $zero);
+        }
+        let vars = $vars;
+        let consts = &$self.consts[..];
+        for (i, op) in $self.ops.iter().enumerate() {
+            // SAFETY: SSA (see `Tape`): every operand index is < i < n <= regs.len().
+            let r = |j: u32| -> $T { unsafe { *$regs.get_unchecked(j as usize) } };
+            let v: $T = match *op {
+                Op::Var(k) => vars[k as usize],
+                Op::Const(ci) => {
+                    let $c = &consts[ci as usize];
+                    $cst
+                }
+                Op::Add(a, b) => r(a) + r(b),
+                Op::Sub(a, b) => r(a) - r(b),
+                Op::Mul(a, b) => r(a) * r(b),
+                Op::Div(a, b) => r(a) / r(b),
+                Op::Min(a, b) => Num::min(&r(a), &r(b)),
+                Op::Max(a, b) => Num::max(&r(a), &r(b)),
+                Op::AddC(a, ci) => {
+                    let ($a1, $k1) = (r(a), &consts[ci as usize]);
+                    $add_c
+                }
+                Op::SubC(a, ci) => {
+                    let ($a2, $k2) = (r(a), &consts[ci as usize]);
+                    $sub_c
+                }
+                Op::CSub(a, ci) => {
+                    let ($a3, $k3) = (r(a), &consts[ci as usize]);
+                    $c_sub
+                }
+                Op::MulC(a, ci) => {
+                    let ($a4, $k4) = (r(a), &consts[ci as usize]);
+                    $mul_c
+                }
+                Op::DivC(a, ci) => {
+                    let ($a5, $k5) = (r(a), &consts[ci as usize]);
+                    $div_c
+                }
+                Op::Neg(a) => -r(a),
+                Op::Square(a) => {
+                    let $a6 = r(a);
+                    $square
+                }
+                Op::Powi(a, m) => {
+                    let ($a7, $n) = (r(a), m);
+                    $powi
+                }
+                Op::Sqrt(a) => Num::sqrt(&r(a)),
+                Op::Abs(a) => Num::abs(&r(a)),
+                Op::Sin(a) => Num::sin(&r(a)),
+                Op::Cos(a) => Num::cos(&r(a)),
+                Op::Exp(a) => Num::exp(&r(a)),
+                Op::Ln(a) => Num::ln(&r(a)),
+            };
+            // SAFETY: i < n <= regs.len().
+            unsafe { *$regs.get_unchecked_mut(i) = v };
+        }
+        $regs[n - 1]
+    }};
 }
 
 impl Tape {
@@ -59,31 +145,38 @@ impl Tape {
         self.ops.is_empty()
     }
 
-    /// Evaluate at `vars`, using `regs` as scratch (cleared first; reuse it across
-    /// calls to avoid allocation).
+    /// Evaluate at `vars` in any [`Num`], using `regs` as scratch (cleared first; reuse
+    /// it across calls to avoid allocation).
     #[inline]
     pub fn eval<T: Num>(&self, vars: &[T; 3], regs: &mut Vec<T>) -> T {
         regs.clear();
+        regs.reserve(self.ops.len());
         for op in &self.ops {
             let r = |i: &u32| regs[*i as usize].clone();
+            let k = |i: &u32| &self.consts[*i as usize];
             let v = match op {
-                Op::Var(k) => vars[*k as usize].clone(),
-                Op::Const(c) => T::cst(self.consts[*c as usize]),
+                Op::Var(j) => vars[*j as usize].clone(),
+                Op::Const(c) => T::cst(*k(c)),
                 Op::Add(a, b) => r(a) + r(b),
                 Op::Sub(a, b) => r(a) - r(b),
                 Op::Mul(a, b) => r(a) * r(b),
                 Op::Div(a, b) => r(a) / r(b),
                 Op::Min(a, b) => r(a).min(&r(b)),
                 Op::Max(a, b) => r(a).max(&r(b)),
+                Op::AddC(a, c) => regs[*a as usize].add_const(k(c)),
+                Op::SubC(a, c) => regs[*a as usize].sub_const(k(c)),
+                Op::CSub(a, c) => regs[*a as usize].const_sub(k(c)),
+                Op::MulC(a, c) => regs[*a as usize].mul_const(k(c)),
+                Op::DivC(a, c) => regs[*a as usize].div_const(k(c)),
                 Op::Neg(a) => -r(a),
-                Op::Square(a) => r(a).powi(2),
-                Op::Powi(a, n) => r(a).powi(*n),
-                Op::Sqrt(a) => r(a).sqrt(),
-                Op::Abs(a) => r(a).abs(),
-                Op::Sin(a) => r(a).sin(),
-                Op::Cos(a) => r(a).cos(),
-                Op::Exp(a) => r(a).exp(),
-                Op::Ln(a) => r(a).ln(),
+                Op::Square(a) => regs[*a as usize].square(),
+                Op::Powi(a, n) => regs[*a as usize].powi(*n),
+                Op::Sqrt(a) => regs[*a as usize].sqrt(),
+                Op::Abs(a) => regs[*a as usize].abs(),
+                Op::Sin(a) => regs[*a as usize].sin(),
+                Op::Cos(a) => regs[*a as usize].cos(),
+                Op::Exp(a) => regs[*a as usize].exp(),
+                Op::Ln(a) => regs[*a as usize].ln(),
             };
             regs.push(v);
         }
@@ -93,79 +186,43 @@ impl Tape {
     /// Specialised f64 evaluation: the hot path of every lattice method.
     #[inline]
     pub fn eval_f64(&self, p: [f64; 3], regs: &mut Vec<f64>) -> f64 {
-        regs.clear();
-        regs.reserve(self.ops.len());
-        for op in &self.ops {
-            // SAFETY: SSA (see `Tape`): operand i < current length of `regs`.
-            let r = |i: &u32| unsafe { *regs.get_unchecked(*i as usize) };
-            let v = match *op {
-                Op::Var(k) => p[k as usize],
-                Op::Const(c) => self.consts[c as usize].value,
-                Op::Add(a, b) => r(&a) + r(&b),
-                Op::Sub(a, b) => r(&a) - r(&b),
-                Op::Mul(a, b) => r(&a) * r(&b),
-                Op::Div(a, b) => r(&a) / r(&b),
-                Op::Min(a, b) => r(&a).min(r(&b)),
-                Op::Max(a, b) => r(&a).max(r(&b)),
-                Op::Neg(a) => -r(&a),
-                Op::Square(a) => {
-                    let x = r(&a);
-                    x * x
-                }
-                Op::Powi(a, n) => r(&a).powi(n),
-                Op::Sqrt(a) => r(&a).sqrt(),
-                Op::Abs(a) => r(&a).abs(),
-                Op::Sin(a) => r(&a).sin(),
-                Op::Cos(a) => r(&a).cos(),
-                Op::Exp(a) => r(&a).exp(),
-                Op::Ln(a) => r(&a).ln(),
-            };
-            regs.push(v);
-        }
-        regs[regs.len() - 1]
+        interpret_copy!(self, p, regs, f64, 0.0,
+            cst: |c| c.value,
+            add_c: |a, c| a + c.value,
+            sub_c: |a, c| a - c.value,
+            c_sub: |a, c| c.value - a,
+            mul_c: |a, c| a * c.value,
+            div_c: |a, c| a / c.value,
+            square: |a| a * a,
+            powi: |a, n| a.powi(n))
     }
-}
 
-impl Tape {
-    /// Specialised interval evaluation (the hot path of every pruning octree): direct
-    /// inari calls, `sqr` for squares (tight), constants converted once per call.
+    /// Interval evaluation with the fast outward-rounding kernel [`Iv`] (the hot path of
+    /// every pruning octree); the same bounds as inari's, see `directed`.
     #[inline]
-    pub fn eval_interval(&self, b: &[Interval; 3], regs: &mut Vec<Interval>) -> Interval {
-        regs.clear();
-        regs.reserve(self.ops.len());
-        for op in &self.ops {
-            // SAFETY: SSA (see `Tape`): operand i < current length of `regs`.
-            let r = |i: &u32| unsafe { *regs.get_unchecked(*i as usize) };
-            let v = match *op {
-                Op::Var(k) => b[k as usize],
-                Op::Const(c) => Interval::cst(self.consts[c as usize]),
-                Op::Add(a, b) => r(&a) + r(&b),
-                Op::Sub(a, b) => r(&a) - r(&b),
-                Op::Mul(a, b) if a == b => r(&a).sqr(),
-                Op::Mul(a, b) => r(&a) * r(&b),
-                Op::Div(a, b) => r(&a) / r(&b),
-                Op::Min(a, b) => r(&a).min(r(&b)),
-                Op::Max(a, b) => r(&a).max(r(&b)),
-                Op::Neg(a) => -r(&a),
-                Op::Square(a) => r(&a).sqr(),
-                Op::Powi(a, n) => Num::powi(&r(&a), n),
-                Op::Sqrt(a) => r(&a).sqrt(),
-                Op::Abs(a) => r(&a).abs(),
-                Op::Sin(a) => Num::sin(&r(&a)),
-                Op::Cos(a) => Num::cos(&r(&a)),
-                Op::Exp(a) => Num::exp(&r(&a)),
-                Op::Ln(a) => Num::ln(&r(&a)),
-            };
-            regs.push(v);
-        }
-        regs[regs.len() - 1]
+    pub fn eval_iv(&self, b: [Iv; 3], regs: &mut Vec<Iv>) -> Iv {
+        interpret_copy!(self, b, regs, Iv, Iv::point(0.0),
+            cst: |c| Iv::from_const(c),
+            add_c: |a, c| a.add_const(c),
+            sub_c: |a, c| a.sub_const(c),
+            c_sub: |a, c| a.const_sub(c),
+            mul_c: |a, c| a.mul_const(c),
+            div_c: |a, c| a.div_const(c),
+            square: |a| a.sqr(),
+            powi: |a, n| Num::powi(&a, n))
+    }
+
+    /// Interval evaluation over a box of inari intervals (through [`Tape::eval_iv`]).
+    #[inline]
+    pub fn eval_interval(&self, b: &[Interval; 3], regs: &mut Vec<Iv>) -> Interval {
+        self.eval_iv(b.map(Iv::from_interval), regs).to_interval()
     }
 }
 
 struct Builder {
     tape: Tape,
     memo: HashMap<Op, u32>,
-    const_memo: HashMap<(u64, u64), u32>,
+    const_memo: HashMap<(u64, u64, u64), u32>,
 }
 
 impl Builder {
@@ -178,20 +235,24 @@ impl Builder {
         self.memo.insert(op, i);
         i
     }
+    /// The index of constant `c` in the tape's table (shared between uses).
+    fn constant(&mut self, c: Const) -> u32 {
+        let key = (c.value.to_bits(), c.lo.to_bits(), c.hi.to_bits());
+        match self.const_memo.get(&key) {
+            Some(&ci) => ci,
+            None => {
+                let ci = self.tape.consts.len() as u32;
+                self.tape.consts.push(c);
+                self.const_memo.insert(key, ci);
+                ci
+            }
+        }
+    }
     fn emit(&mut self, e: &Expr) -> u32 {
         match e {
             Expr::Var(k) => self.push(Op::Var(*k as u8)),
             Expr::Const(c, _) => {
-                let key = (c.lo.to_bits(), c.hi.to_bits());
-                let ci = match self.const_memo.get(&key) {
-                    Some(&ci) => ci,
-                    None => {
-                        let ci = self.tape.consts.len() as u32;
-                        self.tape.consts.push(*c);
-                        self.const_memo.insert(key, ci);
-                        ci
-                    }
-                };
+                let ci = self.constant(*c);
                 self.push(Op::Const(ci))
             }
             Expr::Un(op, a) => {
@@ -215,8 +276,34 @@ impl Builder {
                 }
             }
             Expr::Bin(op, a, b) => {
+                // Fuse a constant operand into the instruction (see `Op::AddC`).
+                let konst = |e: &Expr| match e {
+                    Expr::Const(c, _) => Some(*c),
+                    _ => None,
+                };
+                let (ca, cb) = (konst(a), konst(b));
+                let fused = match (op, ca, cb) {
+                    (_, Some(_), Some(_)) => None,
+                    (BinOp::Add, _, Some(c)) => Some((Op::AddC as fn(u32, u32) -> Op, &**a, c)),
+                    (BinOp::Add, Some(c), _) => Some((Op::AddC as fn(u32, u32) -> Op, &**b, c)),
+                    (BinOp::Sub, _, Some(c)) => Some((Op::SubC as fn(u32, u32) -> Op, &**a, c)),
+                    (BinOp::Sub, Some(c), _) => Some((Op::CSub as fn(u32, u32) -> Op, &**b, c)),
+                    (BinOp::Mul, _, Some(c)) => Some((Op::MulC as fn(u32, u32) -> Op, &**a, c)),
+                    (BinOp::Mul, Some(c), _) => Some((Op::MulC as fn(u32, u32) -> Op, &**b, c)),
+                    (BinOp::Div, _, Some(c)) => Some((Op::DivC as fn(u32, u32) -> Op, &**a, c)),
+                    _ => None,
+                };
+                if let Some((mk, e, c)) = fused {
+                    let r = self.emit(e);
+                    let ci = self.constant(c);
+                    return self.push(mk(r, ci));
+                }
                 let a = self.emit(a);
                 let b = self.emit(b);
+                if *op == BinOp::Mul && a == b {
+                    // x * x: the tight square (x·x over [-1, 2] is [0, 4], not [-2, 4]).
+                    return self.push(Op::Square(a));
+                }
                 self.push(match op {
                     BinOp::Add => Op::Add(a, b),
                     BinOp::Sub => Op::Sub(a, b),

@@ -1,0 +1,276 @@
+//! The fast interval kernel `Iv` (src/implicit/directed.rs): every operation encloses
+//! the exact result (checked in exact rational arithmetic, independently of inari) and
+//! gives the same bounds as inari (the tightest ones), on the fast path and on the
+//! fallback paths alike (huge, tiny, infinite, empty operands; division by intervals
+//! containing 0; square roots of partly negative intervals).
+use certmesh::implicit::{Const, Formula, Implicit, Iv, Num};
+use inari::Interval;
+use num_rational::BigRational;
+use proptest::prelude::*;
+
+fn q(x: f64) -> BigRational {
+    BigRational::from_float(x).expect("finite")
+}
+
+/// Floats of every scale: ordinary, integers, tiny and huge (to reach the fallback
+/// paths), signed zeros and infinities.
+fn arb_f64() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        6 => -100.0f64..100.0,
+        2 => (-20i32..20).prop_map(|k| k as f64 / 4.0),
+        2 => (1u64..(1u64 << 52), -700i32..700, any::<bool>()).prop_map(|(m, e, s)| {
+            let x = (1.0 + m as f64 / (1u64 << 52) as f64) * 2f64.powi(e);
+            if s { -x } else { x }
+        }),
+        1 => Just(0.0),
+        1 => Just(-0.0),
+        1 => Just(f64::INFINITY),
+        1 => Just(f64::NEG_INFINITY),
+        1 => Just(f64::MAX),
+        1 => Just(f64::from_bits(1)),
+    ]
+}
+
+/// Intervals, including the empty one and unbounded ones.
+fn arb_iv() -> impl Strategy<Value = Iv> {
+    prop_oneof![
+        20 => (arb_f64(), arb_f64()).prop_filter_map("no interval", |(a, b)| {
+            let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+            Interval::try_from((lo, hi)).ok().map(Iv::from_interval)
+        }),
+        1 => Just(Iv::from_interval(Interval::EMPTY)),
+        1 => Just(Iv::from_interval(Interval::ENTIRE)),
+    ]
+}
+
+fn same(a: Iv, b: Interval) -> bool {
+    if b.is_empty() {
+        a.is_empty()
+    } else {
+        // Signed zeros compare equal, as they should.
+        a.lo == b.inf() && a.hi == b.sup()
+    }
+}
+
+fn finite(x: Iv) -> bool {
+    !x.is_empty() && x.lo.is_finite() && x.hi.is_finite()
+}
+
+/// `r` encloses every exact value in `vals` (rationals).
+fn encloses_all(r: Iv, vals: &[BigRational]) -> bool {
+    vals.iter().all(|v| {
+        (r.lo == f64::NEG_INFINITY || q(r.lo) <= *v) && (r.hi == f64::INFINITY || *v <= q(r.hi))
+    })
+}
+
+fn corners(
+    a: Iv,
+    b: Iv,
+    f: impl Fn(&BigRational, &BigRational) -> BigRational,
+) -> Vec<BigRational> {
+    let mut out = Vec::new();
+    for x in [a.lo, a.hi] {
+        for y in [b.lo, b.hi] {
+            out.push(f(&q(x), &q(y)));
+        }
+    }
+    out
+}
+
+fn konst(c: Iv) -> Const {
+    Const {
+        value: c.lo,
+        lo: c.lo,
+        hi: c.hi,
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 20000, ..ProptestConfig::default() })]
+
+    #[test]
+    fn add_sub_match_inari_and_enclose(a in arb_iv(), b in arb_iv()) {
+        let (ia, ib) = (a.to_interval(), b.to_interval());
+        prop_assert!(same(a + b, ia + ib), "{:?} + {:?} = {:?}, inari {:?}", a, b, a + b, ia + ib);
+        prop_assert!(same(a - b, ia - ib), "{:?} - {:?} = {:?}, inari {:?}", a, b, a - b, ia - ib);
+        if finite(a) && finite(b) {
+            prop_assert!(encloses_all(a + b, &corners(a, b, |x, y| x + y)));
+            prop_assert!(encloses_all(a - b, &corners(a, b, |x, y| x - y)));
+        }
+    }
+
+    #[test]
+    fn mul_matches_inari_and_encloses(a in arb_iv(), b in arb_iv()) {
+        let (ia, ib) = (a.to_interval(), b.to_interval());
+        prop_assert!(same(a * b, ia * ib), "{:?} * {:?} = {:?}, inari {:?}", a, b, a * b, ia * ib);
+        if finite(a) && finite(b) {
+            prop_assert!(encloses_all(a * b, &corners(a, b, |x, y| x * y)));
+        }
+    }
+
+    #[test]
+    fn div_matches_inari_and_encloses(a in arb_iv(), b in arb_iv()) {
+        let (ia, ib) = (a.to_interval(), b.to_interval());
+        prop_assert!(same(a / b, ia / ib), "{:?} / {:?} = {:?}, inari {:?}", a, b, a / b, ia / ib);
+        if finite(a) && finite(b) && !b.contains(0.0) {
+            prop_assert!(encloses_all(a / b, &corners(a, b, |x, y| x / y)));
+        }
+    }
+
+    /// Division by an interval containing 0: every quotient x / y with y ≠ 0 in the
+    /// divisor is enclosed.
+    #[test]
+    fn div_by_zero_containing_encloses(a in arb_iv(), t in -50.0f64..50.0, w in 0.0f64..10.0, s in 0.0f64..=1.0) {
+        let b = Iv::new(-w * s, w * (1.0 - s) + 1e-3);
+        let r = a / b;
+        prop_assert!(same(r, a.to_interval() / b.to_interval()));
+        if finite(a) && a.contains(t) {
+            for y in [b.lo, b.hi, 0.5 * b.hi] {
+                if y != 0.0 {
+                    prop_assert!(encloses_all(r, &[q(t) / q(y)]), "{:?} / {:?} misses {}/{}", a, b, t, y);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn square_and_even_powers_are_tight(a in arb_iv(), k in 1u32..5) {
+        let ia = a.to_interval();
+        prop_assert!(same(a.sqr(), ia.sqr()), "{:?}² = {:?}, inari {:?}", a, a.sqr(), ia.sqr());
+        let n = 2 * k;
+        let r = a.pown(n);
+        if finite(a) && a.contains(0.0) {
+            prop_assert_eq!(r.lo, 0.0, "{:?}^{} = {:?}", a, n, r);
+        }
+        if finite(a) && finite(r) {
+            let p = |x: f64| { let mut acc = q(1.0); for _ in 0..n { acc *= q(x); } acc };
+            prop_assert!(encloses_all(r, &[p(a.lo), p(a.hi)]));
+            prop_assert!(r.lo >= 0.0);
+        }
+    }
+
+    #[test]
+    fn odd_powers_enclose(a in arb_iv(), k in 0u32..3) {
+        let n = 2 * k + 1;
+        let r = a.pown(n);
+        if finite(a) && finite(r) {
+            let p = |x: f64| { let mut acc = q(1.0); for _ in 0..n { acc *= q(x); } acc };
+            prop_assert!(encloses_all(r, &[p(a.lo), p(a.hi)]), "{:?}^{} = {:?}", a, n, r);
+        }
+    }
+
+    /// sqrt over the part of the interval where it is defined (partly negative input
+    /// allowed): lo² ≤ max(x.lo, 0) and hi² ≥ x.hi, exactly.
+    #[test]
+    fn sqrt_matches_inari_and_encloses(a in arb_iv()) {
+        let r = Num::sqrt(&a);
+        let ia = a.to_interval();
+        prop_assert!(same(r, ia.sqrt()), "sqrt {:?} = {:?}, inari {:?}", a, r, ia.sqrt());
+        if finite(a) && a.hi >= 0.0 {
+            let lo = q(a.lo.max(0.0));
+            prop_assert!(q(r.lo) * q(r.lo) <= lo);
+            prop_assert!(q(r.hi) * q(r.hi) >= q(a.hi));
+        }
+    }
+
+    /// The fused constant operations against the general ones (inari) and exactly.
+    #[test]
+    fn const_ops_match_inari_and_enclose(
+        a in arb_iv(),
+        c in arb_f64().prop_map(|c| if c.abs() < f64::MAX { c } else { -2.5 }),
+        wide in any::<bool>(),
+    ) {
+        // A point constant, or a one-ulp enclosure like that of 0.1.
+        let k = if wide && c != 0.0 {
+            Iv::new(certmesh::implicit::number::next_down(c), certmesh::implicit::number::next_up(c))
+        } else {
+            Iv::point(c)
+        };
+        let (ia, ik) = (a.to_interval(), k.to_interval());
+        let kc = konst(k);
+        prop_assert!(same(a.add_const(&kc), ia + ik));
+        prop_assert!(same(a.sub_const(&kc), ia - ik));
+        prop_assert!(same(a.const_sub(&kc), ik - ia));
+        prop_assert!(same(a.mul_const(&kc), ia * ik), "{:?} * {:?} = {:?}, inari {:?}", a, k, a.mul_const(&kc), ia * ik);
+        prop_assert!(same(a.div_const(&kc), ia / ik), "{:?} / {:?} = {:?}, inari {:?}", a, k, a.div_const(&kc), ia / ik);
+        if finite(a) {
+            prop_assert!(encloses_all(a.mul_const(&kc), &corners(a, k, |x, y| x * y)));
+            if !k.contains(0.0) {
+                prop_assert!(encloses_all(a.div_const(&kc), &corners(a, k, |x, y| x / y)));
+            }
+        }
+    }
+
+    #[test]
+    fn abs_min_max_match_inari(a in arb_iv(), b in arb_iv()) {
+        let (ia, ib) = (a.to_interval(), b.to_interval());
+        prop_assert!(same(Num::abs(&a), ia.abs()));
+        prop_assert!(same(Num::min(&a, &b), ia.min(ib)));
+        prop_assert!(same(Num::max(&a, &b), ia.max(ib)));
+        prop_assert!(same(-a, -ia));
+        prop_assert!(same(Num::sign(&a), ia.sign()));
+    }
+}
+
+/// The tape's interval evaluation (on `Iv`) gives the same bounds as the generic
+/// interpreter on inari intervals, formula by formula.
+#[test]
+fn iv_tape_equals_inari_tape() {
+    let formulas = [
+        "z^2 + 0.5*(x^2/1.44 + y^2/0.64 - 1)*((x - 0.55)^2 + y^2 - 0.09)*((x + 0.55)^2 + y^2 - 0.09)",
+        "x*x - 0.1*y + 3/(z + 2.5) - (1 - x)^3",
+        "sqrt(x^2 + y^2) - 0.3 + abs(z) * min(x, y) - max(0.2, x*y)",
+        "1/x + 2.7*y^(-2) - z^5",
+    ];
+    let boxes = [
+        [(-0.3, 0.2), (0.1, 0.15), (-1.0, -0.9)],
+        [(0.5, 0.51), (-2.0, 1.0), (0.0, 0.0)],
+        [(-1e-3, 1e-3), (1.0, 1.0), (3.0, 4.0)],
+    ];
+    for text in formulas {
+        let f = Formula::surface(text).unwrap();
+        for b in boxes {
+            let ib = b.map(|(lo, hi)| Interval::try_from((lo, hi)).unwrap());
+            let fast = f.eval_interval(&ib);
+            let generic: Interval = f.tape().eval(&ib, &mut Vec::new());
+            assert!(
+                fast == generic || (fast.is_empty() && generic.is_empty()),
+                "{text} over {b:?}: {fast:?} vs {generic:?}"
+            );
+        }
+    }
+}
+
+/// Fused constants keep rigour: 0.1 is enclosed (not rounded) inside x*0.1, x/0.1,
+/// 0.1 - x and x + 0.1 — the point [1, 1] maps to an interval that strictly contains
+/// the exact decimal result.
+#[test]
+fn fused_inexact_constants_stay_enclosed() {
+    let p = [Interval::try_from((1.0, 1.0)).unwrap(); 3];
+    for (text, exact_num, exact_den) in [
+        ("x*0.1", 1, 10),
+        ("x/0.1", 10, 1),
+        ("0.1 - x", -9, 10),
+        ("x + 0.1", 11, 10),
+    ] {
+        let f = Formula::surface(text).unwrap();
+        let r = f.eval_interval(&p);
+        let exact = BigRational::new(exact_num.into(), exact_den.into());
+        assert!(q(r.inf()) < exact && exact < q(r.sup()), "{text}: {r:?}");
+    }
+}
+
+/// Decimals that round to an integer or underflow to 0 are not exact: they must be
+/// enclosed (a float shortcut once treated them as exact).
+#[test]
+fn inexact_decimals_that_look_exact_are_enclosed() {
+    let p = [Interval::try_from((0.0, 0.0)).unwrap(); 3];
+    for text in ["1.00000000000000000001", "1e-400", "9007199254740993"] {
+        let r = Formula::surface(text).unwrap().eval_interval(&p);
+        assert!(r.inf() < r.sup(), "{text} was treated as exact: {r:?}");
+    }
+    for text in ["1", "0.5", "2.5e1", "0.0", "1e3", "0.375"] {
+        let r = Formula::surface(text).unwrap().eval_interval(&p);
+        assert_eq!(r.inf(), r.sup(), "{text} is exact: {r:?}");
+    }
+}
