@@ -374,6 +374,19 @@ mod props {
                 prop_assert_eq!(surface_genera(m), Some(vec![0]));
                 prop_assert!(outward_fraction(&f, m) > 0.9);
             }
+            // Snyder, plain and in generic position: where it certifies, the topology
+            // is right (termination is not guaranteed, §1.2.3, so no certificate is
+            // demanded of it here).
+            for shift in [false, true] {
+                let p = SnyderParams::new(3).with_max_depth(9).with_generic_shift(shift);
+                let out = Snyder::new(p).mesh(&f, &dom, &NoProgress).unwrap();
+                if out.certificate.is_certified() {
+                    if let Mesh::Surface(m) = &out.mesh {
+                        prop_assert_eq!(surface_genera(m), Some(vec![0]), "shift {}", shift);
+                        prop_assert!(outward_fraction(&f, m) > 0.9);
+                    }
+                }
+            }
         }
     }
 }

@@ -279,7 +279,12 @@ fn side_row(e: &Entry, method: &str, grid: Option<usize>, r: &Run) -> Result<Sid
 fn grids(name: &str, quick: bool) -> Vec<usize> {
     match (name, quick) {
         ("two-spheres", true) => vec![16, 27, 32],
-        ("two-spheres", false) => (16..=64).collect(),
+        // Every grid 16³–64³, then around 2.4/h = 117.5: for odd N the grid points
+        // nearest the 0.02 gap are (±h/2, ±h/2, ±h/2), inside both spheres while
+        // 0.75h² − 0.51h + 0.0101 < 0, i.e. h > 0.02042, N ≤ 117.
+        ("two-spheres", false) => (16..=64)
+            .chain([100, 101, 115, 116, 117, 118, 119, 120, 121])
+            .collect(),
         (_, true) => vec![16, 24, 34],
         (_, false) => (16..=48).collect(),
     }
@@ -479,8 +484,18 @@ pub fn compute(quick: bool) -> Result<Report> {
 
 fn expected(e: &Entry) -> String {
     match &e.topology {
-        Some(t) if e.dim == 2 => format!("{} components", t.components),
-        Some(t) => format!("{} components, genus {:?}", t.components, t.genus),
+        Some(t) => {
+            let c = format!(
+                "{} component{}",
+                t.components,
+                if t.components == 1 { "" } else { "s" }
+            );
+            if e.dim == 2 {
+                c
+            } else {
+                format!("{c}, genus {:?}", t.genus)
+            }
+        }
         None => "singular".into(),
     }
 }
@@ -757,7 +772,7 @@ pub fn side_summary(rows: &[&SideRow]) -> String {
         if !wrong_costly.is_empty() {
             let _ = write!(
                 s,
-                "; wrong with at least PV's evaluation count ({e_min}) at {}",
+                "; wrong with at least PV's evaluation count ({e_min}, the cheaper PV run) at {}",
                 wrong_costly
                     .iter()
                     .map(|n| format!("{n}³"))
