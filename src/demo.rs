@@ -130,7 +130,7 @@ pub fn run(out: &Path, quick: bool, json: bool, progress: &dyn Progress) -> Resu
 }
 
 /// The papers `certmesh reproduce` knows.
-pub const PAPERS: &[&str] = &["gradnormal", "stuffing"];
+pub const PAPERS: &[&str] = &["gradnormal", "stuffing", "meshing-of-surfaces"];
 
 /// Regenerate a paper's reproduction folder.
 pub fn reproduce(paper: &str, out: Option<&Path>, quick: bool) -> Result<()> {
@@ -139,6 +139,7 @@ pub fn reproduce(paper: &str, out: Option<&Path>, quick: bool) -> Result<()> {
     match paper {
         "gradnormal" => crate::gradnormal::reproduce::reproduce(out, quick),
         "stuffing" => crate::stuffing::reproduce(out, quick),
+        "meshing-of-surfaces" => crate::subdivision::reproduce::reproduce(out, quick),
         _ => Err(Error::Unknown {
             kind: "paper",
             name: paper.to_string(),

@@ -374,254 +374,105 @@ mod props {
                 prop_assert_eq!(surface_genera(m), Some(vec![0]));
                 prop_assert!(outward_fraction(&f, m) > 0.9);
             }
-        }
-    }
-}
-
-/// A tiny local marching-squares component counter for the Fig 1.5 comparison (the shared
-/// marching-squares mesher lives elsewhere): an n × m grid over the domain, a vertex on
-/// every sign-change edge, the saddle case resolved by the centre value. Returns the
-/// number of closed components.
-fn ms_components(f: &dyn Implicit, dom: &certmesh::Aabb, n: usize) -> usize {
-    let s = dom.size();
-    let m = ((n as f64) * s[1] / s[0]).round().max(1.0) as usize;
-    let p = |i: usize, j: usize| {
-        [
-            dom.min[0] + s[0] * i as f64 / n as f64,
-            dom.min[1] + s[1] * j as f64 / m as f64,
-            0.0,
-        ]
-    };
-    let v: Vec<Vec<bool>> = (0..=n)
-        .map(|i| (0..=m).map(|j| f.eval(p(i, j)) >= 0.0).collect())
-        .collect();
-    // Edge ids: horizontal (i,j)-(i+1,j) and vertical (i,j)-(i,j+1).
-    let hid = |i: usize, j: usize| i * (m + 1) + j;
-    let vid = |i: usize, j: usize| (n * (m + 1)) + i * m + j;
-    let total = n * (m + 1) + (n + 1) * m;
-    let mut parent: Vec<usize> = (0..total).collect();
-    fn find(p: &mut Vec<usize>, x: usize) -> usize {
-        let mut r = x;
-        while p[r] != r {
-            r = p[r];
-        }
-        p[x] = r;
-        r
-    }
-    let mut used = vec![false; total];
-    for i in 0..n {
-        for j in 0..m {
-            // Corners CCW: (i,j) (i+1,j) (i+1,j+1) (i,j+1); edges: bottom, right, top, left.
-            let c = [v[i][j], v[i + 1][j], v[i + 1][j + 1], v[i][j + 1]];
-            let e = [hid(i, j), vid(i + 1, j), hid(i, j + 1), vid(i, j)];
-            let cut: Vec<usize> = (0..4).filter(|&k| c[k] != c[(k + 1) % 4]).collect();
-            let pairs: Vec<(usize, usize)> = match cut.len() {
-                2 => vec![(cut[0], cut[1])],
-                4 => {
-                    let centre = f.eval([
-                        dom.min[0] + s[0] * (i as f64 + 0.5) / n as f64,
-                        dom.min[1] + s[1] * (j as f64 + 0.5) / m as f64,
-                        0.0,
-                    ]) >= 0.0;
-                    if centre == c[0] {
-                        vec![(0, 3), (1, 2)]
-                    } else {
-                        vec![(0, 1), (2, 3)]
+            // Snyder, plain and in generic position: where it certifies, the topology
+            // is right (termination is not guaranteed, §1.2.3, so no certificate is
+            // demanded of it here).
+            for shift in [false, true] {
+                let p = SnyderParams::new(3).with_max_depth(9).with_generic_shift(shift);
+                let out = Snyder::new(p).mesh(&f, &dom, &NoProgress).unwrap();
+                if out.certificate.is_certified() {
+                    if let Mesh::Surface(m) = &out.mesh {
+                        prop_assert_eq!(surface_genera(m), Some(vec![0]), "shift {}", shift);
+                        prop_assert!(outward_fraction(&f, m) > 0.9);
                     }
                 }
-                _ => vec![],
-            };
-            for (a, b) in pairs {
-                used[e[a]] = true;
-                used[e[b]] = true;
-                let (ra, rb) = (find(&mut parent, e[a]), find(&mut parent, e[b]));
-                parent[ra] = rb;
             }
         }
     }
-    let mut roots = std::collections::HashSet::new();
-    for k in 0..total {
-        if used[k] {
-            roots.insert(find(&mut parent, k));
-        }
-    }
-    roots.len()
 }
 
-/// Regenerates the tables and figures of papers/meshing-of-surfaces/ (run with
-/// `cargo test --release --test subdivision paper -- --ignored --nocapture`).
+/// The reproduction of papers/meshing-of-surfaces/ in quick mode (the full run is
+/// `certmesh reproduce meshing-of-surfaces`): the files are written and the computed
+/// tables say what the paper folder claims.
 #[test]
-#[ignore]
-fn paper_tables_and_figures() {
-    use certmesh::plantinga_vegter::{run_pv, PvParams};
-    use certmesh::snyder::run_snyder;
-    use certmesh::subdivision::{leaf_boxes, AngleBound};
-    use std::fmt::Write;
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/meshing-of-surfaces");
-    let mut md = String::new();
-    let boxes = |o: &MeshOutput| o.stats["boxes"].as_u64().unwrap();
-    let leaves = |o: &MeshOutput| o.stats["leaves"].as_u64().unwrap();
-    // 1. Curves.
-    writeln!(md, "### Curves: Plantinga–Vegter and Snyder\n\n| curve | expected | PV leaves | PV certified | PV components | Snyder leaves | Snyder certified | Snyder components |\n|---|---|---|---|---|---|---|---|").unwrap();
-    for e in catalog::curves() {
-        let f = e.function();
-        let (t1, pv) = run_pv(&f, &e.domain, &PvParams::new(2), 2, &NoProgress).unwrap();
-        let (t2, sn) = run_snyder(&f, &e.domain, &SnyderParams::new(2), 2, &NoProgress).unwrap();
-        let comp = |o: &MeshOutput| match &o.mesh {
-            Mesh::Curve(c) => curve_components(c)
-                .map(|x| x.to_string())
-                .unwrap_or("open".into()),
-            _ => "-".into(),
-        };
-        writeln!(
-            md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} |",
-            e.name,
-            e.topology
-                .map(|t| t.components.to_string())
-                .unwrap_or("singular".into()),
-            leaves(&pv),
-            pv.certificate.is_certified(),
-            comp(&pv),
-            leaves(&sn),
-            sn.certificate.is_certified(),
-            comp(&sn)
-        )
-        .unwrap();
-        if let Mesh::Curve(c) = &pv.mesh {
-            certmesh::plot_subdivision::draw_subdivision_svg(
-                &dir.join(format!("fig-pv-{}", e.name)),
-                &f,
-                &e.domain,
-                &leaf_boxes(&t1),
-                c,
-                720,
-            )
-            .unwrap();
-        }
-        if let Mesh::Curve(c) = &sn.mesh {
-            certmesh::plot_subdivision::draw_subdivision_svg(
-                &dir.join(format!("fig-snyder-{}", e.name)),
-                &f,
-                &e.domain,
-                &leaf_boxes(&t2),
-                c,
-                720,
-            )
-            .unwrap();
+fn reproduce_quick_mode() {
+    use certmesh::subdivision::reproduce::reproduce_report;
+    let dir = std::env::temp_dir().join(format!("certmesh-mos-{}", std::process::id()));
+    let rep = reproduce_report(&dir, true).unwrap();
+    for f in [
+        "subdivision-tables.md",
+        "report.json",
+        "fig-boxes-per-depth.svg",
+        "fig-boxes-per-depth.png",
+        "fig-pv-protrusion.svg",
+        "fig-snyder-protrusion.png",
+    ] {
+        let p = dir.join(f);
+        assert!(
+            std::fs::metadata(&p).is_ok_and(|m| m.len() > 0),
+            "{f} not written"
+        );
+    }
+    // PV certifies every smooth curve and surface of the run with the catalog topology.
+    for c in &rep.curves {
+        if c.expected != "singular" {
+            assert!(c.pv_certified && c.pv_found.ok == Some(true), "{c:?}");
+        } else {
+            assert!(!c.pv_certified && !c.snyder_certified, "{c:?}");
         }
     }
-    // 2. Fig 1.5: marching squares on regular grids vs PV on the protrusion.
-    let e = catalog::get("protrusion").unwrap();
-    let f = e.function();
-    writeln!(md, "\n### Fig 1.5: `protrusion` (1 component)\n\n| method | grid / leaves | point evaluations | components |\n|---|---|---|---|").unwrap();
-    for n in [4usize, 6, 8, 10, 12, 16, 24, 32] {
-        let m = ((n as f64) * e.domain.size()[1] / e.domain.size()[0]).round() as usize;
-        writeln!(
-            md,
-            "| marching squares | {n} x {m} | {} | {} |",
-            (n + 1) * (m + 1),
-            ms_components(&f, &e.domain, n)
-        )
-        .unwrap();
-    }
-    for md_ in [0u32, 2] {
-        let cf = certmesh::implicit::Counted::new(&f);
-        let (_, pv) = run_pv(
-            &cf,
-            &e.domain,
-            &PvParams::new(2).with_min_depth(md_),
-            2,
-            &NoProgress,
-        )
-        .unwrap();
-        let c = cf.counts();
-        let comp = match &pv.mesh {
-            Mesh::Curve(c) => curve_components(c),
-            _ => None,
-        };
-        writeln!(md, "| PV (min_depth {md_}), certified={} | {} leaves | {} points + {} interval + {} interval-gradient | {:?} |", pv.certificate.is_certified(), leaves(&pv), c.points, c.intervals, c.interval_gradients, comp).unwrap();
-    }
-    // 3. Surfaces.
-    writeln!(md, "\n### Surfaces\n\n| surface | PV boxes | PV leaves | PV certified | PV genera | PV time (ms) | Snyder (generic shift, depth 14) leaves | Snyder certified | Snyder uncertified boxes |\n|---|---|---|---|---|---|---|---|---|").unwrap();
-    for e in catalog::surfaces() {
-        let f = e.function();
-        let t0 = std::time::Instant::now();
-        let (_, pv) = run_pv(&f, &e.domain, &PvParams::new(3), 3, &NoProgress).unwrap();
-        let ms = t0.elapsed().as_secs_f64() * 1e3;
-        let (_, sn) = run_snyder(
-            &f,
-            &e.domain,
-            &SnyderParams::new(3)
-                .with_max_depth(14)
-                .with_generic_shift(true),
-            3,
-            &NoProgress,
-        )
-        .unwrap();
-        let gen = match &pv.mesh {
-            Mesh::Surface(m) => surface_genera(m)
-                .map(|g| format!("{g:?}"))
-                .unwrap_or("not closed".into()),
-            _ => "-".into(),
-        };
-        writeln!(
-            md,
-            "| {} | {} | {} | {} | {} | {:.0} | {} | {} | {} |",
-            e.name,
-            boxes(&pv),
-            leaves(&pv),
-            pv.certificate.is_certified(),
-            gen,
-            ms,
-            leaves(&sn),
-            sn.certificate.is_certified(),
-            sn.stats["uncertified_boxes"]
-        )
-        .unwrap();
-        eprintln!("{}", e.name);
-    }
-    // 4. Exercise 9: crude vs sharp angle bound.
-    std::fs::write(dir.join("subdivision-tables.md"), &md).unwrap();
-    writeln!(md, "\n### Exercise 9: boxes (leaves + internal) needed for a gradient-cone angle bound (depth limit 7 for surfaces, 11 for curves; * = limit hit)\n\n| entry | 90° (SNV) | 60° crude | 60° sharp | 45° crude | 45° sharp |\n|---|---|---|---|---|---|").unwrap();
-    let mut tot = [0u64; 5];
-    for e in catalog::entries().into_iter().filter(|e| e.smooth) {
-        let f = e.function();
-        let mut row = Vec::new();
-        let mut cfgs = vec![(90.0, AngleBound::Sharp)];
-        for a in [60.0, 45.0] {
-            cfgs.push((a, AngleBound::Crude));
-            cfgs.push((a, AngleBound::Sharp));
+    for s in &rep.surfaces {
+        if s.expected != "singular" {
+            assert!(s.pv_certified && s.pv_found.ok == Some(true), "{s:?}");
+        } else {
+            assert!(!s.pv_certified, "{s:?}");
         }
-        for (k, (a, b)) in cfgs.into_iter().enumerate() {
-            let p = PvParams::new(e.dim)
-                .with_max_angle(a, b)
-                .with_max_depth(if e.dim == 2 { 11 } else { 7 });
-            let (_, o) = run_pv(&f, &e.domain, &p, e.dim, &NoProgress).unwrap();
-            let n = boxes(&o);
-            tot[k] += n;
-            row.push(format!(
-                "{n}{}",
-                if o.certificate.is_certified() {
-                    ""
-                } else {
-                    "*"
-                }
-            ));
-        }
-        writeln!(md, "| {} | {} |", e.name, row.join(" | ")).unwrap();
+        // Boxes per depth add up to the boxes of the run, and level 0 is the root.
+        assert_eq!(s.pv_boxes_by_depth.values().sum::<u64>(), s.pv_boxes);
+        assert_eq!(s.pv_boxes_by_depth.get(&0), Some(&1));
     }
-    writeln!(
-        md,
-        "| **total** | {} |",
-        tot.iter()
-            .map(|t| t.to_string())
-            .collect::<Vec<_>>()
-            .join(" | ")
-    )
-    .unwrap();
-    std::fs::write(dir.join("subdivision-tables.md"), &md).unwrap();
-    println!("{md}");
+    // Fig 1.5: marching squares splits the protrusion on some grid; PV does not.
+    assert!(rep
+        .fig15
+        .iter()
+        .any(|r| r.method == "marching squares" && r.found.ok == Some(false)));
+    assert!(rep
+        .fig15
+        .iter()
+        .filter(|r| r.method.starts_with("PV"))
+        .all(|r| r.certified && r.found.ok == Some(true)));
+    // The paraboloid both ways: uncertified on the plain grid, certified when shifted.
+    let para: Vec<_> = rep
+        .cases
+        .iter()
+        .filter(|c| c.entry == "paraboloid-cap")
+        .collect();
+    assert_eq!(para.len(), 2);
+    assert!(!para[0].certified && para[0].uncertified_regions > 0);
+    assert!(para[1].certified && para[1].found.ok == Some(true));
+    for c in rep.cases.iter().filter(|c| c.entry != "paraboloid-cap") {
+        assert!(!c.certified && c.singular_regions > 0, "{c:?}");
+    }
+    // Side-by-side: at 27³ the grid points straddle the 0.02 gap of two-spheres
+    // symmetrically (x = ±1.2/27 both inside a sphere), so marching cubes merges them;
+    // PV is right and certified.
+    let mc27 = rep
+        .side_by_side
+        .iter()
+        .find(|r| r.surface == "two-spheres" && r.method == "mc" && r.grid == Some(27))
+        .unwrap();
+    assert!(!mc27.correct() && !mc27.certified);
+    for r in rep
+        .side_by_side
+        .iter()
+        .filter(|r| r.method.starts_with("pv"))
+    {
+        assert!(r.correct() && r.certified, "{r:?}");
+        assert!(r.evaluations.interval_gradients > 0);
+    }
+    let md = std::fs::read_to_string(dir.join("subdivision-tables.md")).unwrap();
+    assert!(md.contains("## 5. The difference a certificate makes, in 3D"));
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 mod primitives {

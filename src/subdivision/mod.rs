@@ -36,6 +36,8 @@ use rayon::prelude::*;
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
+pub mod reproduce;
+
 /// The deepest level a tree may have (21 bits per packed grid coordinate).
 pub const MAX_LEVEL: u32 = 20;
 
@@ -507,6 +509,17 @@ impl Tree {
         let mut m = BTreeMap::new();
         for l in &self.leaves {
             *m.entry(l.cell.level).or_insert(0) += 1;
+        }
+        m
+    }
+
+    /// Boxes (leaves and internal, i.e. every box the criteria were evaluated on) by
+    /// level: the work per depth of a run.
+    pub fn boxes_by_depth(&self) -> BTreeMap<u8, usize> {
+        let mut m = self.by_depth();
+        for &k in &self.internal {
+            // The level sits in the top bits of the key (`Cell::key`).
+            *m.entry((k >> 58) as u8).or_insert(0) += 1;
         }
         m
     }
@@ -1303,6 +1316,14 @@ pub fn tree_stats(tree: &Tree, a: &Assembled) -> serde_json::Map<String, serde_j
         "leaves_by_depth".into(),
         json!(tree
             .by_depth()
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect::<BTreeMap<String, usize>>()),
+    );
+    m.insert(
+        "boxes_by_depth".into(),
+        json!(tree
+            .boxes_by_depth()
             .into_iter()
             .map(|(k, v)| (k.to_string(), v))
             .collect::<BTreeMap<String, usize>>()),
