@@ -25,6 +25,7 @@ pub use implicit::{Formula, Implicit};
 pub use mesher::{Certificate, MeshOutput, Mesher};
 pub mod options;
 pub mod roots;
+pub mod sdf;
 pub use options::MesherOptions;
 pub mod algorithms;
 pub mod compare;

@@ -130,6 +130,17 @@ struct MeshArgs {
     /// A formula instead of a catalog name.
     #[arg(long, short = 'f')]
     formula: Option<String>,
+    /// Remesh a triangle mesh (obj ply off stl) through its signed distance (exact
+    /// distance, winding-number sign), normalised into the unit cube [0, 1]³ (the domain
+    /// unless --domain is given), as GradNormal's Sec. 5.1. Never certified.
+    #[arg(long, value_name = "FILE", conflicts_with = "formula")]
+    mesh_input: Option<PathBuf>,
+    /// With --mesh-input: margin left on each side of the unit cube.
+    #[arg(long, default_value_t = 0.05, requires = "mesh_input")]
+    margin: f64,
+    /// With --mesh-input: close the mesh's boundary loops (holes) by fans first.
+    #[arg(long, requires = "mesh_input")]
+    fill_holes: bool,
     /// The domain box: x0,y0,z0,x1,y1,z1 (curves: x0,y0,x1,y1). Default: the catalog's box.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     domain: Vec<f64>,
@@ -285,6 +296,9 @@ struct Target {
 }
 
 fn target(a: &MeshArgs, dim: usize) -> Result<Target> {
+    if let Some(path) = &a.mesh_input {
+        return mesh_input_target(a, path, dim);
+    }
     let (name, f, entry): (String, Box<dyn Implicit>, Option<Entry>) = match (&a.name, &a.formula) {
         (Some(_), Some(_)) => {
             return Err(Error::Param(
@@ -349,6 +363,47 @@ fn target(a: &MeshArgs, dim: usize) -> Result<Target> {
         f,
         domain,
         entry,
+    })
+}
+
+/// `--mesh-input FILE`: the signed distance to a mesh, normalised into the unit cube.
+fn mesh_input_target(a: &MeshArgs, path: &Path, dim: usize) -> Result<Target> {
+    if dim != 3 {
+        return Err(Error::Param(
+            "--mesh-input gives a surface; use `certmesh mesh`".into(),
+        ));
+    }
+    if a.name.is_some() {
+        return Err(Error::Param(
+            "give a catalog name or --mesh-input, not both".into(),
+        ));
+    }
+    let (f, holes) = certmesh::sdf::from_file(path, a.margin, a.fill_holes)?;
+    if a.fill_holes && !a.json {
+        eprintln!(
+            "{}: closed {} boundary loops ({} boundary edges left open)",
+            path.display(),
+            holes.filled,
+            holes.open_edges
+        );
+    }
+    let domain = match a.domain.len() {
+        0 => Aabb::new([0.0; 3], [1.0; 3])?,
+        6 => Aabb::new(
+            [a.domain[0], a.domain[1], a.domain[2]],
+            [a.domain[3], a.domain[4], a.domain[5]],
+        )?,
+        n => return Err(Error::Domain(format!("--domain needs 6 numbers, got {n}"))),
+    };
+    let name = path
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "mesh".into());
+    Ok(Target {
+        name,
+        f: Box::new(f),
+        domain,
+        entry: None,
     })
 }
 

@@ -17,12 +17,14 @@
 //! e → 0 and its topology claim (Theorem 1.1(1)) only at a scale the paper does not
 //! quantify, so both meshers report `Uncertified` with the *measured* angle range in
 //! the statistics.
+pub mod bunny;
 pub mod check;
 pub mod midnormal;
 pub mod planar;
 pub mod reproduce;
 pub mod tiling;
 pub mod valence4;
+pub mod witness;
 
 pub use midnormal::{extract, NormalSurface};
 pub use reproduce::reproduce;
