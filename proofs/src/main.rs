@@ -213,13 +213,21 @@ fn run() -> Result<(), String> {
                 c.row,
                 r.problems,
                 r.leaves,
-                if r.complete { ", complete" } else { " (partial: a shard)" },
+                if r.complete {
+                    ", complete"
+                } else {
+                    " (partial: a shard)"
+                },
                 t0.elapsed().as_secs_f64()
             );
             for b in &r.bounds {
                 print_bound(b);
             }
-            println!("  safe: {} (min volume ratio {:.6})", r.safe.verdict.name(), r.safe.min_ratio);
+            println!(
+                "  safe: {} (min volume ratio {:.6})",
+                r.safe.verdict.name(),
+                r.safe.min_ratio
+            );
             Ok(())
         }
         Cmd::Merge { parts, out } if parts.first().map(is_stuffing).transpose()? == Some(true) => {
@@ -268,7 +276,9 @@ fn is_stuffing(p: &PathBuf) -> Result<bool, String> {
     use std::io::Read;
     let mut f = std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?;
     let mut head = [0u8; 200];
-    let n = f.read(&mut head).map_err(|e| format!("{}: {e}", p.display()))?;
+    let n = f
+        .read(&mut head)
+        .map_err(|e| format!("{}: {e}", p.display()))?;
     Ok(String::from_utf8_lossy(&head[..n]).contains(stuffing::FORMAT))
 }
 
@@ -284,7 +294,10 @@ fn save_json<T: serde::Serialize>(p: &PathBuf, c: &T) -> Result<(), String> {
 }
 
 fn print_bound(b: &stuffing::BoundResult) {
-    let paper = b.paper.map(|x| format!("{x:.4}")).unwrap_or_else(|| "n/a".into());
+    let paper = b
+        .paper
+        .map(|x| format!("{x:.4}"))
+        .unwrap_or_else(|| "n/a".into());
     let deg = b
         .deg
         .map(|d| format!("[{:.6}, {:.6}]", d[0], d[1]))
@@ -319,7 +332,11 @@ fn print_stuffing(c: &stuffing::Certificate) {
         c.safe.min_ratio,
         c.safe.counts.raw,
         c.safe.counts.distinct,
-        if c.safe.note.is_empty() { String::new() } else { format!("; {}", c.safe.note) }
+        if c.safe.note.is_empty() {
+            String::new()
+        } else {
+            format!("; {}", c.safe.note)
+        }
     );
 }
 
@@ -334,7 +351,11 @@ fn stuffing_cmd(
     let names: Vec<&str> = if row == "all" {
         stuffing::row_names()
     } else {
-        vec![certmesh::stuffing::row(row).map_err(|e| e.to_string())?.name]
+        vec![
+            certmesh::stuffing::row(row)
+                .map_err(|e| e.to_string())?
+                .name,
+        ]
     };
     if !(tol_deg > 0.0) {
         return Err("--tol-deg must be positive".into());
@@ -363,7 +384,11 @@ fn stuffing_cmd(
         cfg.tol_deg = tol_deg;
         cfg.shard = shard;
         cfg.progress = !json;
-        let path = if row == "all" { out.join(format!("{n}.json")) } else { out.clone() };
+        let path = if row == "all" {
+            out.join(format!("{n}.json"))
+        } else {
+            out.clone()
+        };
         let cert = stuffing::run(&cfg)?;
         save_json(&path, &cert)?;
         if json {
@@ -379,7 +404,10 @@ fn stuffing_cmd(
         } else {
             serde_json::Value::Array(summaries)
         };
-        println!("{}", serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
     }
     Ok(())
 }

@@ -286,9 +286,7 @@ impl Shared {
         Shared {
             best: BOUNDS
                 .iter()
-                .map(|&(_, _, is_min)| {
-                    AtomicU64::new(if is_min { -2.0f64 } else { 2.0 }.to_bits())
-                })
+                .map(|&(_, _, is_min)| AtomicU64::new(if is_min { -2.0f64 } else { 2.0 }.to_bits()))
                 .collect(),
             wit: Mutex::new(vec![None; 6]),
             thr: thresholds(row),
@@ -358,7 +356,11 @@ fn depth_limit(dim: usize, max_depth: u8) -> u8 {
 
 fn corners(dim: usize, lo: &[f64], hi: &[f64]) -> Vec<Vec<f64>> {
     (0..1usize << dim)
-        .map(|m| (0..dim).map(|k| if m >> k & 1 == 1 { hi[k] } else { lo[k] }).collect())
+        .map(|m| {
+            (0..dim)
+                .map(|k| if m >> k & 1 == 1 { hi[k] } else { lo[k] })
+                .collect()
+        })
         .collect()
 }
 
@@ -471,9 +473,8 @@ fn strictly_positive_on_real_set(c: &Case, a: &Alphas) -> bool {
     for m in 0..16u32 {
         let top = |k: usize| m >> k & 1 == 1;
         // Corners of the real set: no warp parameter at an unattainable top.
-        let real = (0..4).all(|k| {
-            c.v[k].kind != Kind::Warp || !top(k) || top_attainable(&c.v[k], a)
-        });
+        let real =
+            (0..4).all(|k| c.v[k].kind != Kind::Warp || !top(k) || top_attainable(&c.v[k], a));
         let t: [i64; 4] = [0, 1, 2, 3].map(|k| ranges[k][top(k) as usize]);
         let p = [0, 1, 2, 3].map(|k| stuffing_cases::pos_exact(&c.v[k], t[k]));
         let vol = stuffing_cases::orient_exact(&p);
@@ -575,7 +576,15 @@ fn summarize(
             }
         }
     }
-    Ok(results(row, &cert.alphas, lo, hi, &cert.witnesses, cases, probs))
+    Ok(results(
+        row,
+        &cert.alphas,
+        lo,
+        hi,
+        &cert.witnesses,
+        cases,
+        probs,
+    ))
 }
 
 fn results(
@@ -727,10 +736,7 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
     if unreduced != cert.unreduced {
         return Err("the reduction's precondition differs".into());
     }
-    let in_shard = |ci: usize| {
-        cert.shard
-            .is_none_or(|[i, n]| n > 0 && ci % n == i)
-    };
+    let in_shard = |ci: usize| cert.shard.is_none_or(|[i, n]| n > 0 && ci % n == i);
     let mut expected: HashSet<(usize, usize)> = HashSet::new();
     for (ci, ps) in probs.iter().enumerate() {
         if in_shard(ci) {

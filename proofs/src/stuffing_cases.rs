@@ -240,7 +240,12 @@ fn red_cut(s: [i8; 4]) -> bool {
 /// All admissible warp assignments of the zero-labelled vertices `zeros` (local ids of
 /// the BCC tetrahedron with lattice points `pts` and signs `s`): one direction index per
 /// zero vertex.
-fn warp_choices(pts: &[[i64; 3]; 4], s: [i8; 4], zeros: &[usize], ordered: bool) -> Vec<Vec<usize>> {
+fn warp_choices(
+    pts: &[[i64; 3]; 4],
+    s: [i8; 4],
+    zeros: &[usize],
+    ordered: bool,
+) -> Vec<Vec<usize>> {
     let toward = |i: usize, d: usize| -> Option<usize> {
         let q = add(pts[i], NEIGHBORS[d]);
         (0..4).find(|&w| pts[w] == q)
@@ -442,12 +447,11 @@ mod tests {
         let (cases, _) = output_cases(&a);
         for (i, c) in cases.iter().enumerate().step_by(37) {
             let g = syms[i % 48];
-            let moved: Vec<Seg> = c
-                .v
-                .iter()
-                .rev()
-                .map(|s| s.map(&g).translate([-4, 6, 2]))
-                .collect();
+            let moved: Vec<Seg> =
+                c.v.iter()
+                    .rev()
+                    .map(|s| s.map(&g).translate([-4, 6, 2]))
+                    .collect();
             assert_eq!(canonical(&moved, &syms), c.v.to_vec());
         }
     }

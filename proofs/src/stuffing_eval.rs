@@ -268,8 +268,7 @@ impl Problem {
     pub fn point(&self, x: &[f64]) -> Option<Vec<Interval>> {
         let xi: Vec<Interval> = x.iter().map(|&v| pt(v)).collect();
         let v: Vec<Interval> = self.eval(&xi).iter().map(|d| d.v).collect();
-        if v
-            .iter()
+        if v.iter()
             .any(|y| y.is_empty() || !y.inf().is_finite() || !y.sup().is_finite())
         {
             return None;
