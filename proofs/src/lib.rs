@@ -10,3 +10,6 @@ pub mod gradnormal;
 pub mod ival;
 pub mod maps;
 pub mod report;
+pub mod stuffing;
+pub mod stuffing_cases;
+pub mod stuffing_eval;

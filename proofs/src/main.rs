@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 use proofs::cases::Ratio;
 use proofs::geometry::DiagonalRule;
 use proofs::gradnormal::{self, Certificate, Config};
+use proofs::stuffing;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -51,6 +52,28 @@ enum Cmd {
         /// Write PROOF.md and the figures into this directory (runs every rule).
         #[arg(long)]
         write_papers: Option<PathBuf>,
+    },
+    /// Certify the isosurface-stuffing Table 1 bounds (Labelle & Shewchuk 2007, Thm 1,
+    /// §4.1) on the mesher's stencil table, and the safe property, per row.
+    Stuffing {
+        /// A Table 1 row (the mesher's `--params` name) or `all`.
+        #[arg(long, default_value = "all")]
+        row: String,
+        /// Print the JSON summary on stdout.
+        #[arg(long)]
+        json: bool,
+        /// Run only the cases with index ≡ i (mod N): `--shard i/N`.
+        #[arg(long)]
+        shard: Option<String>,
+        /// Certificate output path (with `--row all`: a directory; one file per row).
+        #[arg(long, short, default_value = "stuffing-cert.json")]
+        out: PathBuf,
+        /// Target enclosure width in degrees.
+        #[arg(long, default_value_t = 1e-4)]
+        tol_deg: f64,
+        /// Only print the case counts (before and after the symmetry reduction).
+        #[arg(long)]
+        count: bool,
     },
     /// Re-verify a certificate independently of the search.
     Check { cert: PathBuf },
@@ -173,6 +196,48 @@ fn run() -> Result<(), String> {
             }
             Ok(())
         }
+        Cmd::Stuffing {
+            row,
+            json,
+            shard,
+            out,
+            tol_deg,
+            count,
+        } => stuffing_cmd(&row, json, shard.as_deref(), &out, tol_deg, count),
+        Cmd::Check { cert } if is_stuffing(&cert)? => {
+            let c = load_stuffing(&cert)?;
+            let t0 = std::time::Instant::now();
+            let r = stuffing::check(&c)?;
+            println!(
+                "certificate OK: row {}, {} problems, {} leaves re-evaluated{} ({:.2} s)",
+                c.row,
+                r.problems,
+                r.leaves,
+                if r.complete {
+                    ", complete"
+                } else {
+                    " (partial: a shard)"
+                },
+                t0.elapsed().as_secs_f64()
+            );
+            for b in &r.bounds {
+                print_bound(b);
+            }
+            println!(
+                "  safe: {} (min volume ratio {:.6})",
+                r.safe.verdict.name(),
+                r.safe.min_ratio
+            );
+            Ok(())
+        }
+        Cmd::Merge { parts, out } if parts.first().map(is_stuffing).transpose()? == Some(true) => {
+            let certs: Result<Vec<stuffing::Certificate>, String> =
+                parts.iter().map(load_stuffing).collect();
+            let m = stuffing::merge(certs?)?;
+            save_json(&out, &m)?;
+            print_stuffing(&m);
+            Ok(())
+        }
         Cmd::Check { cert } => {
             let c = load(&cert)?;
             let t0 = std::time::Instant::now();
@@ -205,6 +270,146 @@ fn run() -> Result<(), String> {
             Ok(())
         }
     }
+}
+
+fn is_stuffing(p: &PathBuf) -> Result<bool, String> {
+    use std::io::Read;
+    let mut f = std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?;
+    let mut head = [0u8; 200];
+    let n = f
+        .read(&mut head)
+        .map_err(|e| format!("{}: {e}", p.display()))?;
+    Ok(String::from_utf8_lossy(&head[..n]).contains(stuffing::FORMAT))
+}
+
+fn load_stuffing(p: &PathBuf) -> Result<stuffing::Certificate, String> {
+    let f = std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?;
+    serde_json::from_reader(std::io::BufReader::new(f))
+        .map_err(|e| format!("{}: not a stuffing certificate: {e}", p.display()))
+}
+
+fn save_json<T: serde::Serialize>(p: &PathBuf, c: &T) -> Result<(), String> {
+    let f = std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()))?;
+    serde_json::to_writer(std::io::BufWriter::new(f), c).map_err(|e| e.to_string())
+}
+
+fn print_bound(b: &stuffing::BoundResult) {
+    let paper = b
+        .paper
+        .map(|x| format!("{x:.4}"))
+        .unwrap_or_else(|| "n/a".into());
+    let deg = b
+        .deg
+        .map(|d| format!("[{:.6}, {:.6}]", d[0], d[1]))
+        .unwrap_or_else(|| "n/a".into());
+    println!(
+        "  {:13} paper {:>9}  certified {:24}  {:9}  tight: {}",
+        b.bound,
+        paper,
+        deg,
+        b.verdict.map(|v| v.name()).unwrap_or("-"),
+        b.tight.as_deref().unwrap_or("-")
+    );
+}
+
+fn print_stuffing(c: &stuffing::Certificate) {
+    println!(
+        "stuffing row {}: {} -> {} cases, {} problems, {} leaves ({} unresolved), {:.1} s",
+        c.row,
+        c.counts.raw,
+        c.counts.distinct,
+        c.problems.len(),
+        c.leaves,
+        c.unresolved,
+        c.seconds
+    );
+    for b in &c.bounds {
+        print_bound(b);
+    }
+    println!(
+        "  safe: {} (min volume / unwarped volume = {:.6}; {} -> {} cases){}",
+        c.safe.verdict.name(),
+        c.safe.min_ratio,
+        c.safe.counts.raw,
+        c.safe.counts.distinct,
+        if c.safe.note.is_empty() {
+            String::new()
+        } else {
+            format!("; {}", c.safe.note)
+        }
+    );
+}
+
+fn stuffing_cmd(
+    row: &str,
+    json: bool,
+    shard: Option<&str>,
+    out: &PathBuf,
+    tol_deg: f64,
+    count: bool,
+) -> Result<(), String> {
+    let names: Vec<&str> = if row == "all" {
+        stuffing::row_names()
+    } else {
+        vec![
+            certmesh::stuffing::row(row)
+                .map_err(|e| e.to_string())?
+                .name,
+        ]
+    };
+    if !(tol_deg > 0.0) {
+        return Err("--tol-deg must be positive".into());
+    }
+    let shard = shard.map(parse_shard).transpose()?;
+    if count {
+        for n in names {
+            let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
+            let a = proofs::stuffing_cases::Alphas::of(r);
+            let (_, c) = proofs::stuffing_cases::output_cases(&a);
+            let (_, s) = proofs::stuffing_cases::bcc_cases(&a);
+            println!(
+                "{n:28} output tetrahedra {:6} -> {:5}   BCC tetrahedra (safe) {:6} -> {:5}",
+                c.raw, c.distinct, s.raw, s.distinct
+            );
+        }
+        return Ok(());
+    }
+    if names.len() > 1 {
+        std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    }
+    let mut summaries = Vec::new();
+    for n in names {
+        let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
+        let mut cfg = stuffing::Config::new(r);
+        cfg.tol_deg = tol_deg;
+        cfg.shard = shard;
+        cfg.progress = !json;
+        let path = if row == "all" {
+            out.join(format!("{n}.json"))
+        } else {
+            out.clone()
+        };
+        let cert = stuffing::run(&cfg)?;
+        save_json(&path, &cert)?;
+        if json {
+            summaries.push(stuffing::summary_json(&cert, &path.display().to_string()));
+        } else {
+            print_stuffing(&cert);
+            println!("  certificate: {}", path.display());
+        }
+    }
+    if json {
+        let v = if summaries.len() == 1 {
+            summaries.pop().unwrap_or_default()
+        } else {
+            serde_json::Value::Array(summaries)
+        };
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
+    }
+    Ok(())
 }
 
 fn main() -> ExitCode {
