@@ -285,7 +285,7 @@ impl From<Iv> for Interval {
 
 impl Add for Iv {
     type Output = Iv;
-    #[inline]
+    #[inline(always)]
     fn add(self, o: Iv) -> Iv {
         if !(bounded(self.lo) & bounded(self.hi) & bounded(o.lo) & bounded(o.hi)) {
             return self.slow2(o, |a, b| a + b);
@@ -295,7 +295,7 @@ impl Add for Iv {
 }
 impl Sub for Iv {
     type Output = Iv;
-    #[inline]
+    #[inline(always)]
     fn sub(self, o: Iv) -> Iv {
         if !(bounded(self.lo) & bounded(self.hi) & bounded(o.lo) & bounded(o.hi)) {
             return self.slow2(o, |a, b| a - b);
@@ -312,7 +312,7 @@ impl Neg for Iv {
 }
 impl Mul for Iv {
     type Output = Iv;
-    #[inline]
+    #[inline(always)]
     fn mul(self, o: Iv) -> Iv {
         let ok = moderate(self.lo)
             & moderate(self.hi)
@@ -326,6 +326,10 @@ impl Mul for Iv {
         // The four endpoint products, each rounded both ways (branch-free; the min and
         // max pick the extreme ones).
         let (a, b, c, d) = (self.lo, self.hi, o.lo, o.hi);
+        if (a >= 0.0) & (c >= 0.0) {
+            // Both non-negative (common in sums of squares): two products.
+            return Iv::new(mul_dn(a, c), mul_up(b, d));
+        }
         let lo = mul_dn(a, c)
             .min(mul_dn(a, d))
             .min(mul_dn(b, c))
@@ -339,7 +343,7 @@ impl Mul for Iv {
 }
 impl Div for Iv {
     type Output = Iv;
-    #[inline]
+    #[inline(always)]
     fn div(self, o: Iv) -> Iv {
         // Division by an interval that does not contain 0; otherwise inari decides
         // (the result is then unbounded, or empty for [0, 0]).

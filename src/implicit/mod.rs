@@ -20,6 +20,7 @@ pub use tape::Tape;
 use crate::error::Result;
 use inari::Interval;
 use std::cell::RefCell;
+use std::mem::MaybeUninit;
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 /// A box as three intervals.
@@ -114,6 +115,9 @@ pub struct Formula {
     dim: usize,
 }
 
+/// Tapes up to this length evaluate in f64 and `Iv` with registers on the stack.
+const STACK_REGS: usize = 64;
+
 thread_local! {
     static S_F64: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
     static S_IV: RefCell<Vec<Iv>> = const { RefCell::new(Vec::new()) };
@@ -159,10 +163,24 @@ impl Implicit for Formula {
     }
     #[inline]
     fn eval(&self, p: [f64; 3]) -> f64 {
-        S_F64.with(|s| self.tape.eval_f64(p, &mut s.borrow_mut()))
+        // Registers on the stack for ordinary formulas (no thread-local, no borrow
+        // flag, no initialisation: see `Tape::eval_f64_in`).
+        if self.tape.len() <= STACK_REGS {
+            let mut regs = [MaybeUninit::<f64>::uninit(); STACK_REGS];
+            self.tape.eval_f64_in(p, &mut regs)
+        } else {
+            S_F64.with(|s| self.tape.eval_f64(p, &mut s.borrow_mut()))
+        }
     }
+    #[inline]
     fn eval_interval(&self, b: &IBox) -> Interval {
-        S_IV.with(|s| self.tape.eval_interval(b, &mut s.borrow_mut()))
+        let v = b.map(Iv::from_interval);
+        if self.tape.len() <= STACK_REGS {
+            let mut regs = [MaybeUninit::<Iv>::uninit(); STACK_REGS];
+            self.tape.eval_iv_in(v, &mut regs).to_interval()
+        } else {
+            S_IV.with(|s| self.tape.eval_iv(v, &mut s.borrow_mut()).to_interval())
+        }
     }
     fn grad(&self, p: [f64; 3]) -> Dual<f64> {
         let v = [0, 1, 2].map(|k| Dual::var(p[k], k));
