@@ -182,3 +182,69 @@ fn stats_histogram_with_emphasis_and_bad_factor() {
     assert!(err.contains("--emphasis"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--mesh-input`: a scanned-style mesh with a hole is remeshed through its signed
+/// distance (GradNormal, Sec. 5.1); bad files and margins are clear errors.
+#[test]
+fn mesh_input_remeshes_a_mesh_with_a_hole() {
+    let dir = std::env::temp_dir().join(format!("certmesh-cli-meshinput-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let m = certmesh::sdf::uv_sphere(16, 32, 2.0);
+    // Cut a cap off: an open mesh, as a scan with a hole.
+    let open = certmesh::mesh::TriMesh::new(
+        m.vertices.clone(),
+        m.triangles
+            .iter()
+            .copied()
+            .filter(|t| t.iter().all(|&i| m.vertices[i as usize][2] < 1.9))
+            .collect(),
+    );
+    let input = dir.join("open-sphere.obj");
+    certmesh::io::write_tri(&input, &open).unwrap();
+    let out = dir.join("remesh.obj");
+    let (code, stdout, err) = certmesh(&[
+        "mesh",
+        "--mesh-input",
+        input.to_str().unwrap(),
+        "--fill-holes",
+        "--algo",
+        "gradnormal",
+        "--scale",
+        "0.05",
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["closed"], serde_json::json!(true), "{stdout}");
+    assert_eq!(v["genus"], serde_json::json!([0]), "{stdout}");
+    assert!(v["faces"].as_u64().unwrap() > 500, "{stdout}");
+    let mesh = certmesh::io::read_tri(&out).unwrap();
+    // Normalised into the unit cube with the default 5% margin: radius 0.45 about ½.
+    for p in &mesh.vertices {
+        let r = certmesh::geom::dist(*p, [0.5; 3]);
+        assert!((r - 0.45).abs() < 0.03, "vertex at radius {r}");
+    }
+    let (code, _, err) = certmesh(&[
+        "mesh",
+        "--mesh-input",
+        "/nonexistent/scan.obj",
+        "--algo",
+        "gradnormal",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("/nonexistent/scan.obj"), "{err}");
+    let (code, _, err) = certmesh(&[
+        "mesh",
+        "--mesh-input",
+        input.to_str().unwrap(),
+        "--margin",
+        "0.7",
+        "--algo",
+        "gradnormal",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("margin"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

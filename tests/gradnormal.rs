@@ -602,3 +602,37 @@ fn appendix_arcs_table() {
     let diag = rows.iter().find(|r| r.1.contains("diagonal")).unwrap();
     assert!((diag.3 - 90.0).abs() < 1e-6, "{diag:?}");
 }
+
+/// Issue #6: every claim the `proofs gradnormal` certificate refutes (Theorem 1.1's
+/// 101.5°, the Appendix's 101.45°, Fig 14's 101.445° and 35.3004°) is contradicted by
+/// an angle of a real GradNormal mesh of a plane near the proof's witness normal, and
+/// every measured angle lies inside the certified enclosure of the extremes (a mesh
+/// angle beyond the certified supremum would mean a bug in the proof or the mesher).
+#[test]
+fn refuted_claims_show_in_the_real_mesh() {
+    use certmesh::gradnormal::witness::{refuted_claims, CERTIFIED_MAX, CERTIFIED_MIN};
+    let claims = refuted_claims().unwrap();
+    assert_eq!(claims.len(), 4);
+    for c in &claims {
+        assert!(
+            c.shown(),
+            "{}: measured {} vs {}",
+            c.claim,
+            c.measured,
+            c.paper_value
+        );
+        assert_eq!(c.measurement.unmatched, 0, "replay differs from the mesher");
+        assert!(c.measurement.v4_triangles > 0, "{}", c.claim);
+        let m = c.measurement;
+        assert!(m.min_all >= CERTIFIED_MIN.0 - 1e-9, "{m:?}");
+        assert!(m.max_all <= CERTIFIED_MAX.1 + 1e-9, "{m:?}");
+        // The plane is within 1e-3 of the witness normal.
+        let d: f64 = (0..3).map(|k| (c.normal[k] - c.witness[k]).powi(2)).sum();
+        assert!(d.sqrt() < 1.1e-3);
+    }
+    // The two upper-bound claims of the theorem and the appendix exceed 101.5° in
+    // the mesh; Fig 14's minimum is undercut by a valence-four triangle.
+    assert!(claims[0].measured > 101.5 && claims[1].measured > 101.5);
+    assert!(claims[2].measured > 101.4455 && claims[2].valence4_only);
+    assert!(claims[3].measured < 35.30035 && claims[3].valence4_only);
+}
