@@ -18,7 +18,7 @@ stats = []
 wit = []
 for r in ROWS:
     p = os.path.join(d, r + ".summary.json")
-    if not os.path.exists(p):
+    if not os.path.exists(p) or os.path.getsize(p) == 0:
         out.append("| %s | (not run) | | | | |" % r)
         continue
     s = json.load(open(p))
@@ -55,7 +55,8 @@ print("| row | case | leaves |")
 print("|---|---|---|")
 for r in ROWS:
     p = os.path.join(d, r + ".json")
-    if not os.path.exists(p):
+    sp = os.path.join(d, r + ".summary.json")
+    if not os.path.exists(p) or not os.path.exists(sp) or os.path.getsize(sp) == 0:
         continue
     c = json.load(open(p))
     cnt = Counter()

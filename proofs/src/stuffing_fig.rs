@@ -168,7 +168,7 @@ where
         // Seen along the dihedral edge a face is a segment: outline it.
         ch.draw_series(std::iter::once(PathElement::new(
             ring,
-            RGBColor(240, 170, 0).stroke_width(3),
+            RGBColor(240, 170, 0).stroke_width(7),
         )))
         .map_err(e)?;
     }
