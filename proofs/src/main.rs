@@ -398,8 +398,17 @@ fn stuffing_cmd(
             let a = proofs::stuffing_cases::Alphas::of(r);
             let (_, c) = proofs::stuffing_cases::output_cases(&a);
             let (_, s) = proofs::stuffing_cases::bcc_cases(&a);
+            // Output-tetrahedron cases whose volume can vanish (exact corner test).
+            let (cases, _) = proofs::stuffing_cases::output_cases(&a);
+            let flat = cases
+                .iter()
+                .filter(|c| {
+                    let (r, _) = proofs::stuffing_cases::volume_range(c, &a);
+                    r[0] <= 0 && r[1] >= 0
+                })
+                .count();
             println!(
-                "{n:28} output tetrahedra {:6} -> {:5}   BCC tetrahedra (safe) {:6} -> {:5}",
+                "{n:28} output tetrahedra {:6} -> {:5} ({flat} can be flat)   BCC tetrahedra (safe) {:6} -> {:5}",
                 c.raw, c.distinct, s.raw, s.distinct
             );
         }
