@@ -13,3 +13,4 @@ pub mod report;
 pub mod stuffing;
 pub mod stuffing_cases;
 pub mod stuffing_eval;
+pub mod stuffing_fig;

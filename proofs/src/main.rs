@@ -75,6 +75,17 @@ enum Cmd {
         #[arg(long)]
         count: bool,
     },
+    /// Figures of the worst configurations (like the paper's Fig 5) from stuffing
+    /// certificates DIR/ROW.json, into OUT/ROW-BOUND.svg/png.
+    StuffingFigures {
+        #[arg(long)]
+        certs: PathBuf,
+        #[arg(long, default_value = "papers/stuffing/figures")]
+        out: PathBuf,
+        /// Comma-separated bound names.
+        #[arg(long, default_value = "min_dihedral,max_dihedral")]
+        bounds: String,
+    },
     /// Re-verify a certificate independently of the search.
     Check { cert: PathBuf },
     /// Print the derived regions of plane normals (exact vertex rays) as markdown.
@@ -204,6 +215,26 @@ fn run() -> Result<(), String> {
             tol_deg,
             count,
         } => stuffing_cmd(&row, json, shard.as_deref(), &out, tol_deg, count),
+        Cmd::StuffingFigures { certs, out, bounds } => {
+            std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+            for name in stuffing::row_names() {
+                let p = certs.join(format!("{name}.json"));
+                if !p.exists() {
+                    continue;
+                }
+                let c = load_stuffing(&p)?;
+                for (b, (bn, _, _)) in stuffing::BOUNDS.iter().enumerate() {
+                    if !bounds.split(',').any(|x| x == *bn) {
+                        continue;
+                    }
+                    let stem = out.join(format!("{name}-{bn}"));
+                    if proofs::stuffing_fig::witness_figure(&c, b, &stem)? {
+                        println!("{}.svg", stem.display());
+                    }
+                }
+            }
+            Ok(())
+        }
         Cmd::Check { cert } if is_stuffing(&cert)? => {
             let c = load_stuffing(&cert)?;
             let t0 = std::time::Instant::now();
@@ -367,8 +398,17 @@ fn stuffing_cmd(
             let a = proofs::stuffing_cases::Alphas::of(r);
             let (_, c) = proofs::stuffing_cases::output_cases(&a);
             let (_, s) = proofs::stuffing_cases::bcc_cases(&a);
+            // Output-tetrahedron cases whose volume can vanish (exact corner test).
+            let (cases, _) = proofs::stuffing_cases::output_cases(&a);
+            let flat = cases
+                .iter()
+                .filter(|c| {
+                    let (r, _) = proofs::stuffing_cases::volume_range(c, &a);
+                    r[0] <= 0 && r[1] >= 0
+                })
+                .count();
             println!(
-                "{n:28} output tetrahedra {:6} -> {:5}   BCC tetrahedra (safe) {:6} -> {:5}",
+                "{n:28} output tetrahedra {:6} -> {:5} ({flat} can be flat)   BCC tetrahedra (safe) {:6} -> {:5}",
                 c.raw, c.distinct, s.raw, s.distinct
             );
         }

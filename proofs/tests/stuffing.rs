@@ -279,3 +279,32 @@ fn stuffing_certificate_check_and_tamper() {
         assert!(proofs::stuffing::check(&bad).is_err());
     }
 }
+
+/// The safe property: the worst warped BCC tetrahedron has all four vertices warped by
+/// α_long along black edges, volume (1 − 4α_long)·V: safe exactly when α_long < 1/4
+/// (why the safe rows use 0.24999). With α_short = 0.5 the closed configuration space
+/// reaches volume 0 only where the §6 convention excludes it.
+#[test]
+fn safe_property_matches_the_closed_form() {
+    use proofs::exact::Verdict;
+    for name in [
+        "min-dihedral-unsafe",
+        "max-dihedral-safe",
+        "max-exposed-safe-ordered",
+    ] {
+        let row = stuffing::row(name).unwrap();
+        let s = proofs::stuffing::safe_property(row);
+        let expect = 1.0 - 4.0 * row.alpha_long;
+        assert!((s.min_ratio - expect).abs() < 1e-12, "{name}: {s:?}");
+        let v = if row.safe {
+            Verdict::Proven
+        } else {
+            Verdict::Refuted
+        };
+        assert_eq!(s.verdict, v, "{name}");
+    }
+    let s = proofs::stuffing::safe_property(stuffing::row("min-exposed-safe-ordered").unwrap());
+    assert_eq!(s.min_ratio, 0.0);
+    assert_eq!(s.verdict, Verdict::Proven);
+    assert!(!s.note.is_empty());
+}
