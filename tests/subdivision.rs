@@ -470,6 +470,7 @@ fn reproduce_quick_mode() {
         assert!(r.correct() && r.certified, "{r:?}");
         assert!(r.evaluations.interval_gradients > 0);
     }
+    assert!(std::fs::metadata(dir.join("fig-slice-two-spheres-mc27.png")).is_ok());
     let md = std::fs::read_to_string(dir.join("subdivision-tables.md")).unwrap();
     assert!(md.contains("## 5. The difference a certificate makes, in 3D"));
     let _ = std::fs::remove_dir_all(&dir);
@@ -637,4 +638,41 @@ fn curve_orientation_is_ccw_around_the_solid() {
         }
         assert_eq!(good, c.segments.len(), "{}", m.name());
     }
+}
+
+/// The section of a certified sphere mesh by z = 0 is one closed curve near the unit
+/// circle; the section of marching cubes' 27³ two-spheres mesh is one merged curve, PV's
+/// two (the slice figures of papers/meshing-of-surfaces/).
+#[test]
+fn slices_of_meshes() {
+    use certmesh::marching::MarchingCubes;
+    use certmesh::subdivision::reproduce::slice;
+    let e = catalog::get("sphere").unwrap();
+    let f = e.function();
+    let out = PlantingaVegter::default()
+        .mesh(&f, &e.domain, &NoProgress)
+        .unwrap();
+    let c = slice(out.mesh.surface().unwrap(), 0.0);
+    assert_eq!(curve_components(&c), Some(1));
+    for v in &c.vertices {
+        let r = (v[0] * v[0] + v[1] * v[1]).sqrt();
+        assert!((r - 1.0).abs() < 0.05, "slice vertex at radius {r}");
+    }
+    let e = catalog::get("two-spheres").unwrap();
+    let f = e.function();
+    let mc = MarchingCubes::new()
+        .resolution(27)
+        .mesh(&f, &e.domain, &NoProgress)
+        .unwrap();
+    let pv = PlantingaVegter::default()
+        .mesh(&f, &e.domain, &NoProgress)
+        .unwrap();
+    assert_eq!(
+        curve_components(&slice(mc.mesh.surface().unwrap(), 0.0)),
+        Some(1)
+    );
+    assert_eq!(
+        curve_components(&slice(pv.mesh.surface().unwrap(), 0.0)),
+        Some(2)
+    );
 }

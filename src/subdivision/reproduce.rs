@@ -1,7 +1,8 @@
 //! Regenerates `papers/meshing-of-surfaces/` (`certmesh reproduce meshing-of-surfaces`):
 //! the tables of `subdivision-tables.md` and `report.json`, the subdivision pictures of
 //! every catalog curve (like Figs 1.7 and 1.9 of the chapter, §1.2.3–1.2.4), and the
-//! boxes-per-depth figure of the 3D runs.
+//! boxes-per-depth figure of the 3D runs, and sections z = 0 of marching cubes and PV
+//! meshes of `two-spheres` and `thin-torus` (`fig-slice-*`).
 //!
 //! Sections (each a table in `subdivision-tables.md`):
 //! 1. curves: Plantinga–Vegter and Snyder, certificate and components;
@@ -798,6 +799,73 @@ pub fn side_summary(rows: &[&SideRow]) -> String {
     s
 }
 
+/// The cross-section of a triangle mesh with the plane z = z0, as a planar polyline set
+/// (sign⁺ convention for vertices on the plane, so every crossing lies on an edge with a
+/// strict sign change and neighbouring triangles share it).
+pub fn slice(m: &crate::mesh::TriMesh, z0: f64) -> crate::mesh::Curve2 {
+    let mut c = crate::mesh::Curve2::default();
+    let mut ids: std::collections::HashMap<(u32, u32), u32> = Default::default();
+    let above = |v: u32| m.vertices[v as usize][2] >= z0;
+    for t in &m.triangles {
+        let mut pts = Vec::with_capacity(2);
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if above(a) == above(b) {
+                continue;
+            }
+            let key = (a.min(b), a.max(b));
+            let id = *ids.entry(key).or_insert_with(|| {
+                let (p, q) = (m.vertices[key.0 as usize], m.vertices[key.1 as usize]);
+                let s = (z0 - p[2]) / (q[2] - p[2]);
+                c.vertices
+                    .push([p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])]);
+                (c.vertices.len() - 1) as u32
+            });
+            pts.push(id);
+        }
+        if let [a, b] = pts[..] {
+            c.segments.push([a, b]);
+        }
+    }
+    c
+}
+
+/// Slice figures of the side-by-side: `fig-slice-<surface>-<method>.{svg,png}`, the
+/// section z = 0 of the output (black) over the true section (red pixels).
+fn slice_figures(out: &Path, quick: bool) -> Result<()> {
+    for (name, n) in [("two-spheres", 27usize), ("thin-torus", 33)] {
+        if quick && name == "thin-torus" {
+            continue;
+        }
+        let e = catalog::get(name)?;
+        let f = e.function();
+        let mut plane = e.domain;
+        plane.min[2] = 0.0;
+        plane.max[2] = 0.0;
+        let runs: [(String, Box<dyn Mesher>); 2] = [
+            (
+                format!("mc{n}"),
+                Box::new(MarchingCubes::new().resolution(n)),
+            ),
+            ("pv".into(), Box::new(PlantingaVegter::default())),
+        ];
+        for (label, m) in runs {
+            let o = m.mesh(&f, &e.domain, &NoProgress)?;
+            if let Some(surf) = o.mesh.surface() {
+                crate::plot_subdivision::draw_subdivision_svg(
+                    &out.join(format!("fig-slice-{name}-{label}")),
+                    &f,
+                    &plane,
+                    &[],
+                    &slice(surf, 0.0),
+                    720,
+                )?;
+            }
+        }
+    }
+    Ok(())
+}
+
 fn write(out: &Path, name: &str, text: &str) -> Result<()> {
     let p = out.join(name);
     std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
@@ -879,6 +947,7 @@ pub fn reproduce_report(out: &Path, quick: bool) -> Result<Report> {
         &serde_json::to_string_pretty(&rep).expect("the report serializes"),
     )?;
     figures(out, &rep)?;
+    slice_figures(out, quick)?;
     Ok(rep)
 }
 
