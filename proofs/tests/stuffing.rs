@@ -247,6 +247,9 @@ fn stuffing_certificate_check_and_tamper() {
     assert!(!cert.problems.is_empty());
     let r = proofs::stuffing::check(&cert).unwrap();
     assert!(!r.complete);
+    // `merge` refuses an incomplete set of shards (one of 400; the same shard twice).
+    assert!(proofs::stuffing::merge(vec![cert.clone()]).is_err());
+    assert!(proofs::stuffing::merge(vec![cert.clone(), cert.clone()]).is_err());
     // Tamper with one leaf bound: the recomputed enclosure no longer fits.
     let mut bad = cert.clone();
     let pc = bad
