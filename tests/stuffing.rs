@@ -540,7 +540,7 @@ fn mesher_interface_and_options() {
         .certificate
         .reason()
         .unwrap()
-        .contains("not yet re-verified"));
+        .contains("certified for this stencil table by `proofs stuffing`"));
     match &out.mesh {
         Mesh::Volume { tets, boundary } => {
             assert_eq!(out.stats["tetrahedra"], tets.tets.len());

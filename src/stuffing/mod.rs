@@ -20,13 +20,14 @@
 //! **Certificate.** What this module proves about *its own output* is combinatorial and
 //! exact: the output is checked to be conforming (every interior triangle in exactly two
 //! tetrahedra, the boundary a closed 2-manifold) and every tetrahedron's orientation is
-//! decided by the exact `orient3d` predicate. The angle bounds of Table 1 are *claimed
-//! by the paper's Theorem 1* (a computer-assisted proof whose code was never published)
-//! and are not yet re-verified for our stencil table (the `proofs stuffing` command does
-//! that); the angles we report are measured in floating point. So the certificate is
-//! `Uncertified` with those claims listed and the reason spelled out; geometric and
-//! topological fidelity (Theorems 2 and 3) are not certified either: they need
-//! `d_M > ωc`, which we do not check.
+//! decided by the exact `orient3d` predicate. The angle bounds of Table 1 (the paper's
+//! Theorem 1, whose proof code was never published) are re-verified for *this* stencil
+//! table over the §4.1 configuration space by `proofs stuffing` (all 76 entries proven:
+//! `papers/stuffing/PROOF.md`); the graded variant's dagger bounds (§5) are not, and one
+//! of them (147.0470°) is refuted by a mesh (`papers/stuffing/README.md`). The angles we
+//! report are measured in floating point. The certificate stays `Uncertified` with the
+//! reason spelled out, because geometric and topological fidelity (Theorems 2 and 3)
+//! need `d_M > ωc`, which we do not check.
 pub mod emit;
 pub mod field;
 pub mod graded;
@@ -689,23 +690,34 @@ impl Mesher for Stuffing {
             q.inverted
         ));
         let mut reason = String::new();
+        // Uniform rows: Table 1, re-verified by `proofs stuffing`. Graded (§5): the
+        // daggered bounds weaken; those are the paper's claim only, and the 147.0470°
+        // dagger of min-exposed-safe-ordered is refuted, so that row claims nothing.
+        let refuted_dagger = p.graded && p.row.name == "min-exposed-safe-ordered";
         let bounds = if p.graded {
-            // Graded: daggered bounds weaken (§5); warping is arbitrary-order, so
-            // ordered rows claim nothing.
             p.bounds()
-                .filter(|_| !p.row.ordered)
+                .filter(|_| !refuted_dagger)
                 .map(|_| p.row.graded_bounds())
         } else {
             p.bounds()
         };
+        let provenance = if p.graded {
+            "claimed by Labelle-Shewchuk §5 for graded meshes, not re-verified by certmesh"
+        } else {
+            "certified for this stencil table by `proofs stuffing` (papers/stuffing/PROOF.md)"
+        };
+        if refuted_dagger {
+            reason.push_str("graded row 'min-exposed-safe-ordered': its dagger bound 147.0470° is refuted (a half-pyramid reaches 150.35°, papers/stuffing/README.md), no angle bound claimed; ");
+        }
         match bounds {
             Some(b) => {
                 reason.push_str(&format!(
-                    "angle bounds guaranteed by Labelle-Shewchuk Table 1 row '{}' (dihedral {:?}..{:?}, plane {:?}..{:?}, exposed {:?}..{:?}), not yet re-verified by certmesh proofs; measured in floating point: dihedral {:.4}..{:.4}, plane {:.4}..{:.4}, exposed {:.4}..{:.4}",
+                    "angle bounds of Table 1 row '{}' (dihedral {:?}..{:?}, plane {:?}..{:?}, exposed {:?}..{:?}) {provenance}; measured in floating point: dihedral {:.4}..{:.4}, plane {:.4}..{:.4}, exposed {:.4}..{:.4}",
                     p.row.name, b.min_dihedral, b.max_dihedral, b.min_plane, b.max_plane, b.min_exposed, b.max_exposed,
                     q.min_dihedral_deg, q.max_dihedral_deg, q.min_plane_deg, q.max_plane_deg, q.min_exposed_deg, q.max_exposed_deg
                 ));
             }
+            None if refuted_dagger => {}
             None => reason.push_str("custom alpha values: no Table 1 angle bound applies"),
         }
         reason.push_str("; surface fidelity (Theorems 2-3) not certified");
