@@ -318,7 +318,7 @@ pub fn markdown(claims: &[RefutedClaim]) -> String {
         let f = |v: [f64; 3]| format!("({:.9}, {:.9}, {:.9})", v[0], v[1], v[2]);
         let _ = writeln!(
             s,
-            "| {} | {} | {}, {:.4} | **{:.6}°** {} {}° | {} ({}) | {} |",
+            "| {} | {} | {}, {:.3e} | **{:.6}°** {} {}° | {} ({}) | {} |",
             c.claim,
             f(c.witness),
             f(c.normal),
