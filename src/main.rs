@@ -578,20 +578,28 @@ fn stats_cmd(
         }
         print_json(&v);
     } else {
+        let plural =
+            |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+        let genus = if s.genus.is_empty() {
+            "genus: n/a (no closed orientable component)".to_string()
+        } else {
+            format!("genus per closed component: {:?}", s.genus)
+        };
         println!(
-            "{}: {} vertices ({} isolated), {} faces, {} edges, χ = {}, {} components, closed: {}, manifold: {}, oriented: {}, boundary loops: {}, genus {:?}",
+            "{}: {} vertices ({} used, {} isolated), {} faces, {} edges, χ = {}, {}, closed: {}, manifold: {}, oriented: {}, {}, {}",
             mesh.display(),
+            s.vertices + s.isolated_vertices,
             s.vertices,
             s.isolated_vertices,
             s.faces,
             s.edges,
             s.euler_characteristic,
-            s.components,
+            plural(s.components, "component", "components"),
             s.closed,
             s.manifold,
             s.consistently_oriented,
-            s.boundary_loops,
-            s.genus
+            plural(s.boundary_loops, "boundary loop", "boundary loops"),
+            genus
         );
         if let (Some(a), Some(b)) = (s.min_angle_deg, s.max_angle_deg) {
             println!(

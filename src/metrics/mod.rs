@@ -58,7 +58,9 @@ pub fn check_curve(c: &Curve2) -> Result<()> {
 /// What `certmesh stats MESH [--surface S] --json` prints for a triangle mesh.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Stats {
+    /// Vertices used by at least one face (χ counts these).
     pub vertices: usize,
+    /// Vertices of the file that no face uses (a scan's stray points).
     pub isolated_vertices: usize,
     pub faces: usize,
     pub edges: usize,
