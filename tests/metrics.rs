@@ -1020,3 +1020,122 @@ fn stanford_bunny_stats() {
         assert_eq!(got, brute);
     }
 }
+
+// ---------------------------------------------------------------- every shared mesh
+
+/// χ and components computed independently of `metrics::topology` (a hash set of
+/// undirected edges, a plain union-find), over the vertices that faces use and the
+/// non-degenerate faces.
+fn independent_topology(m: &TriMesh) -> (i64, usize) {
+    use std::collections::HashSet;
+    let faces: Vec<[u32; 3]> = m
+        .triangles
+        .iter()
+        .copied()
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+        .collect();
+    let mut used = HashSet::new();
+    let mut edges = HashSet::new();
+    let mut parent: Vec<usize> = (0..m.vertices.len()).collect();
+    fn root(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
+        x
+    }
+    for t in &faces {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            used.insert(a);
+            edges.insert((a.min(b), a.max(b)));
+            let (ra, rb) = (root(&mut parent, a as usize), root(&mut parent, b as usize));
+            parent[ra] = rb;
+        }
+    }
+    let roots: HashSet<usize> = used
+        .iter()
+        .map(|&v| root(&mut parent, v as usize))
+        .collect();
+    let chi = used.len() as i64 - edges.len() as i64 + faces.len() as i64;
+    (chi, roots.len())
+}
+
+/// Smallest and largest triangle angle by the law of cosines (independent of
+/// `metrics::angles`), over triangles with three distinct positive edge lengths.
+fn independent_angle_range(m: &TriMesh) -> (f64, f64) {
+    let (mut lo, mut hi) = (180.0f64, 0.0f64);
+    for k in 0..m.triangles.len() {
+        let [a, b, c] = m.corners(k);
+        let (la, lb, lc) = (geom::dist(b, c), geom::dist(c, a), geom::dist(a, b));
+        if !(la > 0.0 && lb > 0.0 && lc > 0.0) {
+            continue;
+        }
+        for (x, y, z) in [(la, lb, lc), (lb, lc, la), (lc, la, lb)] {
+            let cos = ((y * y + z * z - x * x) / (2.0 * y * z)).clamp(-1.0, 1.0);
+            let ang = cos.acos().to_degrees();
+            lo = lo.min(ang);
+            hi = hi.max(ang);
+        }
+    }
+    (lo, hi)
+}
+
+/// Stats of every mesh in ../shared/data/ (read with the io module), with the
+/// topology facts computed a second way and the known facts of each scan asserted.
+#[test]
+fn shared_data_meshes_are_reported() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data");
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        eprintln!("skipping: {} not found", dir.display());
+        return;
+    };
+    let mut names: Vec<String> = entries
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| {
+            n.ends_with(".obj") || n.ends_with(".off") || n.ends_with(".ply") || n.ends_with(".stl")
+        })
+        .collect();
+    names.sort();
+    assert!(!names.is_empty(), "no meshes in {}", dir.display());
+    for name in &names {
+        let m = certmesh::io::read_tri(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let s = metrics::stats(&m, None).unwrap();
+        eprintln!("{name}: {}", serde_json::to_string(&s).unwrap());
+        let (chi, comps) = independent_topology(&m);
+        assert_eq!(s.euler_characteristic, chi, "{name}: χ");
+        assert_eq!(s.components, comps, "{name}: components");
+        assert_eq!(metrics::euler_characteristic(&m).unwrap(), chi);
+        assert_eq!(metrics::components(&m).unwrap(), comps);
+        assert_eq!(s.faces, m.triangles.len());
+        let (lo, hi) = independent_angle_range(&m);
+        if s.degenerate_triangles == 0 {
+            assert!((s.min_angle_deg.unwrap() - lo).abs() < 1e-6, "{name}: {lo}");
+            assert!((s.max_angle_deg.unwrap() - hi).abs() < 1e-6, "{name}: {hi}");
+        }
+        match name.as_str() {
+            "spot.obj" | "fandisk.obj" => {
+                assert!(s.closed && s.manifold && s.orientable, "{name}: {s:?}");
+                assert_eq!((chi, comps), (2, 1), "{name}: a closed sphere");
+                assert_eq!(s.genus, vec![0]);
+                let expect = if name == "spot.obj" {
+                    (10.2, 131.7)
+                } else {
+                    (17.0, 128.2)
+                };
+                assert!(
+                    (lo - expect.0).abs() < 0.1 && (hi - expect.1).abs() < 0.1,
+                    "{name}: [{lo}, {hi}]"
+                );
+            }
+            "stanford-bunny.obj" => {
+                assert_eq!(m.triangles.len(), 69_451);
+                assert!(s.isolated_vertices > 0, "the scan has isolated vertices");
+                assert!(!s.closed && s.boundary_loops > 0, "the scan has holes");
+                assert_eq!(s.vertices + s.isolated_vertices, m.vertices.len());
+            }
+            _ => {}
+        }
+    }
+}

@@ -114,6 +114,19 @@ fn div_up(a: f64, b: f64) -> f64 {
     up_if(q, (r > 0.0) != (b < 0.0) && r != 0.0)
 }
 
+/// [`div_dn`] and [`div_up`] for a positive divisor: the remainder's sign alone says
+/// on which side of the exact quotient `q` lies.
+#[inline(always)]
+fn div_dn_pos(a: f64, b: f64) -> f64 {
+    let q = a / b;
+    down_if(q, (-q).mul_add(b, a) < 0.0)
+}
+#[inline(always)]
+fn div_up_pos(a: f64, b: f64) -> f64 {
+    let q = a / b;
+    up_if(q, (-q).mul_add(b, a) > 0.0)
+}
+
 impl Iv {
     pub const fn new(lo: f64, hi: f64) -> Iv {
         Iv { lo, hi }
@@ -209,7 +222,7 @@ impl Iv {
             // Dividing by a positive number: lo/ch is smallest when lo >= 0, lo/cl otherwise.
             let dl = if self.lo >= 0.0 { c.hi } else { c.lo };
             let dh = if self.hi >= 0.0 { c.lo } else { c.hi };
-            Iv::new(div_dn(self.lo, dl), div_up(self.hi, dh))
+            Iv::new(div_dn_pos(self.lo, dl), div_up_pos(self.hi, dh))
         } else {
             let dl = if self.hi >= 0.0 { c.hi } else { c.lo };
             let dh = if self.lo >= 0.0 { c.lo } else { c.hi };

@@ -256,47 +256,11 @@ pub fn point(x: f64) -> Interval {
     Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE)
 }
 
-/// x^n for a point value, enclosed (repeated outward-rounded multiplication).
-fn pow_point(x: f64, n: u32) -> Interval {
-    let mut acc = point(1.0);
-    let mut base = point(x);
-    let mut e = n;
-    while e > 0 {
-        if e & 1 == 1 {
-            acc = acc * base;
-        }
-        base = base * base;
-        e >>= 1;
-    }
-    acc
-}
-
-/// x^n for n >= 0 over an interval, tight up to rounding.
+/// x^n for n >= 0 over an interval, tight up to rounding (even powers through the
+/// tight square, odd powers by monotonicity): computed by the fast kernel
+/// [`Iv::pown`](super::directed::Iv::pown), whose bounds equal inari's op by op.
 pub fn ipow(x: Interval, n: u32) -> Interval {
-    if x.is_empty() {
-        return x;
-    }
-    match n {
-        0 => point(1.0),
-        1 => x,
-        2 => x.sqr(),
-        _ if n % 2 == 0 => {
-            // Even power: (x²)^(n/2); x² is tight and non-negative, and products of
-            // non-negative intervals are tight up to rounding.
-            let s = x.sqr();
-            let mut acc = s;
-            for _ in 1..n / 2 {
-                acc = acc * s;
-            }
-            acc
-        }
-        _ => {
-            // Odd power: monotone increasing.
-            let lo = pow_point(x.inf(), n).inf();
-            let hi = pow_point(x.sup(), n).sup();
-            Interval::try_from((lo, hi)).unwrap_or(Interval::ENTIRE)
-        }
-    }
+    super::directed::Iv::from_interval(x).pown(n).to_interval()
 }
 
 impl Num for Interval {

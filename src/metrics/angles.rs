@@ -3,6 +3,7 @@
 //!
 //! Angles use the atan2(|u×v|, u·v) form ([`geom::angle_deg`]), accurate near 0° and
 //! 180° where acos loses half the digits.
+use super::min_max;
 use crate::error::Result;
 use crate::geom::{self, cross, dot, norm, sub};
 use crate::mesh::{TetMesh, TriMesh};
@@ -119,16 +120,6 @@ pub struct TriangleAngles {
     pub histogram: Histogram,
 }
 
-fn minmax(it: impl Iterator<Item = f64>) -> (Option<f64>, Option<f64>) {
-    let mut lo: Option<f64> = None;
-    let mut hi: Option<f64> = None;
-    for v in it {
-        lo = Some(lo.map_or(v, |l| l.min(v)));
-        hi = Some(hi.map_or(v, |h| h.max(v)));
-    }
-    (lo, hi)
-}
-
 /// The angles of every triangle, `None` for degenerate ones.
 pub fn per_triangle(mesh: &TriMesh) -> Result<Vec<Option<[f64; 3]>>> {
     super::check_trimesh(mesh)?;
@@ -157,7 +148,7 @@ pub fn triangle_summary(mesh: &TriMesh, bin_width: f64) -> Result<TriangleAngles
         .enumerate()
         .filter_map(|(i, a)| a.map(|a| (i, a)))
         .collect();
-    let (min_angle_deg, max_angle_deg) = minmax(ok.iter().flat_map(|(_, a)| a.iter().copied()));
+    let (min_angle_deg, max_angle_deg) = min_max(ok.iter().flat_map(|(_, a)| a.iter().copied()));
     let mean_min_angle_deg = if ok.is_empty() {
         None
     } else {
@@ -172,7 +163,7 @@ pub fn triangle_summary(mesh: &TriMesh, bin_width: f64) -> Result<TriangleAngles
         .par_iter()
         .map(|(i, _)| edge_ratio(&mesh.corners(*i)))
         .collect();
-    let (min_edge_ratio, max_edge_ratio) = minmax(ratios.into_iter());
+    let (min_edge_ratio, max_edge_ratio) = min_max(ratios.into_iter());
     Ok(TriangleAngles {
         triangles: mesh.triangles.len(),
         degenerate: mesh.triangles.len() - ok.len(),
@@ -330,11 +321,11 @@ pub fn tet_summary(mesh: &TetMesh, bin_width: f64) -> Result<TetAngles> {
         .collect();
     let ok: Vec<&TetShape> = per.iter().filter_map(|(_, s)| s.as_ref()).collect();
     let (min_dihedral_deg, max_dihedral_deg) =
-        minmax(ok.iter().flat_map(|s| s.dihedral.iter().copied()));
+        min_max(ok.iter().flat_map(|s| s.dihedral.iter().copied()));
     let (min_face_angle_deg, max_face_angle_deg) =
-        minmax(ok.iter().flat_map(|s| s.face.iter().copied()));
-    let (min_edge_ratio, max_edge_ratio) = minmax(ok.iter().map(|s| s.edge_ratio));
-    let (min_radius_ratio, _) = minmax(ok.iter().map(|s| s.radius_ratio));
+        min_max(ok.iter().flat_map(|s| s.face.iter().copied()));
+    let (min_edge_ratio, max_edge_ratio) = min_max(ok.iter().map(|s| s.edge_ratio));
+    let (min_radius_ratio, _) = min_max(ok.iter().map(|s| s.radius_ratio));
     Ok(TetAngles {
         tets: mesh.tets.len(),
         inverted: per.iter().filter(|(v, _)| *v < 0.0).count(),

@@ -17,6 +17,31 @@ use crate::implicit::Implicit;
 use crate::mesh::{Curve2, TetMesh, TriMesh};
 use serde::Serialize;
 
+/// The smallest and largest of `values` (`None` for none), e.g. an angle range. NaN
+/// values are skipped (`f64::min`/`max` ignore them), so a NaN never hides a range.
+pub fn min_max(values: impl IntoIterator<Item = f64>) -> (Option<f64>, Option<f64>) {
+    let mut lo: Option<f64> = None;
+    let mut hi: Option<f64> = None;
+    for v in values {
+        lo = Some(lo.map_or(v, |l| l.min(v)));
+        hi = Some(hi.map_or(v, |h| h.max(v)));
+    }
+    (lo, hi)
+}
+
+/// Euler characteristic V − E + F of a triangle mesh, counting only the vertices that
+/// faces use and leaving degenerate (index-repeating) faces out — the convention of
+/// [`analyze`], so that every module computes χ the same way.
+pub fn euler_characteristic(mesh: &TriMesh) -> Result<i64> {
+    Ok(analyze(mesh)?.euler_characteristic)
+}
+
+/// Number of connected components (through shared vertices) of a triangle mesh, as in
+/// [`analyze`] (isolated vertices are not components).
+pub fn components(mesh: &TriMesh) -> Result<usize> {
+    Ok(analyze(mesh)?.components)
+}
+
 /// Bin width (degrees) of the angle histograms in [`Stats`].
 pub const ANGLE_BIN_DEG: f64 = 5.0;
 
@@ -235,25 +260,25 @@ pub fn curve_stats(
         let [x, y] = curve.vertices[v as usize];
         [x, y, 0.0]
     };
-    let mut lo: Option<f64> = None;
-    let mut hi: Option<f64> = None;
+    let (lo, hi) = min_max(
+        curve
+            .segments
+            .iter()
+            .map(|&[a, b]| crate::geom::dist(p(a), p(b))),
+    );
     let mut nbrs: Vec<Vec<u32>> = vec![Vec::new(); curve.vertices.len()];
     for &[a, b] in &curve.segments {
-        let l = crate::geom::dist(p(a), p(b));
-        lo = Some(lo.map_or(l, |x| x.min(l)));
-        hi = Some(hi.map_or(l, |x| x.max(l)));
         if a != b {
             nbrs[a as usize].push(b);
             nbrs[b as usize].push(a);
         }
     }
-    let mut turn: Option<f64> = None;
-    for (v, n) in nbrs.iter().enumerate() {
-        if n.len() == 2 {
-            let a = crate::geom::angle_deg(p(n[0]), p(v as u32), p(n[1]));
-            turn = Some(turn.map_or(a, |t| t.min(a)));
-        }
-    }
+    let (turn, _) = min_max(
+        nbrs.iter()
+            .enumerate()
+            .filter(|(_, n)| n.len() == 2)
+            .map(|(v, n)| crate::geom::angle_deg(p(n[0]), p(v as u32), p(n[1]))),
+    );
     let fidelity = match f {
         Some(f) => Some(fidelity::curve_fidelity(curve, f, params)?),
         None => None,
