@@ -23,7 +23,7 @@
 //! A bound *proven* on the superset holds for the mesher; a superset maximum above the
 //! paper's value refutes nothing by itself, so the refutation uses a realised witness
 //! (the mesher test `graded_dagger_147_is_exceeded_on_a_half_pyramid`).
-use crate::ival::{iv, pt};
+use crate::ival::pt;
 use crate::stuffing_cases::{canonical, Alphas, Seg, Sym};
 use crate::stuffing_eval::{cos_plane, Geo, Problem, Role, What, V3};
 use certmesh::stuffing::graded::{background_grid, Kind};
@@ -172,25 +172,42 @@ pub fn face_cases(shapes: &[Shape]) -> (Vec<FaceCase>, usize) {
     (cases, raw)
 }
 
-/// Sample octrees (the contexts): a root (level 2) with its eight children, child 0
-/// fully refined, and child `k` (1..8) with the single child `s` (0..8): 56 trees with
-/// fine/coarse interfaces across faces, edges and corners.
-pub fn sample_trees() -> Vec<HashSet<(u32, [i64; 3])>> {
+/// Sample octrees (the contexts), deterministic: a root of level 3, all its level-2 and
+/// level-1 descendants, the level-1 octant P = [1,1,1] fully refined, and each of the 26
+/// level-1 octants around P given a pseudo-random subset of its eight children (a sparse
+/// octree, §5), `n` trees. Not closed under the mesher's balance/continuation steps, so
+/// these contexts are a sample, not all octrees.
+pub fn sample_trees_n(n: usize) -> Vec<HashSet<(u32, [i64; 3])>> {
+    let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
     let mut out = Vec::new();
-    for k in 1..8i64 {
-        for s in 0..8i64 {
-            let mut t = HashSet::new();
-            t.insert((2, [0, 0, 0]));
-            for b in 0..8i64 {
-                t.insert((1, [b & 1, b >> 1 & 1, b >> 2 & 1]));
-                t.insert((0, [b & 1, b >> 1 & 1, b >> 2 & 1]));
-            }
-            let kc = [k & 1, k >> 1 & 1, k >> 2 & 1];
-            t.insert((0, [0, 1, 2].map(|a| 2 * kc[a] + (s >> a & 1))));
-            out.push(t);
+    for _ in 0..n {
+        let mut t = HashSet::new();
+        t.insert((3, [0, 0, 0]));
+        for b in 0..8i64 {
+            t.insert((2, [b & 1, b >> 1 & 1, b >> 2 & 1]));
         }
+        for i in 0..64i64 {
+            t.insert((1, [i & 3, i >> 2 & 3, i >> 4 & 3]));
+        }
+        for o in 0..27i64 {
+            let q = [o % 3, o / 3 % 3, o / 9];
+            for c in 0..8i64 {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                if q == [1, 1, 1] || seed >> 63 == 0 {
+                    t.insert((0, [0, 1, 2].map(|k| 2 * q[k] + (c >> k & 1))));
+                }
+            }
+        }
+        out.push(t);
     }
     out
+}
+
+/// The default sample of contexts.
+pub fn all_sample_trees() -> Vec<HashSet<(u32, [i64; 3])>> {
+    sample_trees_n(96)
 }
 
 /// Face cases in context: every non-BCC tetrahedron of every sample tree, each vertex
@@ -204,7 +221,7 @@ pub fn face_cases_in_context() -> (Vec<FaceCase>, usize, usize) {
     let mut raw = 0;
     let mut ntets = 0;
     let mut map: BTreeMap<Vec<Seg>, usize> = BTreeMap::new();
-    for tree in sample_trees() {
+    for tree in all_sample_trees() {
         let bg = background_grid(&tree, |_| false);
         let mut fine: HashSet<([i64; 3], [i64; 3])> = HashSet::new();
         for (t, kind) in &bg {
@@ -233,7 +250,9 @@ pub fn face_cases_in_context() -> (Vec<FaceCase>, usize, usize) {
                         std::iter::once(None)
                             .chain(
                                 dirs.iter()
-                                    .filter(|&&d| fine.contains(&(q, d)))
+                                    .filter(|&&d| {
+                                        fine.contains(&(q, d)) && continuation_ok(&tree, q, d)
+                                    })
                                     .map(|&d| Some(d)),
                             )
                             .collect()
@@ -268,6 +287,44 @@ pub fn face_cases_in_context() -> (Vec<FaceCase>, usize, usize) {
         })
         .collect();
     (cases, raw, ntets)
+}
+
+/// Is a warp of `v` along the fine BCC edge `(v, v + d)` consistent with the octree
+/// `tree` being closed under the mesher's leaf rule and Continuation Condition (§5,
+/// steps (1)-(2) of `stuff_graded`)? The edge carries a cut, so its ends have opposite
+/// signs. Red edge (a corner and the centre of fine cube L): L straddles the surface, so
+/// it is a leaf, and the corner/centre sign change pushes L's three face neighbours at
+/// that corner to be leaves. Black corner–corner edge: the four fine cubes around it have
+/// corners of both signs, so they are leaves. Black centre–centre edge: both cubes are
+/// fine (it is an edge of a fine BCC tetrahedron). A necessary condition only, so the
+/// filtered set is still a superset of what the mesher realises in that tree.
+pub fn continuation_ok(tree: &HashSet<(u32, [i64; 3])>, v: [i64; 3], d: [i64; 3]) -> bool {
+    let w = crate::stuffing_cases::add(v, d);
+    let leaf = |c: [i64; 3]| tree.contains(&(0, c));
+    let odd = |p: [i64; 3]| p[0].rem_euclid(2) == 1;
+    if d.iter().all(|&x| x.abs() == 1) {
+        let (corner, centre) = if odd(v) { (w, v) } else { (v, w) };
+        let idx = centre.map(|x| (x - 1).div_euclid(2));
+        leaf(idx)
+            && (0..3).all(|a| {
+                let mut n = idx;
+                n[a] += corner[a] - centre[a];
+                leaf(n)
+            })
+    } else if odd(v) {
+        leaf(v.map(|x| (x - 1).div_euclid(2))) && leaf(w.map(|x| (x - 1).div_euclid(2)))
+    } else {
+        let a = (0..3).find(|&k| d[k] != 0).unwrap_or(0);
+        let lo = v[a].min(w[a]).div_euclid(2);
+        let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+        [(0, 0), (0, 1), (1, 0), (1, 1)].iter().all(|&(sb, sc)| {
+            let mut idx = [0i64; 3];
+            idx[a] = lo;
+            idx[b] = v[b].div_euclid(2) - sb;
+            idx[c] = v[c].div_euclid(2) - sc;
+            leaf(idx)
+        })
+    }
 }
 
 /// The warping rules on a face of tetrahedron `t`. The mesher refuses a non-BCC
@@ -476,6 +533,65 @@ pub fn half_pyramid_witness_cos(t: f64) -> Interval {
     let c = v([1.0, 1.0, 1.0], [0.0; 3]);
     let r0 = v([2.0, 0.0, 0.0], [-1.0, -1.0, -1.0]);
     let r2 = v([2.0, 2.0, 2.0], [-1.0, 1.0, 1.0]);
-    let _ = iv(0.0, 0.0);
     cos_plane(&c, &r0, &r2).v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn continuation_filter_rejects_a_red_warp_across_an_interface() {
+        let mut t = sample_trees_n(1).swap_remove(0);
+        // P = [4,8]^3 is fine. Corner (8,6,6) on its face x = 8, centre (7,5,5) of the
+        // fine cube [6,8]x[4,6]x[4,6]: its neighbour across x = 8, idx [4,2,2], decides.
+        t.remove(&(0, [4, 2, 2]));
+        assert!(!continuation_ok(&t, [8, 6, 6], [-1, -1, -1]));
+        t.insert((0, [4, 2, 2]));
+        t.insert((0, [4, 3, 2]));
+        t.insert((0, [4, 2, 3]));
+        assert!(continuation_ok(&t, [8, 6, 6], [-1, -1, -1]));
+        // Interior corner (6,6,6): all fine.
+        assert!(continuation_ok(&t, [6, 6, 6], [-1, -1, -1]));
+    }
+}
+
+#[cfg(test)]
+mod witness_tests {
+    use super::*;
+
+    /// The realised counterexample to 147.0470° (mesher test
+    /// `graded_dagger_147_is_exceeded_on_a_half_pyramid`), by interval arithmetic: at
+    /// t = 0.49 (< ½, strict rule) the apex angle is certified > 147.0470°, and its cosine
+    /// tends to −17/19 as t → ½.
+    #[test]
+    fn half_pyramid_witness_exceeds_147_0470() {
+        let c = half_pyramid_witness_cos(0.49);
+        assert!(c.sup() < 147.0470f64.to_radians().cos() - 1e-12, "{c:?}");
+        let c5 = half_pyramid_witness_cos(0.5);
+        assert!(c5.inf() <= -17.0 / 19.0 + 1e-12 && c5.sup() >= -17.0 / 19.0 - 1e-12);
+        // Unwarped: the half-pyramid's own apex angle over the blue diagonal, 109.47°.
+        let c0 = half_pyramid_witness_cos(0.0);
+        assert!(c0.inf() <= -1.0 / 3.0 + 1e-12 && c0.sup() >= -1.0 / 3.0 - 1e-12);
+    }
+
+    /// The witness configuration is one of the enumerated faces (free model), so the
+    /// enumeration covers it; and the free model's three shapes are the three non-BCC kinds.
+    #[test]
+    fn witness_face_is_enumerated_and_shapes_are_the_three_kinds() {
+        let sh = shapes();
+        let kinds: HashSet<String> = sh.iter().map(|s| format!("{:?}", s.kind)).collect();
+        assert_eq!(kinds.len(), 3, "{sh:?}");
+        assert!(!kinds.contains("Bcc"));
+        let (cases, _) = face_cases(&sh);
+        let w = canonical(
+            &[
+                Seg::fixed([1, 1, 1]),
+                Seg::warp([2, 0, 0], [-1, -1, -1]),
+                Seg::warp([2, 2, 2], [-1, 1, 1]),
+            ],
+            &Sym::all(),
+        );
+        assert!(cases.iter().any(|c| c.v.to_vec() == w));
+    }
 }
