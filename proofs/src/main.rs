@@ -78,6 +78,9 @@ enum Cmd {
         /// background tetrahedra); `--row` then names one of the two dagger rows or `all`.
         #[arg(long)]
         graded: bool,
+        /// With `--graded`: number of sample octrees of the sampled-contexts model.
+        #[arg(long, default_value_t = proofs::stuffing_graded::DEFAULT_TREES)]
+        trees: usize,
     },
     /// Figures of the worst configurations (like the paper's Fig 5) from stuffing
     /// certificates DIR/ROW.json, into OUT/ROW-BOUND.svg/png.
@@ -219,7 +222,8 @@ fn run() -> Result<(), String> {
             tol_deg,
             count: _,
             graded: true,
-        } => graded_cmd(&row, json, &out, tol_deg),
+            trees,
+        } => graded_cmd(&row, json, &out, tol_deg, trees),
         Cmd::Stuffing {
             row,
             json,
@@ -228,6 +232,7 @@ fn run() -> Result<(), String> {
             tol_deg,
             count,
             graded: false,
+            trees: _,
         } => stuffing_cmd(&row, json, shard.as_deref(), &out, tol_deg, count),
         Cmd::StuffingFigures { certs, out, bounds } => {
             std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -466,7 +471,13 @@ fn stuffing_cmd(
     Ok(())
 }
 
-fn graded_cmd(row: &str, json: bool, out: &PathBuf, tol_deg: f64) -> Result<(), String> {
+fn graded_cmd(
+    row: &str,
+    json: bool,
+    out: &PathBuf,
+    tol_deg: f64,
+    trees: usize,
+) -> Result<(), String> {
     use proofs::stuffing_graded as g;
     let names: Vec<&str> = if row == "all" {
         g::DAGGERS.iter().map(|d| d.0).collect()
@@ -485,11 +496,14 @@ fn graded_cmd(row: &str, json: bool, out: &PathBuf, tol_deg: f64) -> Result<(), 
     if !(tol_deg > 0.0) {
         return Err("--tol-deg must be positive".into());
     }
+    if trees == 0 {
+        return Err("--trees must be at least 1".into());
+    }
     let mut all = Vec::new();
     for n in names {
         let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
         for context in [false, true] {
-            let res = g::run(r, tol_deg, context);
+            let res = g::run(r, tol_deg, context, trees);
             if !json {
                 println!(
                     "graded dagger, row {} ({} model): max plane angle, uniform {} -> paper {}",

@@ -205,23 +205,21 @@ pub fn sample_trees_n(n: usize) -> Vec<HashSet<(u32, [i64; 3])>> {
     out
 }
 
-/// The default sample of contexts.
-pub fn all_sample_trees() -> Vec<HashSet<(u32, [i64; 3])>> {
-    sample_trees_n(96)
-}
+/// The default number of sample contexts.
+pub const DEFAULT_TREES: usize = 96;
 
 /// Face cases in context: every non-BCC tetrahedron of every sample tree, each vertex
 /// fixed or warped along a fine BCC edge that *exists at it in that tree* (an edge of a
 /// level-0 BCC tetrahedron of the background grid: the mesher's cut edges are fine BCC
 /// edges of BCC tetrahedra, it refuses anything else), with the pair rules.
 /// Returns (cases, raw count, non-BCC tetrahedra visited).
-pub fn face_cases_in_context() -> (Vec<FaceCase>, usize, usize) {
+pub fn face_cases_in_context(trees: usize) -> (Vec<FaceCase>, usize, usize) {
     let dirs = directions();
     let syms = Sym::all();
     let mut raw = 0;
     let mut ntets = 0;
     let mut map: BTreeMap<Vec<Seg>, usize> = BTreeMap::new();
-    for tree in all_sample_trees() {
+    for tree in sample_trees_n(trees) {
         let bg = background_grid(&tree, |_| false);
         let mut fine: HashSet<([i64; 3], [i64; 3])> = HashSet::new();
         for (t, kind) in &bg {
@@ -367,6 +365,8 @@ pub struct DaggerResult {
     pub row: String,
     /// "free" (superset over all octrees) or "sampled-contexts".
     pub model: String,
+    /// Number of sample octrees (sampled-contexts model).
+    pub trees: usize,
     pub uniform: f64,
     pub paper: f64,
     pub shapes: Vec<(String, [[i64; 3]; 4], u32, usize)>,
@@ -395,7 +395,7 @@ fn acos_deg(x: f64) -> f64 {
 /// `context`: false = the free model (all 14 directions at every vertex of the finest
 /// instance of each shape, a superset over all octrees); true = the sampled-context model
 /// ([`face_cases_in_context`], exact directions but only the sampled octrees).
-pub fn run(row: &Row, tol_deg: f64, context: bool) -> DaggerResult {
+pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult {
     let t0 = std::time::Instant::now();
     let (_, uniform, paper) = *DAGGERS
         .iter()
@@ -404,7 +404,7 @@ pub fn run(row: &Row, tol_deg: f64, context: bool) -> DaggerResult {
     let a = Alphas::of(row);
     let sh = shapes();
     let (cases, raw) = if context {
-        let (c, r, _) = face_cases_in_context();
+        let (c, r, _) = face_cases_in_context(trees);
         (c, r)
     } else {
         face_cases(&sh)
@@ -500,6 +500,7 @@ pub fn run(row: &Row, tol_deg: f64, context: bool) -> DaggerResult {
     DaggerResult {
         row: row.name.to_string(),
         model: if context { "sampled-contexts" } else { "free" }.to_string(),
+        trees: if context { trees } else { 0 },
         uniform,
         paper,
         shapes: sh
