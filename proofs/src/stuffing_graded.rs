@@ -596,3 +596,25 @@ mod witness_tests {
         assert!(cases.iter().any(|c| c.v.to_vec() == w));
     }
 }
+
+#[cfg(test)]
+mod run_tests {
+    use super::*;
+
+    /// A small graded case end to end: two sample octrees, row min-exposed-safe-ordered;
+    /// the realised half-pyramid configuration is in the sample, so the certified
+    /// supremum exceeds 147.0470° and is arccos(−17/19); the realisable faces never
+    /// reach 180° (the continuation filter excludes the free model's degenerate faces).
+    #[test]
+    fn small_sample_exceeds_147_0470_and_stays_below_180() {
+        let r = certmesh::stuffing::row("min-exposed-safe-ordered").expect("row");
+        let res = run(r, 1e-3, true, 2);
+        assert_eq!(res.verdict, "exceeded-on-superset", "{res:?}");
+        assert!(res.unresolved == 0 && res.leaves > 0);
+        let c = -17.0f64 / 19.0;
+        assert!(
+            res.cos_enclosure[0] <= c + 1e-9 && res.cos_enclosure[1] >= c - 1e-6,
+            "{res:?}"
+        );
+    }
+}
