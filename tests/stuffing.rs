@@ -855,7 +855,7 @@ fn graded_dagger_147_is_exceeded_on_a_half_pyramid() {
     // Independent closed form: apex at the origin, base corners (½,−½,−½) and (½,½,½)
     // (the blue diagonal of the face x = ½), each warped by α_short = ½ of its red edge
     // away from the apex's cube, toward the neighbouring centres (0,−1,−1) and (0,1,1).
-    // The supremum of the apex angle is arccos(−17/19) ≈ 153.435° > 147.0470°.
+    // The supremum of the apex angle is arccos(−17/19) ≈ 153.4746° > 147.0470°.
     let w = |c: [f64; 3], to: [f64; 3]| [0, 1, 2].map(|m| c[m] + 0.5 * (to[m] - c[m]));
     let ang = angle_deg(
         w([0.5, -0.5, -0.5], [0.0, -1.0, -1.0]),

@@ -14,3 +14,4 @@ pub mod stuffing;
 pub mod stuffing_cases;
 pub mod stuffing_eval;
 pub mod stuffing_fig;
+pub mod stuffing_graded;

@@ -74,6 +74,13 @@ enum Cmd {
         /// Only print the case counts (before and after the symmetry reduction).
         #[arg(long)]
         count: bool,
+        /// The graded variant's two dagger bounds (§5, max plane angle of the non-BCC
+        /// background tetrahedra); `--row` then names one of the two dagger rows or `all`.
+        #[arg(long)]
+        graded: bool,
+        /// With `--graded`: number of sample octrees of the sampled-contexts model.
+        #[arg(long, default_value_t = proofs::stuffing_graded::DEFAULT_TREES)]
+        trees: usize,
     },
     /// Figures of the worst configurations (like the paper's Fig 5) from stuffing
     /// certificates DIR/ROW.json, into OUT/ROW-BOUND.svg/png.
@@ -210,10 +217,22 @@ fn run() -> Result<(), String> {
         Cmd::Stuffing {
             row,
             json,
+            shard: _,
+            out,
+            tol_deg,
+            count: _,
+            graded: true,
+            trees,
+        } => graded_cmd(&row, json, &out, tol_deg, trees),
+        Cmd::Stuffing {
+            row,
+            json,
             shard,
             out,
             tol_deg,
             count,
+            graded: false,
+            trees: _,
         } => stuffing_cmd(&row, json, shard.as_deref(), &out, tol_deg, count),
         Cmd::StuffingFigures { certs, out, bounds } => {
             std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -448,6 +467,77 @@ fn stuffing_cmd(
             "{}",
             serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
         );
+    }
+    Ok(())
+}
+
+fn graded_cmd(
+    row: &str,
+    json: bool,
+    out: &PathBuf,
+    tol_deg: f64,
+    trees: usize,
+) -> Result<(), String> {
+    use proofs::stuffing_graded as g;
+    let names: Vec<&str> = if row == "all" {
+        g::DAGGERS.iter().map(|d| d.0).collect()
+    } else if g::DAGGERS.iter().any(|d| d.0 == row) {
+        vec![g::DAGGERS
+            .iter()
+            .find(|d| d.0 == row)
+            .map(|d| d.0)
+            .unwrap_or(row)]
+    } else {
+        return Err(format!(
+            "--graded: row '{row}' has no dagger bound; the dagger rows are {}",
+            g::DAGGERS.map(|d| d.0).join(" ")
+        ));
+    };
+    if !(tol_deg > 0.0) {
+        return Err("--tol-deg must be positive".into());
+    }
+    if trees == 0 {
+        return Err("--trees must be at least 1".into());
+    }
+    let mut all = Vec::new();
+    for n in names {
+        let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
+        for context in [false, true] {
+            let res = g::run(r, tol_deg, context, trees);
+            if !json {
+                println!(
+                    "graded dagger, row {} ({} model): max plane angle, uniform {} -> paper {}",
+                    res.row, res.model, res.uniform, res.paper
+                );
+                for s in &res.shapes {
+                    println!(
+                        "  shape {:13} level {} vertices {:?} ({} in the sample octree)",
+                        s.0, s.2, s.1, s.3
+                    );
+                }
+                println!(
+                    "  faces {} -> {} distinct, {} leaves ({} unresolved), {:.1} s",
+                    res.raw, res.distinct, res.leaves, res.unresolved, res.seconds
+                );
+                println!(
+                    "  superset supremum in [{:.6}, {:.6}] deg: {}",
+                    res.enclosure_deg[0], res.enclosure_deg[1], res.verdict
+                );
+                if let Some(w) = &res.witness {
+                    println!(
+                        "  witness face {:?} x {:?} positions (h units) {:?}",
+                        w.0, w.1, w.2
+                    );
+                }
+            }
+            all.push(res);
+        }
+    }
+    let v = serde_json::to_value(&all).map_err(|e| e.to_string())?;
+    let text = serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?;
+    std::fs::write(out, &text).map_err(|e| format!("{}: {e}", out.display()))?;
+    if json {
+        println!("{text}");
     }
     Ok(())
 }

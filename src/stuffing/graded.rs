@@ -279,116 +279,7 @@ pub fn stuff_graded(
         tree.extend(new);
     }
     // (6) Background grid (Fig 10).
-    let mut vset: HashSet<Coord> = HashSet::new();
-    for &(l, idx) in &tree {
-        let s = 1i64 << (l + 1);
-        let hw = s / 2;
-        for b in 0..8 {
-            vset.insert([
-                idx[0] * s + s * (b & 1) as i64,
-                idx[1] * s + s * (b >> 1 & 1) as i64,
-                idx[2] * s + s * (b >> 2 & 1) as i64,
-            ]);
-        }
-        vset.insert([idx[0] * s + hw, idx[1] * s + hw, idx[2] * s + hw]);
-    }
-    let has_child = |l: u32, idx: Coord| -> bool {
-        l > 0
-            && (0..8).any(|b| {
-                tree.contains(&(
-                    l - 1,
-                    [
-                        2 * idx[0] + (b & 1),
-                        2 * idx[1] + (b >> 1 & 1),
-                        2 * idx[2] + (b >> 2 & 1),
-                    ],
-                ))
-            })
-    };
-    let mut bg: HashMap<[Coord; 4], Kind> = HashMap::new();
-    let mut put = |mut t: [Coord; 4], k: Kind| {
-        if orient(&t) < 0 {
-            t.swap(0, 1);
-        }
-        let mut key = t;
-        key.sort_unstable();
-        bg.entry(key).or_insert(k);
-    };
-    let octs: Vec<Oct> = tree.iter().copied().collect();
-    for &(l, idx) in &octs {
-        let s = 1i64 << (l + 1);
-        let hw = s / 2;
-        let c = [idx[0] * s + hw, idx[1] * s + hw, idx[2] * s + hw];
-        let leaf = !has_child(l, idx);
-        if !leaf && signs.get(c) < 0 {
-            continue;
-        }
-        for a in 0..3 {
-            let (b, cc) = ((a + 1) % 3, (a + 2) % 3);
-            for dir in [-1i64, 1] {
-                let d = add(c, unit(a, dir * hw));
-                // Face corners in cyclic order.
-                let q = [
-                    add(add(d, unit(b, -hw)), unit(cc, -hw)),
-                    add(add(d, unit(b, hw)), unit(cc, -hw)),
-                    add(add(d, unit(b, hw)), unit(cc, hw)),
-                    add(add(d, unit(b, -hw)), unit(cc, hw)),
-                ];
-                let edges = [(q[0], q[1]), (q[1], q[2]), (q[2], q[3]), (q[3], q[0])];
-                let mid = |e: (Coord, Coord)| {
-                    [
-                        (e.0[0] + e.1[0]) / 2,
-                        (e.0[1] + e.1[1]) / 2,
-                        (e.0[2] + e.1[2]) / 2,
-                    ]
-                };
-                if !vset.contains(&d) {
-                    let nb = add(idx, unit(a, dir));
-                    if tree.contains(&(l, nb)) {
-                        let c2 = add(c, unit(a, dir * s));
-                        for e in edges {
-                            let m = mid(e);
-                            if !vset.contains(&m) {
-                                put([e.0, e.1, c, c2], Kind::Bcc);
-                            } else {
-                                put([e.0, m, c, c2], Kind::Bisected);
-                                put([e.1, m, c, c2], Kind::Bisected);
-                            }
-                        }
-                    } else {
-                        // Half-pyramids; the diagonal adjoins a corner or the centre of
-                        // the parent octant.
-                        let ps = 2 * s;
-                        let pidx = [idx[0] >> 1, idx[1] >> 1, idx[2] >> 1];
-                        let is_parent_vertex = |v: Coord| {
-                            (0..3).all(|k| v[k] - pidx[k] * ps == 0 || v[k] - pidx[k] * ps == ps)
-                                || (0..3).all(|k| v[k] - pidx[k] * ps == s)
-                        };
-                        let k0 = (0..4).find(|&k| is_parent_vertex(q[k])).unwrap_or(0);
-                        let r = |k: usize| q[(k0 + k) % 4];
-                        put([r(0), r(1), r(2), c], Kind::HalfPyramid);
-                        put([r(0), r(2), r(3), c], Kind::HalfPyramid);
-                    }
-                } else {
-                    for e in edges {
-                        let m = mid(e);
-                        if !vset.contains(&m) {
-                            put([e.0, e.1, d, c], Kind::Bisected);
-                        } else {
-                            for pnt in [e.0, e.1] {
-                                // The child of o at corner pnt.
-                                let ch = [0, 1, 2]
-                                    .map(|k| 2 * idx[k] + ((pnt[k] - idx[k] * s) / hw).clamp(0, 1));
-                                if !(l > 0 && tree.contains(&(l - 1, ch))) {
-                                    put([pnt, m, d, c], Kind::Quadrisected);
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
+    let bg = background_grid(&tree, |c| signs.get(c) < 0);
     let mut stats = GradedStats {
         leaves: leaves.len(),
         octants: tree.len(),
@@ -655,4 +546,126 @@ pub fn stuff_graded(
         spacing: h,
     };
     Ok((stuffed, stats))
+}
+
+/// Step (6) of [`stuff_graded`]: the background grid of Fig 10 for a (balanced) octree
+/// given as `(level, index)` octants. Internal octants whose centre is negative
+/// (`negative_centre`) are skipped, as in the mesher. Returns every background
+/// tetrahedron (positively oriented, keyed by its sorted vertices) with its kind.
+/// Public so that `proofs stuffing --graded` reads the non-BCC shapes from the same code.
+pub fn background_grid(
+    tree: &HashSet<(u32, Coord)>,
+    mut negative_centre: impl FnMut(Coord) -> bool,
+) -> HashMap<[Coord; 4], Kind> {
+    let mut vset: HashSet<Coord> = HashSet::new();
+    for &(l, idx) in tree {
+        let s = 1i64 << (l + 1);
+        let hw = s / 2;
+        for b in 0..8 {
+            vset.insert([
+                idx[0] * s + s * (b & 1) as i64,
+                idx[1] * s + s * (b >> 1 & 1) as i64,
+                idx[2] * s + s * (b >> 2 & 1) as i64,
+            ]);
+        }
+        vset.insert([idx[0] * s + hw, idx[1] * s + hw, idx[2] * s + hw]);
+    }
+    let has_child = |l: u32, idx: Coord| -> bool {
+        l > 0
+            && (0..8).any(|b| {
+                tree.contains(&(
+                    l - 1,
+                    [
+                        2 * idx[0] + (b & 1),
+                        2 * idx[1] + (b >> 1 & 1),
+                        2 * idx[2] + (b >> 2 & 1),
+                    ],
+                ))
+            })
+    };
+    let mut bg: HashMap<[Coord; 4], Kind> = HashMap::new();
+    let mut put = |mut t: [Coord; 4], k: Kind| {
+        if orient(&t) < 0 {
+            t.swap(0, 1);
+        }
+        let mut key = t;
+        key.sort_unstable();
+        bg.entry(key).or_insert(k);
+    };
+    let octs: Vec<Oct> = tree.iter().copied().collect();
+    for &(l, idx) in &octs {
+        let s = 1i64 << (l + 1);
+        let hw = s / 2;
+        let c = [idx[0] * s + hw, idx[1] * s + hw, idx[2] * s + hw];
+        let leaf = !has_child(l, idx);
+        if !leaf && negative_centre(c) {
+            continue;
+        }
+        for a in 0..3 {
+            let (b, cc) = ((a + 1) % 3, (a + 2) % 3);
+            for dir in [-1i64, 1] {
+                let d = add(c, unit(a, dir * hw));
+                // Face corners in cyclic order.
+                let q = [
+                    add(add(d, unit(b, -hw)), unit(cc, -hw)),
+                    add(add(d, unit(b, hw)), unit(cc, -hw)),
+                    add(add(d, unit(b, hw)), unit(cc, hw)),
+                    add(add(d, unit(b, -hw)), unit(cc, hw)),
+                ];
+                let edges = [(q[0], q[1]), (q[1], q[2]), (q[2], q[3]), (q[3], q[0])];
+                let mid = |e: (Coord, Coord)| {
+                    [
+                        (e.0[0] + e.1[0]) / 2,
+                        (e.0[1] + e.1[1]) / 2,
+                        (e.0[2] + e.1[2]) / 2,
+                    ]
+                };
+                if !vset.contains(&d) {
+                    let nb = add(idx, unit(a, dir));
+                    if tree.contains(&(l, nb)) {
+                        let c2 = add(c, unit(a, dir * s));
+                        for e in edges {
+                            let m = mid(e);
+                            if !vset.contains(&m) {
+                                put([e.0, e.1, c, c2], Kind::Bcc);
+                            } else {
+                                put([e.0, m, c, c2], Kind::Bisected);
+                                put([e.1, m, c, c2], Kind::Bisected);
+                            }
+                        }
+                    } else {
+                        // Half-pyramids; the diagonal adjoins a corner or the centre of
+                        // the parent octant.
+                        let ps = 2 * s;
+                        let pidx = [idx[0] >> 1, idx[1] >> 1, idx[2] >> 1];
+                        let is_parent_vertex = |v: Coord| {
+                            (0..3).all(|k| v[k] - pidx[k] * ps == 0 || v[k] - pidx[k] * ps == ps)
+                                || (0..3).all(|k| v[k] - pidx[k] * ps == s)
+                        };
+                        let k0 = (0..4).find(|&k| is_parent_vertex(q[k])).unwrap_or(0);
+                        let r = |k: usize| q[(k0 + k) % 4];
+                        put([r(0), r(1), r(2), c], Kind::HalfPyramid);
+                        put([r(0), r(2), r(3), c], Kind::HalfPyramid);
+                    }
+                } else {
+                    for e in edges {
+                        let m = mid(e);
+                        if !vset.contains(&m) {
+                            put([e.0, e.1, d, c], Kind::Bisected);
+                        } else {
+                            for pnt in [e.0, e.1] {
+                                // The child of o at corner pnt.
+                                let ch = [0, 1, 2]
+                                    .map(|k| 2 * idx[k] + ((pnt[k] - idx[k] * s) / hw).clamp(0, 1));
+                                if !(l > 0 && tree.contains(&(l - 1, ch))) {
+                                    put([pnt, m, d, c], Kind::Quadrisected);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    bg
 }

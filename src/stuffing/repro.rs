@@ -221,7 +221,7 @@ const FINDINGS: &str = r#"
   fine cubes; the red-red-blue triangle's angle at the apex is **150.35°**. The rules allow it:
   ordered warping only forbids warping toward a vertex that also warps, and the §5
   "asterisk" leaves only prevent all *three* vertices of that triangle from warping. The
-  supremum for this configuration is arccos(−17/19) = 153.435° (both corners warped by
+  supremum for this configuration is arccos(−17/19) = 153.4746° (both corners warped by
   α_short = ½ of their red edges). Second computation: the closed form above, independent of
   the mesher; the test `graded_dagger_147_is_exceeded_on_a_half_pyramid` checks both.
   A scan of all 13 rows × 6 surfaces × 3 resolutions × 4 random offsets
