@@ -756,7 +756,7 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
             expected.len()
         ));
     }
-    let results: Vec<Result<([f64; 6], [f64; 6], usize), String>> = cert
+    let per_problem: Vec<Result<([f64; 6], [f64; 6], usize), String>> = cert
         .problems
         .par_iter()
         .map(|pc| {
@@ -796,7 +796,7 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
     let mut lo = [f64::INFINITY; 6];
     let mut hi = [f64::NEG_INFINITY; 6];
     let mut n_leaves = 0;
-    for r in results {
+    for r in per_problem {
         let (l, h, n) = r?;
         n_leaves += n;
         for b in 0..6 {
@@ -836,7 +836,7 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
             ..w.clone()
         }));
     }
-    let bounds = results_checked(row, &a, lo, hi, &wit, &cases, &probs);
+    let bounds = results(row, &a, lo, hi, &wit, &cases, &probs);
     // The stated enclosures must contain the recomputed ones, the verdicts agree.
     for (s, r) in cert.bounds.iter().zip(&bounds) {
         if r.verdict != s.verdict {
@@ -868,18 +868,6 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
         bounds,
         safe,
     })
-}
-
-fn results_checked(
-    row: &Row,
-    a: &Alphas,
-    lo: [f64; 6],
-    hi: [f64; 6],
-    wit: &[Option<Witness>],
-    cases: &[Case],
-    probs: &[Vec<Problem>],
-) -> Vec<BoundResult> {
-    results(row, a, lo, hi, wit, cases, probs)
 }
 
 /// Merge shard certificates of one row into one.

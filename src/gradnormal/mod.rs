@@ -429,13 +429,15 @@ impl GradNormal {
             params: GradNormalParams::from_options(o)?,
         })
     }
-    /// The mesh and the report (no certificate).
-    pub fn run(
+    /// The pipeline of Algorithm 2 up to (not including) vertex compaction, keeping what
+    /// the reproduction and the witness planes inspect: the lattice keys of the vertices,
+    /// the elementary (MidNormal) triangles and the triangles after valence-four removal.
+    pub fn stages(
         &self,
         f: &dyn Implicit,
         domain: &Aabb,
         progress: &dyn Progress,
-    ) -> Result<(TriMesh, GradNormalReport)> {
+    ) -> Result<Stages> {
         check_domain(f, domain, 3, "gradnormal")?;
         let p = &self.params;
         let g = p.goldberg(domain);
@@ -457,35 +459,57 @@ impl GradNormal {
             .par_iter()
             .map(|&v| project(f, v, p.newton_steps))
             .collect();
-        let mut report = GradNormalReport {
-            goldberg: Some(g),
-            extract: ns.stats.clone(),
-            ..Default::default()
-        };
-        report.projection_failures = proj.iter().filter(|x| !x.1).count();
-        report.max_displacement = ns
+        let projection_failures = proj.iter().filter(|x| !x.1).count();
+        let max_displacement = ns
             .vertices
             .par_iter()
             .zip(proj.par_iter())
             .map(|(a, b)| dist(*a, b.0) / g.e)
             .reduce(|| 0.0, f64::max);
         let pos: Vec<[f64; 3]> = proj.into_iter().map(|x| x.0).collect();
-        let mut tris = ns.triangles;
+        let mut elementary = ns.triangles.clone();
         for q in &ns.quads {
             let d0 = dist(pos[q[0] as usize], pos[q[2] as usize]);
             let d1 = dist(pos[q[1] as usize], pos[q[3] as usize]);
             let at = if d0 <= d1 { 0 } else { 1 };
-            tris.extend(midnormal::split_quad(*q, at));
+            elementary.extend(midnormal::split_quad(*q, at));
         }
         // Step 3 (line 5): valence-four removal.
         let mut alive = vec![true; pos.len()];
-        if p.remove_valence4 {
-            let (t, s) =
-                valence4::remove_valence4(&tris, &pos, Some(&ns.keys), p.v4_rule, &mut alive);
-            tris = t;
-            report.valence4 = s;
-        }
-        let mut mesh = TriMesh::new(pos, tris);
+        let (triangles, valence4) = if p.remove_valence4 {
+            valence4::remove_valence4(&elementary, &pos, Some(&ns.keys), p.v4_rule, &mut alive)
+        } else {
+            (elementary.clone(), Default::default())
+        };
+        Ok(Stages {
+            goldberg: g,
+            surface: ns,
+            positions: pos,
+            elementary,
+            triangles,
+            valence4,
+            projection_failures,
+            max_displacement,
+        })
+    }
+
+    /// The mesh and the report (no certificate).
+    pub fn run(
+        &self,
+        f: &dyn Implicit,
+        domain: &Aabb,
+        progress: &dyn Progress,
+    ) -> Result<(TriMesh, GradNormalReport)> {
+        let st = self.stages(f, domain, progress)?;
+        let mut report = GradNormalReport {
+            goldberg: Some(st.goldberg),
+            extract: st.surface.stats.clone(),
+            valence4: st.valence4,
+            projection_failures: st.projection_failures,
+            max_displacement: st.max_displacement,
+            ..Default::default()
+        };
+        let mut mesh = TriMesh::new(st.positions, st.triangles);
         mesh.compact();
         report.max_residual = mesh
             .vertices
@@ -494,6 +518,22 @@ impl GradNormal {
             .reduce(|| 0.0, f64::max);
         Ok((mesh, report))
     }
+}
+
+/// What [`GradNormal::stages`] returns: the uncompacted pipeline state.
+pub struct Stages {
+    pub goldberg: Goldberg,
+    /// The MidNormal surface on the lattice (vertex keys, unprojected positions).
+    pub surface: NormalSurface,
+    /// Vertex positions after the projection step (indexed like `surface.vertices`).
+    pub positions: Vec<[f64; 3]>,
+    /// The elementary normal triangles, quadrilaterals split.
+    pub elementary: Vec<[u32; 3]>,
+    /// The output triangles (after valence-four removal when enabled).
+    pub triangles: Vec<[u32; 3]>,
+    pub valence4: valence4::Valence4Stats,
+    pub projection_failures: usize,
+    pub max_displacement: f64,
 }
 
 impl Mesher for GradNormal {

@@ -821,46 +821,12 @@ pub fn explain_plane_extreme(
     use super::tiling::EDGE_DIRS;
     let b = Aabb::cube(1.0);
     let f = plane(n, c)?;
-    let g = params.goldberg(&b);
-    let keep_quads = params.quad_rule == super::DiagonalRule::Shorter;
-    let ns = super::extract(
-        &f,
-        &b,
-        &g,
-        params.quad_rule,
-        keep_quads,
-        params.leaf,
-        true,
-        &NoProgress,
-    )?;
-    let pos: Vec<[f64; 3]> = ns
-        .vertices
-        .iter()
-        .map(|&v| super::project(&f, v, params.newton_steps).0)
-        .collect();
-    // The same pipeline as `GradNormal::run`, keeping the lattice keys.
-    let mut elementary = ns.triangles.clone();
-    for q in &ns.quads {
-        let d0 = crate::geom::dist(pos[q[0] as usize], pos[q[2] as usize]);
-        let d1 = crate::geom::dist(pos[q[1] as usize], pos[q[3] as usize]);
-        elementary.extend(super::midnormal::split_quad(
-            *q,
-            if d0 <= d1 { 0 } else { 1 },
-        ));
-    }
-    let mut alive = vec![true; pos.len()];
-    let tris = if params.remove_valence4 {
-        super::valence4::remove_valence4(
-            &elementary,
-            &pos,
-            Some(&ns.keys),
-            params.v4_rule,
-            &mut alive,
-        )
-        .0
-    } else {
-        elementary.clone()
-    };
+    // The pipeline's stages (the function `GradNormal::run` itself uses), keeping the
+    // elementary triangles to tell which ones the valence-four step made.
+    let mut params = params.clone();
+    params.prune = true;
+    let st = super::GradNormal::new(params).stages(&f, &b, &NoProgress)?;
+    let (g, pos, elementary, tris) = (st.goldberg, st.positions, st.elementary, st.triangles);
     let orig: std::collections::HashSet<[u32; 3]> = elementary.iter().copied().collect();
     let inner = b.inflate(-g.e);
     let mut best: Option<(f64, [u32; 3], usize)> = None;
@@ -888,7 +854,7 @@ pub fn explain_plane_extreme(
         return Ok("no interior triangle".into());
     };
     let kind = |v: u32| {
-        let d = EDGE_DIRS[(ns.keys[v as usize] & 7) as usize];
+        let d = EDGE_DIRS[(st.surface.keys[v as usize] & 7) as usize];
         match d[2] {
             3 => "v",
             1 => "a",

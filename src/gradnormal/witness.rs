@@ -15,7 +15,7 @@
 //! claim. To attribute an angle to the valence-four step (Fig 14's claims concern only
 //! those triangles) the pipeline is replayed with its lattice keys and each output
 //! triangle is matched, bit for bit, to a replayed one.
-use super::{extract, midnormal, project, valence4, GradNormal, GradNormalParams};
+use super::{GradNormal, GradNormalParams};
 use crate::error::{Error, Result};
 use crate::geom::{angle_deg, dot, Aabb};
 use crate::implicit::Formula;
@@ -77,43 +77,10 @@ pub fn plane_angles(n: [f64; 3], c: f64, params: &GradNormalParams) -> Result<Pl
     }
     // The mesher's output: the mesh whose angles are reported.
     let (mesh, _) = GradNormal::new(params.clone()).run(&f, &b, &NoProgress)?;
-    // The replay, keeping the lattice keys (the same steps as `GradNormal::run`).
-    let g = params.goldberg(&b);
-    let keep_quads = params.quad_rule == super::DiagonalRule::Shorter;
-    let ns = extract(
-        &f,
-        &b,
-        &g,
-        params.quad_rule,
-        keep_quads,
-        params.leaf,
-        params.prune,
-        &NoProgress,
-    )?;
-    let pos: Vec<[f64; 3]> = ns
-        .vertices
-        .iter()
-        .map(|&v| project(&f, v, params.newton_steps).0)
-        .collect();
-    let mut elementary = ns.triangles.clone();
-    for q in &ns.quads {
-        let d0 = crate::geom::dist(pos[q[0] as usize], pos[q[2] as usize]);
-        let d1 = crate::geom::dist(pos[q[1] as usize], pos[q[3] as usize]);
-        elementary.extend(midnormal::split_quad(*q, if d0 <= d1 { 0 } else { 1 }));
-    }
-    let mut alive = vec![true; pos.len()];
-    let tris = if params.remove_valence4 {
-        valence4::remove_valence4(
-            &elementary,
-            &pos,
-            Some(&ns.keys),
-            params.v4_rule,
-            &mut alive,
-        )
-        .0
-    } else {
-        elementary.clone()
-    };
+    // The pipeline's stages (the function `GradNormal::run` itself uses), keeping the
+    // elementary triangles to tell which ones the valence-four step made.
+    let st = GradNormal::new(params.clone()).stages(&f, &b, &NoProgress)?;
+    let (g, pos, elementary, tris) = (st.goldberg, st.positions, st.elementary, st.triangles);
     let corners = |t: &[u32; 3]| t.map(|i| pos[i as usize]);
     let elem: HashSet<[[u64; 3]; 3]> = elementary.iter().map(|t| bits(corners(t))).collect();
     let all: HashSet<[[u64; 3]; 3]> = tris.iter().map(|t| bits(corners(t))).collect();
