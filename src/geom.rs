@@ -165,3 +165,14 @@ pub fn angle_deg(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     // atan2 of |u×v| and u·v is accurate for angles near 0 and 180 degrees.
     norm(cross(u, v)).atan2(dot(u, v)).to_degrees()
 }
+
+/// The six edges `(i, j)` of a tetrahedron with the opposite edge `(k, l)`: the dihedral
+/// angle at edge ij is the angle between faces ijk and ijl.
+pub const TET_EDGES_WITH_OPPOSITE: [(usize, usize, usize, usize); 6] = [
+    (0, 1, 2, 3),
+    (0, 2, 1, 3),
+    (0, 3, 1, 2),
+    (1, 2, 0, 3),
+    (1, 3, 0, 2),
+    (2, 3, 0, 1),
+];

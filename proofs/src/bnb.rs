@@ -106,19 +106,23 @@ impl From<Leaf> for Vec<f64> {
     }
 }
 
+/// A leaf coordinate stored as a JSON number: a non-negative integer below 2^50 or
+/// the certificate is malformed (shared by the GradNormal and stuffing certificates).
+pub(crate) fn leaf_index(x: f64) -> Result<u64, String> {
+    if x >= 0.0 && x.fract() == 0.0 && x < 1.2e15 {
+        Ok(x as u64)
+    } else {
+        Err(format!("malformed leaf index {x}"))
+    }
+}
+
 impl TryFrom<Vec<f64>> for Leaf {
     type Error = String;
     fn try_from(v: Vec<f64>) -> Result<Leaf, String> {
         if v.len() < 3 || v.len() % 2 == 0 {
             return Err(format!("malformed leaf of length {}", v.len()));
         }
-        let int = |x: f64| -> Result<u64, String> {
-            if x >= 0.0 && x.fract() == 0.0 && x < 1.2e15 {
-                Ok(x as u64)
-            } else {
-                Err(format!("malformed leaf index {x}"))
-            }
-        };
+        let int = leaf_index;
         let cell = Cell {
             d: int(v[0])?.min(255) as u8,
             ix: int(v[1])?,

@@ -258,17 +258,11 @@ fn run() -> Result<(), String> {
             let c = load_stuffing(&cert)?;
             let t0 = std::time::Instant::now();
             let r = stuffing::check(&c)?;
-            println!(
-                "certificate OK: row {}, {} problems, {} leaves re-evaluated{} ({:.2} s)",
-                c.row,
-                r.problems,
+            print_check_ok(
+                &format!("row {}, {} problems", c.row, r.problems),
                 r.leaves,
-                if r.complete {
-                    ", complete"
-                } else {
-                    " (partial: a shard)"
-                },
-                t0.elapsed().as_secs_f64()
+                r.complete,
+                t0,
             );
             for b in &r.bounds {
                 print_bound(b);
@@ -292,17 +286,7 @@ fn run() -> Result<(), String> {
             let c = load(&cert)?;
             let t0 = std::time::Instant::now();
             let r = gradnormal::check(&c)?;
-            println!(
-                "certificate OK: {} cases, {} leaves re-evaluated{} ({:.2} s)",
-                r.cases,
-                r.leaves,
-                if r.complete {
-                    ", complete"
-                } else {
-                    " (partial: a shard)"
-                },
-                t0.elapsed().as_secs_f64()
-            );
+            print_check_ok(&format!("{} cases", r.cases), r.leaves, r.complete, t0);
             for cl in &r.claims {
                 println!("  {:9} {}", cl.verdict.name(), cl.claim);
             }
@@ -540,6 +524,19 @@ fn graded_cmd(
         println!("{text}");
     }
     Ok(())
+}
+
+/// The first line of `proofs check`, for either kind of certificate.
+fn print_check_ok(what: &str, leaves: usize, complete: bool, t0: std::time::Instant) {
+    println!(
+        "certificate OK: {what}, {leaves} leaves re-evaluated{} ({:.2} s)",
+        if complete {
+            ", complete"
+        } else {
+            " (partial: a shard)"
+        },
+        t0.elapsed().as_secs_f64()
+    );
 }
 
 fn main() -> ExitCode {

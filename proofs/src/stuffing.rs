@@ -121,13 +121,7 @@ impl Leaf {
         if v.len() != 1 + dim + 2 * n_out {
             return Err(format!("malformed leaf of length {}", v.len()));
         }
-        let int = |x: f64| -> Result<u64, String> {
-            if x >= 0.0 && x.fract() == 0.0 && x < 1.2e15 {
-                Ok(x as u64)
-            } else {
-                Err(format!("malformed leaf index {x}"))
-            }
-        };
+        let int = crate::bnb::leaf_index;
         let d = int(v[0])?;
         if d > 60 {
             return Err(format!("leaf depth {d}"));

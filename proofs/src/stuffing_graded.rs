@@ -162,13 +162,7 @@ pub fn face_cases(shapes: &[Shape]) -> (Vec<FaceCase>, usize) {
             }
         }
     }
-    let cases = map
-        .into_iter()
-        .map(|(k, multiplicity)| FaceCase {
-            v: [k[0], k[1], k[2]],
-            multiplicity,
-        })
-        .collect();
+    let cases = collect_face_cases(map);
     (cases, raw)
 }
 
@@ -277,13 +271,7 @@ pub fn face_cases_in_context(trees: usize) -> (Vec<FaceCase>, usize, usize) {
             }
         }
     }
-    let cases = map
-        .into_iter()
-        .map(|(k, multiplicity)| FaceCase {
-            v: [k[0], k[1], k[2]],
-            multiplicity,
-        })
-        .collect();
+    let cases = collect_face_cases(map);
     (cases, raw, ntets)
 }
 
@@ -535,6 +523,16 @@ pub fn half_pyramid_witness_cos(t: f64) -> Interval {
     let r0 = v([2.0, 0.0, 0.0], [-1.0, -1.0, -1.0]);
     let r2 = v([2.0, 2.0, 2.0], [-1.0, 1.0, 1.0]);
     cos_plane(&c, &r0, &r2).v
+}
+
+/// Face cases from canonical descriptors and their multiplicities (sorted by descriptor).
+fn collect_face_cases(map: BTreeMap<Vec<Seg>, usize>) -> Vec<FaceCase> {
+    map.into_iter()
+        .map(|(k, multiplicity)| FaceCase {
+            v: [k[0], k[1], k[2]],
+            multiplicity,
+        })
+        .collect()
 }
 
 #[cfg(test)]

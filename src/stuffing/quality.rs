@@ -7,14 +7,7 @@ use serde::Serialize;
 
 /// The six dihedral angles of a tetrahedron, in degrees.
 pub fn dihedrals(p: [[f64; 3]; 4]) -> [f64; 6] {
-    const E: [(usize, usize, usize, usize); 6] = [
-        (0, 1, 2, 3),
-        (0, 2, 1, 3),
-        (0, 3, 1, 2),
-        (1, 2, 0, 3),
-        (1, 3, 0, 2),
-        (2, 3, 0, 1),
-    ];
+    const E: [(usize, usize, usize, usize); 6] = crate::geom::TET_EDGES_WITH_OPPOSITE;
     E.map(|(i, j, k, l)| {
         let e = sub(p[j], p[i]);
         let ee = dot(e, e);
