@@ -33,97 +33,96 @@ pub fn vsub(a: IVec3, b: IVec3) -> IVec3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-/// First-order dual number over intervals: value and partial derivatives in (u, v).
+/// First-order dual number over intervals: value and partial derivatives in `N`
+/// independent variables (2 for the GradNormal charts, 4 for the stuffing cases).
 #[derive(Clone, Copy, Debug)]
-pub struct D2 {
+pub struct Dual<const N: usize> {
     pub v: Interval,
-    pub g: [Interval; 2],
+    pub g: [Interval; N],
 }
 
-impl D2 {
+/// The GradNormal proof's duals: partial derivatives in the chart coordinates (u, v).
+pub type D2 = Dual<2>;
+
+impl<const N: usize> Dual<N> {
     #[inline]
     pub fn cst(v: Interval) -> Self {
-        D2 {
-            v,
-            g: [pt(0.0), pt(0.0)],
-        }
+        Dual { v, g: [pt(0.0); N] }
     }
     /// The k-th independent variable ranging over `v`.
     #[inline]
     pub fn var(v: Interval, k: usize) -> Self {
-        let mut g = [pt(0.0), pt(0.0)];
+        let mut g = [pt(0.0); N];
         g[k] = pt(1.0);
-        D2 { v, g }
+        Dual { v, g }
     }
     #[inline]
     pub fn scale(self, c: Interval) -> Self {
-        D2 {
+        Dual {
             v: self.v * c,
-            g: [self.g[0] * c, self.g[1] * c],
+            g: self.g.map(|x| x * c),
         }
     }
     #[inline]
     pub fn sqrt(self) -> Self {
         let s = self.v.sqrt();
         let d = pt(2.0) * s;
-        D2 {
+        Dual {
             v: s,
-            g: [self.g[0] / d, self.g[1] / d],
+            g: self.g.map(|x| x / d),
         }
     }
     #[inline]
     pub fn div(self, o: Self) -> Self {
         let q = self.v / o.v;
-        D2 {
-            v: q,
-            g: [
-                (self.g[0] - q * o.g[0]) / o.v,
-                (self.g[1] - q * o.g[1]) / o.v,
-            ],
+        let mut g = self.g;
+        for k in 0..N {
+            g[k] = (self.g[k] - q * o.g[k]) / o.v;
         }
+        Dual { v: q, g }
     }
 }
 
-impl Add for D2 {
-    type Output = D2;
+impl<const N: usize> Add for Dual<N> {
+    type Output = Self;
     #[inline]
-    fn add(self, o: D2) -> D2 {
-        D2 {
-            v: self.v + o.v,
-            g: [self.g[0] + o.g[0], self.g[1] + o.g[1]],
+    fn add(self, o: Self) -> Self {
+        let mut g = self.g;
+        for k in 0..N {
+            g[k] = g[k] + o.g[k];
         }
+        Dual { v: self.v + o.v, g }
     }
 }
-impl Sub for D2 {
-    type Output = D2;
+impl<const N: usize> Sub for Dual<N> {
+    type Output = Self;
     #[inline]
-    fn sub(self, o: D2) -> D2 {
-        D2 {
-            v: self.v - o.v,
-            g: [self.g[0] - o.g[0], self.g[1] - o.g[1]],
+    fn sub(self, o: Self) -> Self {
+        let mut g = self.g;
+        for k in 0..N {
+            g[k] = g[k] - o.g[k];
         }
+        Dual { v: self.v - o.v, g }
     }
 }
-impl Mul for D2 {
-    type Output = D2;
+impl<const N: usize> Mul for Dual<N> {
+    type Output = Self;
     #[inline]
-    fn mul(self, o: D2) -> D2 {
-        D2 {
-            v: self.v * o.v,
-            g: [
-                self.g[0] * o.v + self.v * o.g[0],
-                self.g[1] * o.v + self.v * o.g[1],
-            ],
+    fn mul(self, o: Self) -> Self {
+        let mut g = self.g;
+        for k in 0..N {
+            g[k] = self.g[k] * o.v + self.v * o.g[k];
         }
+        Dual { v: self.v * o.v, g }
     }
 }
-impl Neg for D2 {
-    type Output = D2;
+impl<const N: usize> Neg for Dual<N> {
+    type Output = Self;
     #[inline]
-    fn neg(self) -> D2 {
-        D2 {
+    fn neg(self) -> Self {
+        Dual {
             v: -self.v,
-            g: [-self.g[0], -self.g[1]],
+            g: self.g.map(|x| -x),
         }
     }
 }

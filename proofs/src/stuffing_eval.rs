@@ -11,101 +11,12 @@
 use crate::ival::{iv, pt};
 use crate::stuffing_cases::{Alphas, Case, Kind, Seg, DEN};
 use inari::Interval;
-use std::ops::{Add, Mul, Neg, Sub};
 
 /// Number of independent variables of a dual.
 pub const NV: usize = 4;
 
-#[derive(Clone, Copy, Debug)]
-pub struct Dn {
-    pub v: Interval,
-    pub g: [Interval; NV],
-}
-
-impl Dn {
-    #[inline]
-    pub fn cst(v: Interval) -> Dn {
-        Dn {
-            v,
-            g: [pt(0.0); NV],
-        }
-    }
-    #[inline]
-    pub fn var(v: Interval, k: usize) -> Dn {
-        let mut g = [pt(0.0); NV];
-        g[k] = pt(1.0);
-        Dn { v, g }
-    }
-    #[inline]
-    pub fn scale(self, c: Interval) -> Dn {
-        Dn {
-            v: self.v * c,
-            g: self.g.map(|x| x * c),
-        }
-    }
-    #[inline]
-    pub fn sqrt(self) -> Dn {
-        let s = self.v.sqrt();
-        let d = pt(2.0) * s;
-        Dn {
-            v: s,
-            g: self.g.map(|x| x / d),
-        }
-    }
-    #[inline]
-    pub fn div(self, o: Dn) -> Dn {
-        let q = self.v / o.v;
-        let mut g = self.g;
-        for k in 0..NV {
-            g[k] = (self.g[k] - q * o.g[k]) / o.v;
-        }
-        Dn { v: q, g }
-    }
-}
-
-impl Add for Dn {
-    type Output = Dn;
-    #[inline]
-    fn add(self, o: Dn) -> Dn {
-        let mut g = self.g;
-        for k in 0..NV {
-            g[k] = g[k] + o.g[k];
-        }
-        Dn { v: self.v + o.v, g }
-    }
-}
-impl Sub for Dn {
-    type Output = Dn;
-    #[inline]
-    fn sub(self, o: Dn) -> Dn {
-        let mut g = self.g;
-        for k in 0..NV {
-            g[k] = g[k] - o.g[k];
-        }
-        Dn { v: self.v - o.v, g }
-    }
-}
-impl Mul for Dn {
-    type Output = Dn;
-    #[inline]
-    fn mul(self, o: Dn) -> Dn {
-        let mut g = self.g;
-        for k in 0..NV {
-            g[k] = self.g[k] * o.v + self.v * o.g[k];
-        }
-        Dn { v: self.v * o.v, g }
-    }
-}
-impl Neg for Dn {
-    type Output = Dn;
-    #[inline]
-    fn neg(self) -> Dn {
-        Dn {
-            v: -self.v,
-            g: self.g.map(|x| -x),
-        }
-    }
-}
+/// The stuffing proof's duals (the shared [`crate::ival::Dual`]).
+pub type Dn = crate::ival::Dual<NV>;
 
 pub type V3 = [Dn; 3];
 
