@@ -114,7 +114,7 @@ pub fn evaluate(
                     row.topology_reason,
                 ) = (Some(v.ok), v.expected, v.found, v.reason);
             } else {
-                row.found = format!("{} components", s.topology.components);
+                row.found = components(s.topology.components);
             }
         }
         m => {
@@ -142,7 +142,11 @@ pub fn evaluate(
                     row.topology_reason,
                 ) = (Some(v.ok), v.expected, v.found, v.reason);
             } else {
-                row.found = format!("{} components, genus {:?}", report.components, report.genus);
+                row.found = format!(
+                    "{}, genus {:?}",
+                    components(report.components),
+                    report.genus
+                );
             }
         }
     }
@@ -249,4 +253,9 @@ pub fn markdown(rows: &[Row]) -> String {
         );
     }
     s
+}
+
+/// "1 component", "2 components".
+fn components(n: usize) -> String {
+    format!("{n} component{}", if n == 1 { "" } else { "s" })
 }

@@ -701,6 +701,8 @@ impl Mesher for Stuffing {
         } else {
             p.bounds()
         };
+        // Table 1 prints "n/a" where the paper gives no bound.
+        let deg = |x: Option<f64>| x.map_or("n/a".to_string(), |v| format!("{v}°"));
         let provenance = if p.graded {
             "claimed by Labelle-Shewchuk §5 for graded meshes, not re-verified by certmesh"
         } else {
@@ -712,8 +714,8 @@ impl Mesher for Stuffing {
         match bounds {
             Some(b) => {
                 reason.push_str(&format!(
-                    "angle bounds of Table 1 row '{}' (dihedral {:?}..{:?}, plane {:?}..{:?}, exposed {:?}..{:?}) {provenance}; measured in floating point: dihedral {:.4}..{:.4}, plane {:.4}..{:.4}, exposed {:.4}..{:.4}",
-                    p.row.name, b.min_dihedral, b.max_dihedral, b.min_plane, b.max_plane, b.min_exposed, b.max_exposed,
+                    "angle bounds of Table 1 row '{}' (dihedral {}..{}, plane {}..{}, exposed {}..{}) {provenance}; measured in floating point: dihedral {:.4}..{:.4}, plane {:.4}..{:.4}, exposed {:.4}..{:.4}",
+                    p.row.name, deg(b.min_dihedral), deg(b.max_dihedral), deg(b.min_plane), deg(b.max_plane), deg(b.min_exposed), deg(b.max_exposed),
                     q.min_dihedral_deg, q.max_dihedral_deg, q.min_plane_deg, q.max_plane_deg, q.min_exposed_deg, q.max_exposed_deg
                 ));
             }
