@@ -10,7 +10,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 fn bunny() -> Option<TriMesh> {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../shared/data/stanford-bunny.obj"
+        "/data/stanford-bunny.obj"
     );
     let text = std::fs::read_to_string(path).ok()?;
     let mut m = TriMesh::default();

@@ -111,7 +111,7 @@ fn surfaces_json_lists_the_whole_catalog() {
 
 #[test]
 fn stats_json_on_a_real_mesh() {
-    let (code, out, err) = certmesh(&["stats", "../shared/data/spot.obj", "--json"]);
+    let (code, out, err) = certmesh(&["stats", "data/spot.obj", "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     for k in [
@@ -132,7 +132,7 @@ fn stats_json_on_a_real_mesh() {
 
 #[test]
 fn stats_reports_the_bunny_scan_defects() {
-    let (code, out, err) = certmesh(&["stats", "../shared/data/stanford-bunny.obj", "--json"]);
+    let (code, out, err) = certmesh(&["stats", "data/stanford-bunny.obj", "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["faces"], 69451);

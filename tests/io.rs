@@ -398,7 +398,7 @@ fn truncated_binary_reports_byte_offsets() {
 
 fn data(name: &str) -> PathBuf {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data")
+        .join("data")
         .join(name);
     assert!(p.exists(), "test mesh {} is missing", p.display());
     p

@@ -984,7 +984,7 @@ fn read_obj_for_test(text: &str) -> TriMesh {
 fn stanford_bunny_stats() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../shared/data/stanford-bunny.obj"
+        "/data/stanford-bunny.obj"
     );
     let Ok(text) = std::fs::read_to_string(path) else {
         eprintln!("skipping: {path} not found");
@@ -1081,11 +1081,11 @@ fn independent_angle_range(m: &TriMesh) -> (f64, f64) {
     (lo, hi)
 }
 
-/// Stats of every mesh in ../shared/data/ (read with the io module), with the
+/// Stats of every mesh in data/ (read with the io module), with the
 /// topology facts computed a second way and the known facts of each scan asserted.
 #[test]
 fn shared_data_meshes_are_reported() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
     let Ok(entries) = std::fs::read_dir(&dir) else {
         eprintln!("skipping: {} not found", dir.display());
         return;

@@ -7,7 +7,7 @@
 //! with 348,162 / 3 = 116,054 faces, and by 52,931,340 tetrahedra 1,400,310 / 3 =
 //! 466,770 faces; Fig 4 shows the angle counts divided by three times the faces.
 //!
-//! Here: the scan is read from `../shared/data/stanford-bunny.obj`, its boundary loops
+//! Here: the scan is read from `data/stanford-bunny.obj`, its boundary loops
 //! are closed by fans ([`crate::sdf::fill_holes`]), it is normalised into the unit cube
 //! (longest side 1 − 2·[`MARGIN`]) and meshed by [`GradNormal`] through the signed
 //! distance [`MeshSdf`] (exact distance, winding-number sign). Nothing is certified: the
@@ -34,9 +34,9 @@ pub const PAPER_RUNS: [(f64, usize); 2] = [(6_748_416.0, 116_054), (52_931_340.0
 pub const PAPER_ORIGINAL: (f64, f64) = (0.49, 177.6);
 pub const PAPER_REMESH: (f64, f64) = (10.4, 150.4);
 
-/// Where the bunny is: `../shared/data/stanford-bunny.obj` from the repository root.
+/// Where the bunny is: `data/stanford-bunny.obj` from the repository root.
 pub fn bunny_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/stanford-bunny.obj")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/stanford-bunny.obj")
 }
 
 /// One remeshing run.
@@ -200,7 +200,7 @@ pub fn section(out_dir: &Path, quick: bool) -> Result<String> {
     if !path.exists() {
         let _ = writeln!(
             md,
-            "Skipped: `{}` not found (the bunny is read from `../shared/data/`).\n",
+            "Skipped: `{}` not found (the bunny is read from `data/`).\n",
             path.display()
         );
         return Ok(md);
@@ -225,7 +225,7 @@ pub fn section(out_dir: &Path, quick: bool) -> Result<String> {
             margin,
         )?)
     };
-    let _ = writeln!(md, "Input: `../shared/data/stanford-bunny.obj` ({} vertices, {} faces). Its {} boundary loops were closed by fans around their centroids ({} boundary edges left open; {} isolated vertices, which the distance ignores), the result normalised into the unit cube (centred; longest side {:.2}, then fitted to the paper's face count), and GradNormal run on the signed distance (`certmesh::sdf::MeshSdf`: exact point–triangle distance through the BVH, sign from the hierarchical generalised winding number, gradient = direction to the closest point) with the paper's rules at the paper's two tilings of the unit cube. Building the distance (hole filling, normalisation, BVH, dipoles): {:.2} s. Nothing here is certified (floating-point distance; the winding sign of a scan is not a proof).\n",
+    let _ = writeln!(md, "Input: `data/stanford-bunny.obj` ({} vertices, {} faces). Its {} boundary loops were closed by fans around their centroids ({} boundary edges left open; {} isolated vertices, which the distance ignores), the result normalised into the unit cube (centred; longest side {:.2}, then fitted to the paper's face count), and GradNormal run on the signed distance (`certmesh::sdf::MeshSdf`: exact point–triangle distance through the BVH, sign from the hierarchical generalised winding number, gradient = direction to the closest point) with the paper's rules at the paper's two tilings of the unit cube. Building the distance (hole filling, normalisation, BVH, dipoles): {:.2} s. Nothing here is certified (floating-point distance; the winding sign of a scan is not a proof).\n",
         b.original_vertices, b.original_faces, b.holes.filled, b.holes.open_edges, b.holes.isolated_vertices, 1.0 - 2.0 * MARGIN, b.sdf_seconds);
     let _ = writeln!(
         md,
