@@ -192,6 +192,14 @@ struct OptArgs {
     /// Graded variant (isosurface stuffing).
     #[arg(long)]
     graded: bool,
+    /// Box tests a subdivision mesher may make (default 10000000). A run that spends
+    /// them stops, reports refinement_complete: false and certifies nothing.
+    #[arg(long)]
+    max_boxes: Option<u64>,
+    /// Wall-clock limit of the subdivision, in seconds (default: none). A run stopped by
+    /// it says so and certifies nothing.
+    #[arg(long, value_name = "SECONDS")]
+    time_limit: Option<f64>,
     /// Algorithm-specific settings, key=value (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
@@ -212,6 +220,8 @@ impl OptArgs {
                 .transpose()?,
             tolerance: self.tolerance,
             prune: self.prune,
+            max_boxes: self.max_boxes,
+            time_limit: self.time_limit,
             params: self.params.clone(),
             graded: self.graded,
             extra: Default::default(),

@@ -53,6 +53,10 @@ pub struct MesherOptions {
     pub params: Option<String>,
     /// Graded variant (stuffing).
     pub graded: bool,
+    /// Box tests allowed (subdivision meshers; `--max-boxes`).
+    pub max_boxes: Option<u64>,
+    /// Wall-clock limit in seconds (subdivision meshers; `--time-limit`).
+    pub time_limit: Option<f64>,
     /// Algorithm-specific settings, `key=value`.
     pub extra: BTreeMap<String, String>,
 }

@@ -20,11 +20,13 @@ use crate::geom::Aabb;
 use crate::implicit::Implicit;
 use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use crate::options::MesherOptions;
-use crate::plantinga_vegter::{check_input, PvPairing};
+use crate::plantinga_vegter::{
+    boundary_failure, check_budget, check_input, subdivision_claims, PvPairing, UNDEFINED_BOX,
+};
 use crate::subdivision::{
-    assemble, enclose, excludes_zero, no_zero_plus, point_sign, subdivide, tree_stats, Cell,
-    Decision, GenericMotion, Grid, IntervalIsolation, Pairing, TileCrossing, Tree, Verdict,
-    MAX_LEVEL,
+    assemble, enclose, excludes_zero, point_sign, subdivide, tree_stats, Budget, Cell, Decision,
+    GenericMotion, Grid, IntervalIsolation, Pairing, TileCrossing, Tree, Verdict,
+    DEFAULT_MAX_BOXES, MAX_LEVEL,
 };
 use std::sync::atomic::AtomicU64;
 
@@ -45,6 +47,10 @@ pub struct SnyderParams {
     pub tolerance: f64,
     /// Mesh in generic position (default false).
     pub generic_shift: bool,
+    /// Box tests allowed (default [`DEFAULT_MAX_BOXES`]; `--max-boxes`).
+    pub max_boxes: u64,
+    /// Wall-clock limit of the subdivision in seconds (default none; `--time-limit`).
+    pub time_limit: Option<f64>,
 }
 
 impl SnyderParams {
@@ -55,7 +61,17 @@ impl SnyderParams {
             root_depth: 40,
             tolerance: 1e-9,
             generic_shift: false,
+            max_boxes: DEFAULT_MAX_BOXES,
+            time_limit: None,
         }
+    }
+    pub fn with_max_boxes(mut self, n: u64) -> Self {
+        self.max_boxes = n;
+        self
+    }
+    pub fn with_time_limit(mut self, seconds: Option<f64>) -> Self {
+        self.time_limit = seconds;
+        self
     }
     pub fn with_max_depth(mut self, d: u32) -> Self {
         self.max_depth = d;
@@ -89,6 +105,10 @@ impl SnyderParams {
         if let Some(r) = o.get::<u32>("root_depth")? {
             p.root_depth = r;
         }
+        if let Some(n) = o.max_boxes {
+            p.max_boxes = n;
+        }
+        p.time_limit = o.time_limit;
         p.generic_shift = o.generic_shift;
         p.validate()?;
         Ok(p)
@@ -118,6 +138,7 @@ impl SnyderParams {
                 self.tolerance
             )));
         }
+        check_budget(self.max_boxes, self.time_limit)?;
         Ok(())
     }
 }
@@ -192,18 +213,28 @@ impl Mesher for Snyder2 {
 }
 
 /// Face criterion of Lemma 2: 0 ∉ □f, or one of the two in-plane partials excludes 0.
+/// Strict: □f ⊂ [0, ∞) proves nothing about f = 0 on the face (a double zero is not a
+/// sign change).
 fn face_ok(f: &dyn Implicit, ib: &crate::implicit::IBox, normal: usize) -> bool {
     let (v, g) = enclose(f, ib);
-    no_zero_plus(v) || (0..3).any(|j| j != normal && excludes_zero(g[j]))
+    excludes_zero(v) || (0..3).any(|j| j != normal && excludes_zero(g[j]))
 }
 
 fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Decision {
     let ib = g.cell_ibox(c);
     let (v, grad) = enclose(f, &ib);
     let d = crate::implicit::Dual { v, g: grad };
-    if no_zero_plus(d.v) {
+    if f.eval_interval(&ib).is_empty() {
+        return Decision::Leaf(Verdict::Failed(UNDEFINED_BOX));
+    }
+    // Only a strict exclusion proves the box free of f = 0: with □f ⊂ [0, ∞) the box
+    // may hold a double zero ((x²+y²+z²−1)² vanishes on the sphere).
+    if excludes_zero(d.v) {
         return Decision::Leaf(Verdict::Empty);
     }
+    // Lemma 2 is about C¹ functions: no box is certified where f may have a pole, a
+    // kink or a domain boundary.
+    let smooth = f.regularity(&ib).c1_failure();
     let dim = g.dim;
     let (lo, hi) = g.cell_lo_hi(c);
     let mut any_param = false;
@@ -228,6 +259,14 @@ fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Dec
                 faces_failed = true;
                 continue;
             }
+        }
+        if let Some(reason) = smooth {
+            return Decision::Split(reason);
+        }
+        // The sign⁺ convention and the edge isolation are blind to a zero set that
+        // touches the domain boundary (a tangency, a corner): see `boundary_failure`.
+        if let Some(reason) = boundary_failure(f, g, c) {
+            return Decision::Split(reason);
         }
         if !edges_isolated(f, g, lo, hi, p) {
             return Decision::Split("grazing intersection: roots on a box edge not isolated");
@@ -309,8 +348,10 @@ pub fn run_snyder(
         dim,
         depth: p.max_depth,
     };
+    let budget = Budget::new(p.max_boxes, p.time_limit);
+    budget.check_min_depth(dim, p.min_depth)?;
     progress.start("subdivision", 0);
-    let mut tree = subdivide(grid, p.min_depth, p.max_depth, &|gr: &Grid, c| {
+    let mut tree = subdivide(grid, p.min_depth, p.max_depth, &budget, &|gr: &Grid, c| {
         snyder_classify(g, gr, c, p)
     });
     tree.collect_points();
@@ -355,7 +396,7 @@ pub fn run_snyder(
             SNYDER_CLAIM.to_string()
         };
         Certificate::Certified {
-            claims: vec![claim],
+            claims: subdivision_claims(&claim, &tree, dim),
         }
     } else {
         Certificate::Uncertified {

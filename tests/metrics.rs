@@ -982,10 +982,7 @@ fn read_obj_for_test(text: &str) -> TriMesh {
 
 #[test]
 fn stanford_bunny_stats() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/data/stanford-bunny.obj"
-    );
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/stanford-bunny.obj");
     let Ok(text) = std::fs::read_to_string(path) else {
         eprintln!("skipping: {path} not found");
         return;

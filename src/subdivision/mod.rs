@@ -207,50 +207,144 @@ pub struct Tree {
     pub points: HashSet<u64>,
     /// Splits made by balancing.
     pub balance_splits: usize,
+    /// False when the budget stopped the subdivision (spade's `refinement_complete`):
+    /// the boxes it did not test are `Failed` leaves with the budget's reason.
+    pub refinement_complete: bool,
+}
+
+/// The work a subdivision may do: a number of box tests and a wall-clock deadline.
+/// A box reached after the budget is spent becomes a `Failed` leaf with the budget's
+/// reason, so a stopped run returns what it has and says why
+/// ([`Tree::refinement_complete`] is false).
+#[derive(Debug)]
+pub struct Budget {
+    /// Box tests allowed (`--max-boxes`).
+    pub max_boxes: u64,
+    /// Stop when this instant has passed (`--time-limit`).
+    pub deadline: Option<std::time::Instant>,
+    used: AtomicU64,
+    stopped: std::sync::atomic::AtomicBool,
+}
+
+/// Default box budget of the subdivision meshers: about 10⁷ box tests (a few seconds
+/// and under 1 GB on the catalog; every smooth catalog entry needs far fewer).
+pub const DEFAULT_MAX_BOXES: u64 = 10_000_000;
+
+/// The reason given to boxes left untested when the box budget ran out.
+pub const BOX_BUDGET_REASON: &str = "box budget exhausted (raise --max-boxes)";
+/// The reason given to boxes left untested when the time limit passed.
+pub const TIME_LIMIT_REASON: &str = "time limit reached (raise --time-limit)";
+
+impl Budget {
+    pub fn new(max_boxes: u64, time_limit: Option<f64>) -> Budget {
+        Budget {
+            max_boxes,
+            deadline: time_limit
+                .map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s)),
+            used: AtomicU64::new(0),
+            stopped: std::sync::atomic::AtomicBool::new(false),
+        }
+    }
+    /// No limit (tests and library callers that bound the depth themselves).
+    pub fn unlimited() -> Budget {
+        Budget::new(u64::MAX, None)
+    }
+    /// Take one box test; `Err(reason)` once the budget is spent.
+    fn take(&self) -> std::result::Result<(), &'static str> {
+        let n = self.used.fetch_add(1, Relaxed);
+        if n >= self.max_boxes {
+            self.stopped.store(true, Relaxed);
+            return Err(BOX_BUDGET_REASON);
+        }
+        if let Some(d) = self.deadline {
+            // Checking the clock costs ~20 ns: do it every 1024 boxes.
+            if n % 1024 == 0 && std::time::Instant::now() > d {
+                self.stopped.store(true, Relaxed);
+            }
+            if self.stopped.load(Relaxed) {
+                return Err(TIME_LIMIT_REASON);
+            }
+        }
+        Ok(())
+    }
+    /// Box tests used so far.
+    pub fn used(&self) -> u64 {
+        self.used.load(Relaxed).min(self.max_boxes)
+    }
+    /// Did the budget stop the run?
+    pub fn exhausted(&self) -> bool {
+        self.stopped.load(Relaxed)
+    }
+    /// Refuse, before any work, a subdivision whose forced levels alone exceed the
+    /// budget: `min_depth` splits every box not proven empty, 2^(dim·min_depth) boxes.
+    pub fn check_min_depth(&self, dim: usize, min_depth: u32) -> crate::Result<()> {
+        let boxes = 2f64.powi((dim as u32 * min_depth) as i32);
+        if boxes > self.max_boxes as f64 {
+            return Err(crate::Error::TooLarge(format!(
+                "min_depth {min_depth} forces up to {boxes:.3e} boxes in {dim}D, more than the \
+                 box budget {} (lower --min-depth or raise --max-boxes)",
+                self.max_boxes
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// Subdivide from the root, testing each box with `classify` (called from rayon
 /// threads). Boxes at level < `min_depth` that are not proven empty are split anyway;
-/// boxes at `max_depth` still undecided become `Failed` leaves.
-pub fn subdivide<C>(grid: Grid, min_depth: u32, max_depth: u32, classify: &C) -> Tree
+/// boxes at `max_depth` still undecided become `Failed` leaves, and so do the boxes
+/// reached after `budget` is spent.
+pub fn subdivide<C>(
+    grid: Grid,
+    min_depth: u32,
+    max_depth: u32,
+    budget: &Budget,
+    classify: &C,
+) -> Tree
 where
     C: Fn(&Grid, Cell) -> Decision + Sync,
 {
-    let (leaves, internal) = rec(&grid, Cell::ROOT, min_depth, max_depth, classify);
+    let lim = Limits {
+        min_depth,
+        max_depth,
+        budget,
+    };
+    let (leaves, internal) = rec(&grid, Cell::ROOT, &lim, classify);
     let mut t = Tree {
         grid,
         leaves,
         internal: internal.iter().map(|c| c.key()).collect(),
         points: HashSet::new(),
         balance_splits: 0,
+        refinement_complete: !budget.exhausted(),
     };
     t.leaves.sort_unstable_by_key(|l| l.cell);
     t
 }
 
-fn rec<C>(
-    grid: &Grid,
-    cell: Cell,
+struct Limits<'a> {
     min_depth: u32,
     max_depth: u32,
-    classify: &C,
-) -> (Vec<Leaf>, Vec<Cell>)
+    budget: &'a Budget,
+}
+
+fn rec<C>(grid: &Grid, cell: Cell, lim: &Limits, classify: &C) -> (Vec<Leaf>, Vec<Cell>)
 where
     C: Fn(&Grid, Cell) -> Decision + Sync,
 {
     if cell.level >= 4 {
         let mut l = Vec::new();
         let mut i = Vec::new();
-        rec_seq(grid, cell, min_depth, max_depth, classify, &mut l, &mut i);
+        rec_seq(grid, cell, lim, classify, &mut l, &mut i);
         return (l, i);
     }
-    match decide(grid, cell, min_depth, max_depth, classify) {
+    match decide(grid, cell, lim, classify) {
         Ok(v) => (vec![Leaf { cell, verdict: v }], Vec::new()),
         Err(()) => {
             let parts: Vec<(Vec<Leaf>, Vec<Cell>)> = cell
                 .children(grid.dim)
                 .into_par_iter()
-                .map(|c| rec(grid, c, min_depth, max_depth, classify))
+                .map(|c| rec(grid, c, lim, classify))
                 .collect();
             let mut l = Vec::new();
             let mut i = vec![cell];
@@ -266,20 +360,19 @@ where
 fn rec_seq<C>(
     grid: &Grid,
     cell: Cell,
-    min_depth: u32,
-    max_depth: u32,
+    lim: &Limits,
     classify: &C,
     leaves: &mut Vec<Leaf>,
     internal: &mut Vec<Cell>,
 ) where
     C: Fn(&Grid, Cell) -> Decision + Sync,
 {
-    match decide(grid, cell, min_depth, max_depth, classify) {
+    match decide(grid, cell, lim, classify) {
         Ok(v) => leaves.push(Leaf { cell, verdict: v }),
         Err(()) => {
             internal.push(cell);
             for c in cell.children(grid.dim) {
-                rec_seq(grid, c, min_depth, max_depth, classify, leaves, internal);
+                rec_seq(grid, c, lim, classify, leaves, internal);
             }
         }
     }
@@ -289,19 +382,21 @@ fn rec_seq<C>(
 fn decide<C>(
     grid: &Grid,
     cell: Cell,
-    min_depth: u32,
-    max_depth: u32,
+    lim: &Limits,
     classify: &C,
 ) -> std::result::Result<Verdict, ()>
 where
     C: Fn(&Grid, Cell) -> Decision + Sync,
 {
+    if let Err(reason) = lim.budget.take() {
+        return Ok(Verdict::Failed(reason));
+    }
     match classify(grid, cell) {
         Decision::Leaf(Verdict::Empty) => Ok(Verdict::Empty),
-        Decision::Leaf(v) if (cell.level as u32) >= min_depth => Ok(v),
+        Decision::Leaf(v) if (cell.level as u32) >= lim.min_depth => Ok(v),
         Decision::Leaf(_) => Err(()),
         Decision::Split(reason) => {
-            if cell.level as u32 >= max_depth {
+            if cell.level as u32 >= lim.max_depth {
                 Ok(Verdict::Failed(reason))
             } else {
                 Err(())
@@ -345,7 +440,10 @@ pub fn mean_value(f: &dyn Implicit, b: &IBox, d: &crate::implicit::Dual<Interval
         }
     }
     let v = d.v.intersection(mv);
-    if v.is_empty() {
+    // The mean-value form is an enclosure only for a continuous f whose derivative
+    // enclosures are slopes (C¹, or Lipschitz through |·|, min, max): across a pole or
+    // a gap of the domain it may exclude values f takes. Ask only when it tightens.
+    if v.is_empty() || v == d.v || f.regularity(b) < crate::implicit::Regularity::Continuous {
         d.v
     } else {
         v
@@ -632,7 +730,14 @@ pub fn point_sign(f: &dyn Implicit, p: [f64; 3]) -> PointSign {
     let b = p.map(|x| Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE));
     let i = f.eval_interval(&b);
     let value = f.eval(p);
-    if i.inf() >= 0.0 {
+    // An empty enclosure means f is undefined at p (1/0): no sign is proven.
+    if i.is_empty() {
+        PointSign {
+            pos: value >= 0.0,
+            value,
+            rigorous: false,
+        }
+    } else if i.inf() >= 0.0 {
         PointSign {
             pos: true,
             value,
@@ -1330,6 +1435,10 @@ pub fn tree_stats(tree: &Tree, a: &Assembled) -> serde_json::Map<String, serde_j
     );
     m.insert("leaves_by_criterion".into(), json!(tree.by_verdict()));
     m.insert("balance_splits".into(), json!(tree.balance_splits));
+    m.insert(
+        "refinement_complete".into(),
+        json!(tree.refinement_complete),
+    );
     m.insert("root_isolation_steps".into(), json!(a.root_steps));
     m.insert("crossings".into(), json!(a.crossings));
     let failed = tree.failures();
