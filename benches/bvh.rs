@@ -1,6 +1,6 @@
 //! BVH build and closest-point queries on the Stanford bunny (69,451 faces), and the
 //! topology/angle metrics on it. Run: `cargo bench --bench bvh`.
-use certmesh::bvh::TriBvh;
+use certmesh::kernel::bvh::TriBvh;
 use certmesh::mesh::TriMesh;
 use certmesh::metrics;
 use criterion::{black_box, criterion_group, criterion_main, Criterion};

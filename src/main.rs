@@ -1,13 +1,14 @@
 //! The `certmesh` command line. Every subcommand prints a readable report, or JSON with
 //! `--json`; errors name the problem and exit with status 2.
 use certmesh::catalog::{self, Entry};
-use certmesh::compare;
+use certmesh::harness::compare;
 use certmesh::error::{Error, Result};
-use certmesh::geom::Aabb;
+use certmesh::kernel::geom::Aabb;
 use certmesh::implicit::{Formula, Implicit};
 use certmesh::mesher::{self, Mesh, Progress};
-use certmesh::options::{Crossing, MesherOptions};
-use certmesh::{algorithms, io, metrics};
+use certmesh::mesher::options::{Crossing, MesherOptions};
+use certmesh::mesher::registry as algorithms;
+use certmesh::{io, metrics};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -388,7 +389,7 @@ fn mesh_input_target(a: &MeshArgs, path: &Path, dim: usize) -> Result<Target> {
             "give a catalog name or --mesh-input, not both".into(),
         ));
     }
-    let (f, holes) = certmesh::sdf::from_file(path, a.margin, a.fill_holes)?;
+    let (f, holes) = certmesh::implicit::sdf::from_file(path, a.margin, a.fill_holes)?;
     if a.fill_holes && !a.json {
         eprintln!(
             "{}: closed {} boundary loops ({} boundary edges left open)",
@@ -537,12 +538,12 @@ fn stats_cmd(
             let d: Vec<f64> = (0..m.tets.len())
                 .flat_map(|t| metrics::angles::dihedral_angles(&m.corners(t)))
                 .collect();
-            certmesh::plot::histogram(
+            certmesh::reproduce::plot::histogram(
                 h,
                 "dihedral angles",
                 "degrees",
                 "tetrahedra",
-                &certmesh::plot::bin(d, bin, false),
+                &certmesh::reproduce::plot::bin(d, bin, false),
                 &[],
                 emphasis,
             )?;
@@ -569,12 +570,12 @@ fn stats_cmd(
             .flatten()
             .flatten()
             .collect();
-        certmesh::plot::histogram(
+        certmesh::reproduce::plot::histogram(
             h,
             "triangle angles",
             "degrees",
             "density",
-            &certmesh::plot::bin(a, bin, true),
+            &certmesh::reproduce::plot::bin(a, bin, true),
             &[],
             emphasis,
         )?;
@@ -762,9 +763,9 @@ fn run(cli: Cli) -> Result<()> {
                 print!("{table}");
             }
         }
-        Cmd::Demo { out, quick, json } => certmesh::demo::run(&out, quick, json, &Bar::new(json))?,
+        Cmd::Demo { out, quick, json } => certmesh::harness::demo::run(&out, quick, json, &Bar::new(json))?,
         Cmd::Reproduce { paper, out, quick } => {
-            certmesh::demo::reproduce(&paper, out.as_deref(), quick)?
+            certmesh::harness::demo::reproduce(&paper, out.as_deref(), quick)?
         }
     }
     Ok(())

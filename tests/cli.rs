@@ -189,7 +189,7 @@ fn stats_histogram_with_emphasis_and_bad_factor() {
 fn mesh_input_remeshes_a_mesh_with_a_hole() {
     let dir = std::env::temp_dir().join(format!("certmesh-cli-meshinput-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let m = certmesh::sdf::uv_sphere(16, 32, 2.0);
+    let m = certmesh::implicit::sdf::uv_sphere(16, 32, 2.0);
     // Cut a cap off: an open mesh, as a scan with a hole.
     let open = certmesh::mesh::TriMesh::new(
         m.vertices.clone(),
@@ -223,7 +223,7 @@ fn mesh_input_remeshes_a_mesh_with_a_hole() {
     let mesh = certmesh::io::read_tri(&out).unwrap();
     // Normalised into the unit cube with the default 5% margin: radius 0.45 about ½.
     for p in &mesh.vertices {
-        let r = certmesh::geom::dist(*p, [0.5; 3]);
+        let r = certmesh::kernel::geom::dist(*p, [0.5; 3]);
         assert!((r - 0.45).abs() < 0.03, "vertex at radius {r}");
     }
     let (code, _, err) = certmesh(&[

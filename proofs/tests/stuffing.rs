@@ -1,7 +1,7 @@
 //! Tests of the isosurface-stuffing proof: the case enumeration against the meshes the
 //! mesher actually produces, a hand-checkable sub-case (the undisturbed BCC
 //! tetrahedron), enclosure properties of the angle functions, and certificate checking.
-use certmesh::bcc::NEIGHBORS;
+use certmesh::lattice::bcc::NEIGHBORS;
 use certmesh::catalog;
 use certmesh::stuffing::stencils::TABLE;
 use certmesh::stuffing::{self, generate, prepare, Field};

@@ -16,7 +16,7 @@ use super::tiling::{
 };
 use super::DiagonalRule;
 use crate::error::{Error, Result};
-use crate::geom::{add, cross, dot, scale, sub, Aabb};
+use crate::kernel::geom::{add, cross, dot, scale, sub, Aabb};
 use crate::implicit::Implicit;
 use crate::mesher::Progress;
 use rayon::prelude::*;

@@ -7,7 +7,7 @@
 //! * [`midnormal`]: Algorithm 1 with interval pruning of empty space;
 //! * [`valence4`]: the valence-four removal of Algorithm 2;
 //! * [`planar`]: the planar version of Sec. 3 (curves on the triangle tiling);
-//! * [`reproduce`]: regenerates `papers/gradnormal/`.
+//! (`crate::reproduce::gradnormal` regenerates `papers/gradnormal/`.)
 //!
 //! Meshers: [`MidNormal`] (`"midnormal"`) and [`GradNormal`] (`"gradnormal"`), both
 //! built from [`MesherOptions`] through [`GradNormalParams::from_options`]; the planar
@@ -17,25 +17,22 @@
 //! e → 0 and its topology claim (Theorem 1.1(1)) only at a scale the paper does not
 //! quantify, so both meshers report `Uncertified` with the *measured* angle range in
 //! the statistics.
-pub mod bunny;
 pub mod check;
 pub mod midnormal;
 pub mod planar;
-pub mod reproduce;
 pub mod tiling;
 pub mod valence4;
 pub mod witness;
 
 pub use midnormal::{extract, NormalSurface};
-pub use reproduce::reproduce;
 pub use tiling::Goldberg;
 
 use crate::error::{Error, Result};
-use crate::geom::{dist, dot, scale, sub, Aabb};
+use crate::kernel::geom::{dist, dot, scale, sub, Aabb};
 use crate::implicit::Implicit;
 use crate::mesh::TriMesh;
 use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
-use crate::options::MesherOptions;
+use crate::mesher::options::MesherOptions;
 use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 

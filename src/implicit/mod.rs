@@ -10,7 +10,9 @@
 pub mod directed;
 pub mod expr;
 pub mod number;
+pub mod ops;
 pub mod regularity;
+pub mod sdf;
 pub mod tape;
 
 pub use directed::Iv;

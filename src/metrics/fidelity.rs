@@ -6,9 +6,9 @@
 //! underestimate), and a mesh point's distance is taken to its Newton projection, a
 //! point of the surface but not always the nearest one (an overestimate per sample).
 //! Each field says what it measures.
-use crate::bvh::{SegBvh, TriBvh};
+use crate::kernel::bvh::{SegBvh, TriBvh};
 use crate::error::{Error, Result};
-use crate::geom::{self, Aabb};
+use crate::kernel::geom::{self, Aabb};
 use crate::implicit::Implicit;
 use crate::mesh::{Curve2, TriMesh};
 use rayon::prelude::*;

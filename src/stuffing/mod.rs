@@ -10,7 +10,7 @@
 //! (sparse octree, Fig 10) and reuses the same cut points, warping rule and stencils.
 //!
 //! For the `proofs` crate: the stencil of a BCC tetrahedron with signs `s` (in the
-//! canonical naming of [`crate::bcc`]) is `stencils::TABLE.stencils[pattern_index(s)]`;
+//! canonical naming of [`crate::lattice::bcc`]) is `stencils::TABLE.stencils[pattern_index(s)]`;
 //! its local ids 0..4 are the tetrahedron's vertices and `4 + k` the cut point on
 //! `stencils::EDGES[k]`; `stencils::reference_point` gives reference coordinates.
 //!
@@ -33,8 +33,6 @@ pub mod field;
 pub mod graded;
 pub mod params;
 pub mod quality;
-mod report;
-mod repro;
 pub mod stencils;
 pub mod warp;
 
@@ -42,15 +40,14 @@ pub use emit::Side;
 pub use field::{Field, Seeding};
 pub use params::{row, Row, TABLE1};
 pub use quality::AngleSummary;
-pub use report::{bins_2deg as report_bins, histogram_svg, reproduce};
 pub use warp::Order;
 
 use crate::error::{Error, Result};
-use crate::geom::Aabb;
+use crate::kernel::geom::Aabb;
 use crate::implicit::Implicit;
 use crate::mesh::{TetMesh, TriMesh};
 use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
-use crate::options::{Crossing, MesherOptions};
+use crate::mesher::options::{Crossing, MesherOptions};
 use serde_json::json;
 
 /// What to do with quadruple-zero BCC tetrahedra (all four vertices on the surface),

@@ -27,7 +27,7 @@
 //! the face choices consistent across neighbouring boxes (Fig 1.10). The directed
 //! segments (f > 0 on the left seen from outside the box) close into cycles on the box
 //! boundary; each cycle is triangulated as a fan (3D). In 2D the single tile is the box.
-use crate::geom::{lerp, Aabb};
+use crate::kernel::geom::{lerp, Aabb};
 use crate::implicit::{IBox, Implicit};
 use crate::mesh::{Curve2, TriMesh};
 use crate::mesher::Uncertified;
@@ -36,7 +36,8 @@ use rayon::prelude::*;
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
-pub mod reproduce;
+pub mod plantinga_vegter;
+pub mod snyder;
 
 /// The deepest level a tree may have (21 bits per packed grid coordinate).
 pub const MAX_LEVEL: u32 = 20;

@@ -1,7 +1,7 @@
 //! Locating f = 0 on a segment with a sign change: shared by every lattice mesher.
-use crate::geom::lerp;
+use crate::kernel::geom::lerp;
 use crate::implicit::Implicit;
-use crate::options::Crossing;
+use crate::mesher::options::Crossing;
 
 /// The parameter t in [0, 1] of a crossing on the segment a→b, where `fa` and `fb`
 /// have opposite signs (or one is zero). `tol` is the tolerance in t; bisection

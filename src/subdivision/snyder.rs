@@ -16,11 +16,11 @@
 //! changes only and reported. `generic_shift` moves the grid to a generic position
 //! ([`GenericMotion`]).
 use crate::error::{Error, Result};
-use crate::geom::Aabb;
+use crate::kernel::geom::Aabb;
 use crate::implicit::Implicit;
 use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
-use crate::options::MesherOptions;
-use crate::plantinga_vegter::{
+use crate::mesher::options::MesherOptions;
+use crate::subdivision::plantinga_vegter::{
     boundary_failure, check_budget, check_input, subdivision_claims, PvPairing, UNDEFINED_BOX,
 };
 use crate::subdivision::{

@@ -14,7 +14,7 @@
 //! non-rigorous oracle ([`Implicit::is_rigorous`] false) the enclosure is only as good
 //! as the oracle's bound.
 use crate::error::Result;
-use crate::grid::{Grid, SparseSamples};
+use crate::lattice::grid::{Grid, SparseSamples};
 use crate::implicit::Implicit;
 use crate::mesher::Progress;
 use rayon::prelude::*;
@@ -185,8 +185,8 @@ pub fn sample_pruned_with(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::Aabb;
-    use crate::grid::{Field, Samples};
+    use crate::kernel::geom::Aabb;
+    use crate::lattice::grid::{Field, Samples};
     use crate::implicit::Formula;
     use crate::mesher::NoProgress;
 

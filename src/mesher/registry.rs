@@ -2,7 +2,7 @@
 //! provides `from_options(&MesherOptions)`; the comparison harness treats all alike.
 use crate::error::{Error, Result};
 use crate::mesher::Mesher;
-use crate::options::MesherOptions;
+use crate::mesher::options::MesherOptions;
 
 /// One registered algorithm.
 #[derive(Clone, Copy, Debug, serde::Serialize)]
@@ -37,8 +37,8 @@ macro_rules! entry {
 fn table() -> Vec<(AlgoInfo, Ctor)> {
     use crate::gradnormal::{planar, GradNormal, MidNormal};
     use crate::marching::{MarchingCubes, MarchingSquares, MarchingTetrahedra};
-    use crate::plantinga_vegter::{PlantingaVegter, PlantingaVegter2};
-    use crate::snyder::{Snyder, Snyder2};
+    use crate::subdivision::plantinga_vegter::{PlantingaVegter, PlantingaVegter2};
+    use crate::subdivision::snyder::{Snyder, Snyder2};
     use crate::stuffing::Stuffing;
     vec![
         entry!(

@@ -1,10 +1,12 @@
 //! `certmesh demo` (the main job on built-in defaults) and `certmesh reproduce PAPER`.
 use crate::catalog::{self, Entry};
-use crate::compare;
+use crate::harness::compare;
 use crate::error::{Error, Result};
 use crate::mesher::{Mesh, Progress, Run};
-use crate::options::MesherOptions;
-use crate::{algorithms, io, metrics, plot};
+use crate::mesher::options::MesherOptions;
+use crate::mesher::registry as algorithms;
+use crate::reproduce::plot;
+use crate::{io, metrics};
 use std::path::Path;
 
 /// The demo's surfaces and curves.
@@ -130,20 +132,11 @@ pub fn run(out: &Path, quick: bool, json: bool, progress: &dyn Progress) -> Resu
 }
 
 /// The papers `certmesh reproduce` knows.
-pub const PAPERS: &[&str] = &["gradnormal", "stuffing", "meshing-of-surfaces"];
+pub const PAPERS: &[&str] = &crate::reproduce::PAPERS;
 
 /// Regenerate a paper's reproduction folder.
 pub fn reproduce(paper: &str, out: Option<&Path>, quick: bool) -> Result<()> {
     let default = Path::new("papers").join(paper);
     let out = out.unwrap_or(&default);
-    match paper {
-        "gradnormal" => crate::gradnormal::reproduce::reproduce(out, quick),
-        "stuffing" => crate::stuffing::reproduce(out, quick),
-        "meshing-of-surfaces" => crate::subdivision::reproduce::reproduce(out, quick),
-        _ => Err(Error::Unknown {
-            kind: "paper",
-            name: paper.to_string(),
-            known: PAPERS.join(" "),
-        }),
-    }
+    crate::reproduce::reproduce(paper, out, quick)
 }

@@ -5,10 +5,13 @@
 //! `RefinementParameters`), and returns a [`MeshOutput`] with a [`Certificate`] saying
 //! exactly what was proven, or where and why nothing was.
 use crate::error::Result;
-use crate::geom::Aabb;
+use crate::kernel::geom::Aabb;
 use crate::implicit::{EvalCounts, Implicit};
 use crate::mesh::{Curve2, TetMesh, TriMesh};
 use serde::{Deserialize, Serialize};
+
+pub mod options;
+pub mod registry;
 
 /// What a mesher produced.
 #[derive(Clone, Debug, Serialize, Deserialize)]
