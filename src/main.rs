@@ -1,13 +1,13 @@
 //! The `certmesh` command line. Every subcommand prints a readable report, or JSON with
 //! `--json`; errors name the problem and exit with status 2.
 use certmesh::catalog::{self, Entry};
-use certmesh::harness::compare;
 use certmesh::error::{Error, Result};
-use certmesh::kernel::geom::Aabb;
+use certmesh::harness::compare;
 use certmesh::implicit::{Formula, Implicit};
-use certmesh::mesher::{self, Mesh, Progress};
+use certmesh::kernel::geom::Aabb;
 use certmesh::mesher::options::{Crossing, MesherOptions};
 use certmesh::mesher::registry as algorithms;
+use certmesh::mesher::{self, Mesh, Progress};
 use certmesh::{io, metrics};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -763,7 +763,9 @@ fn run(cli: Cli) -> Result<()> {
                 print!("{table}");
             }
         }
-        Cmd::Demo { out, quick, json } => certmesh::harness::demo::run(&out, quick, json, &Bar::new(json))?,
+        Cmd::Demo { out, quick, json } => {
+            certmesh::harness::demo::run(&out, quick, json, &Bar::new(json))?
+        }
         Cmd::Reproduce { paper, out, quick } => {
             certmesh::harness::demo::reproduce(&paper, out.as_deref(), quick)?
         }

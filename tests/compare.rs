@@ -2,8 +2,8 @@
 //! merges the two spheres at a coarse odd resolution, the certified mesher does not.
 use certmesh::catalog;
 use certmesh::harness::compare::compare;
-use certmesh::mesher::NoProgress;
 use certmesh::mesher::options::MesherOptions;
+use certmesh::mesher::NoProgress;
 
 #[test]
 fn harness_flags_the_baselines_wrong_topology_and_certifies_pv() {

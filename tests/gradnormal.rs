@@ -1,7 +1,6 @@
 //! MidNormal / GradNormal (Hass & Trnkova 2020): tiling, Lemma 4.1, manifoldness and
 //! topology, the valence-four step, the planar version, options.
 use certmesh::catalog;
-use certmesh::kernel::geom::{add, scale, sub, Aabb};
 use certmesh::gradnormal::check::{angle_range, topology};
 use certmesh::gradnormal::midnormal::extract;
 use certmesh::gradnormal::planar::{GradNormal2, MidNormal2};
@@ -9,12 +8,11 @@ use certmesh::gradnormal::tiling::{
     colour, edge_endpoints, Goldberg, TetType, PAPER_RATIOS, SOMMERVILLE_RATIO,
 };
 use certmesh::gradnormal::valence4::remove_valence4;
-use certmesh::reproduce::gradnormal::is_sommerville;
-use certmesh::gradnormal::{
-    DiagonalRule, GradNormal, GradNormalParams, MidNormal,
-};
+use certmesh::gradnormal::{DiagonalRule, GradNormal, GradNormalParams, MidNormal};
+use certmesh::kernel::geom::{add, scale, sub, Aabb};
 use certmesh::mesh::TriMesh;
 use certmesh::mesher::{Mesh, Mesher, NoProgress};
+use certmesh::reproduce::gradnormal::is_sommerville;
 use certmesh::{Formula, MesherOptions};
 use proptest::prelude::*;
 

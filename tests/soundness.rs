@@ -9,9 +9,9 @@
 //!    every output claimed certified is checked by dense sampling that does not use
 //!    the mesher (f and ∇f defined and finite near the curve, the zero set's sign
 //!    changes near the mesh and the mesh near them, equal component counts).
-use certmesh::kernel::geom::Aabb;
 use certmesh::implicit::expr::{BinOp, Expr, UnOp};
 use certmesh::implicit::{Formula, Implicit, Regularity};
+use certmesh::kernel::geom::Aabb;
 use certmesh::mesh::Curve2;
 use certmesh::mesher::{Mesh, MeshOutput, NoProgress};
 use certmesh::subdivision::plantinga_vegter::{run_pv, PvParams};

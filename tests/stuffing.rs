@@ -3,8 +3,8 @@
 use certmesh::catalog;
 use certmesh::implicit::Implicit;
 use certmesh::mesh::{TetMesh, TriMesh};
-use certmesh::mesher::{Mesh, Mesher, NoProgress};
 use certmesh::mesher::options::{Crossing, MesherOptions};
+use certmesh::mesher::{Mesh, Mesher, NoProgress};
 use certmesh::stuffing::{
     check_conforming, quality, stuff, stuff_double_sided, Order, QuadZero, Seeding, Side, Stuffing,
     StuffingParams, TABLE1,
@@ -627,7 +627,9 @@ fn reproduce_papers_stuffing() {
 
 #[test]
 fn histogram_bins_are_two_degrees() {
-    let b = certmesh::reproduce::stuffing_report::bins_2deg(&[0.5, 1.9, 2.0, 59.99, 60.0, 179.9, 180.0]);
+    let b = certmesh::reproduce::stuffing_report::bins_2deg(&[
+        0.5, 1.9, 2.0, 59.99, 60.0, 179.9, 180.0,
+    ]);
     assert_eq!(b[0], 2);
     assert_eq!(b[1], 1);
     assert_eq!(b[29], 1);

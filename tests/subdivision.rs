@@ -111,7 +111,10 @@ fn outward_fraction(f: &dyn Implicit, m: &TriMesh) -> f64 {
     let mut good = 0;
     for t in 0..m.triangles.len() {
         let [a, b, c] = m.corners(t);
-        let n = certmesh::kernel::geom::cross(certmesh::kernel::geom::sub(b, a), certmesh::kernel::geom::sub(c, a));
+        let n = certmesh::kernel::geom::cross(
+            certmesh::kernel::geom::sub(b, a),
+            certmesh::kernel::geom::sub(c, a),
+        );
         let cen = [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0);
         if certmesh::kernel::geom::dot(n, f.grad(cen).g) > 0.0 {
             good += 1;

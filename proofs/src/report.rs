@@ -104,7 +104,11 @@ pub fn angles_at(ratio: Ratio, case: &Case, mu: [f64; 3]) -> [f64; 3] {
 
 /// Angle functions along every boundary arc of a case's region pieces (the paper's
 /// Figs 14, 15, 17, 18): x = arc index + t.
-pub fn boundary_series(ratio: Ratio, case: &Case, samples: usize) -> Vec<certmesh::reproduce::plot::Series> {
+pub fn boundary_series(
+    ratio: Ratio,
+    case: &Case,
+    samples: usize,
+) -> Vec<certmesh::reproduce::plot::Series> {
     let mut out: Vec<certmesh::reproduce::plot::Series> = (0..3)
         .map(|k| certmesh::reproduce::plot::Series {
             name: format!("angle at {}", case.vertices[k].name),
@@ -319,7 +323,9 @@ pub fn write_papers(dir: &Path, ratio: Ratio) -> Result<(), String> {
     Ok(())
 }
 
-fn envelope_series(all: &[certmesh::reproduce::plot::Series]) -> Vec<certmesh::reproduce::plot::Series> {
+fn envelope_series(
+    all: &[certmesh::reproduce::plot::Series],
+) -> Vec<certmesh::reproduce::plot::Series> {
     use std::collections::BTreeMap;
     let mut lo: BTreeMap<i64, f64> = BTreeMap::new();
     let mut hi: BTreeMap<i64, f64> = BTreeMap::new();

@@ -16,8 +16,8 @@ use super::tiling::{
 };
 use super::DiagonalRule;
 use crate::error::{Error, Result};
-use crate::kernel::geom::{add, cross, dot, scale, sub, Aabb};
 use crate::implicit::Implicit;
+use crate::kernel::geom::{add, cross, dot, scale, sub, Aabb};
 use crate::mesher::Progress;
 use rayon::prelude::*;
 

@@ -28,11 +28,11 @@ pub use midnormal::{extract, NormalSurface};
 pub use tiling::Goldberg;
 
 use crate::error::{Error, Result};
-use crate::kernel::geom::{dist, dot, scale, sub, Aabb};
 use crate::implicit::Implicit;
+use crate::kernel::geom::{dist, Aabb};
 use crate::mesh::TriMesh;
-use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use crate::mesher::options::MesherOptions;
+use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 
@@ -386,22 +386,9 @@ pub struct GradNormal {
     pub params: GradNormalParams,
 }
 
-/// One projection: `steps` iterations of v ← v − f(v)∇f/|∇f|² (Algorithm 2, line 6).
-/// Returns the point and whether every step had a usable gradient.
-pub fn project(f: &dyn Implicit, mut p: [f64; 3], steps: usize) -> ([f64; 3], bool) {
-    for _ in 0..steps {
-        let d = f.grad(p);
-        let g2 = dot(d.g, d.g);
-        if d.v == 0.0 {
-            break;
-        }
-        if !(g2 > 0.0 && g2.is_finite() && d.v.is_finite()) {
-            return (p, false);
-        }
-        p = sub(p, scale(d.g, d.v / g2));
-    }
-    (p, true)
-}
+/// One projection: `steps` iterations of v ← v − f(v)∇f/|∇f|² (Algorithm 2, line 6),
+/// the oracle's [`project_steps`](crate::implicit::ops::project_steps).
+pub use crate::implicit::ops::project_steps as project;
 
 /// What GradNormal did, besides the mesh.
 #[derive(Clone, Debug, Default)]

@@ -17,8 +17,8 @@
 //! triangle is matched, bit for bit, to a replayed one.
 use super::{GradNormal, GradNormalParams};
 use crate::error::{Error, Result};
-use crate::kernel::geom::{angle_deg, dot, Aabb};
 use crate::implicit::Formula;
+use crate::kernel::geom::{angle_deg, dot, Aabb};
 use crate::mesh::TriMesh;
 use crate::mesher::NoProgress;
 use std::collections::HashSet;

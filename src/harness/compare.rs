@@ -2,14 +2,14 @@
 //! interface and judge the outputs side by side — topology verdict against the catalog,
 //! components and genus found, angle range, Hausdorff estimate, time, evaluations and the
 //! certificate.
-use crate::mesher::registry as algorithms;
 use crate::catalog::{Entry, Topology};
 use crate::error::Result;
-use crate::kernel::geom::Aabb;
 use crate::implicit::Implicit;
+use crate::kernel::geom::Aabb;
+use crate::mesher::options::MesherOptions;
+use crate::mesher::registry as algorithms;
 use crate::mesher::{self, Certificate, Mesh, Progress, Run};
 use crate::metrics::{self, FidelityParams};
-use crate::mesher::options::MesherOptions;
 use serde::Serialize;
 
 /// One row of the comparison table.

@@ -1,10 +1,10 @@
 //! `certmesh demo` (the main job on built-in defaults) and `certmesh reproduce PAPER`.
 use crate::catalog::{self, Entry};
-use crate::harness::compare;
 use crate::error::{Error, Result};
-use crate::mesher::{Mesh, Progress, Run};
+use crate::harness::compare;
 use crate::mesher::options::MesherOptions;
 use crate::mesher::registry as algorithms;
+use crate::mesher::{Mesh, Progress, Run};
 use crate::reproduce::plot;
 use crate::{io, metrics};
 use std::path::Path;

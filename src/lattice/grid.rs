@@ -9,8 +9,8 @@
 //!   pruning kept, see [`crate::lattice::octree`]), stored in 8×8×8 bricks;
 //! * [`Field`]: what an extractor reads from either.
 use crate::error::{Error, Result};
-use crate::kernel::geom::Aabb;
 use crate::implicit::Implicit;
+use crate::kernel::geom::Aabb;
 use crate::mesher::Progress;
 use rayon::prelude::*;
 

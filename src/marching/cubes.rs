@@ -16,12 +16,12 @@
 //! edge with four triangles).
 use super::{extract, mesh_3d, GridParams, Place, Scheme};
 use crate::error::Result;
+use crate::implicit::Implicit;
 use crate::kernel::geom::Aabb;
 use crate::lattice::grid::Field;
-use crate::implicit::Implicit;
 use crate::mesh::TriMesh;
-use crate::mesher::{MeshOutput, Mesher, Progress};
 use crate::mesher::options::{Crossing, MesherOptions};
+use crate::mesher::{MeshOutput, Mesher, Progress};
 use std::sync::OnceLock;
 
 /// Marching cubes, `"mc"`. Defaults ([`GridParams::default`]): 64 cells along the

@@ -44,14 +44,14 @@ pub use squares::{marching_squares, MarchingSquares};
 pub use tets::{marching_tetrahedra, MarchingTetrahedra};
 
 use crate::error::{Error, Result};
+use crate::implicit::ops::crossing_t;
+use crate::implicit::{Counted, Implicit};
 use crate::kernel::geom::{lerp, Aabb};
 use crate::lattice::grid::{Field, Grid, Samples, SignBits};
-use crate::implicit::{Counted, Implicit};
-use crate::mesh::TriMesh;
-use crate::mesher::{Certificate, Mesh, MeshOutput, Progress};
 use crate::lattice::octree;
+use crate::mesh::TriMesh;
 use crate::mesher::options::{Crossing, MesherOptions};
-use crate::implicit::ops::crossing_t;
+use crate::mesher::{Certificate, Mesh, MeshOutput, Progress};
 use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 

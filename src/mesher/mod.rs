@@ -5,8 +5,8 @@
 //! `RefinementParameters`), and returns a [`MeshOutput`] with a [`Certificate`] saying
 //! exactly what was proven, or where and why nothing was.
 use crate::error::Result;
-use crate::kernel::geom::Aabb;
 use crate::implicit::{EvalCounts, Implicit};
+use crate::kernel::geom::Aabb;
 use crate::mesh::{Curve2, TetMesh, TriMesh};
 use serde::{Deserialize, Serialize};
 

@@ -6,10 +6,10 @@
 //! underestimate), and a mesh point's distance is taken to its Newton projection, a
 //! point of the surface but not always the nearest one (an overestimate per sample).
 //! Each field says what it measures.
-use crate::kernel::bvh::{SegBvh, TriBvh};
 use crate::error::{Error, Result};
-use crate::kernel::geom::{self, Aabb};
 use crate::implicit::Implicit;
+use crate::kernel::bvh::{SegBvh, TriBvh};
+use crate::kernel::geom::{self, Aabb};
 use crate::mesh::{Curve2, TriMesh};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -90,29 +90,9 @@ pub struct Fidelity {
     pub flipped_normals: usize,
 }
 
-/// Project `p` onto f = 0 by Newton steps p ← p − f ∇f / |∇f|². `None` when ∇f
-/// vanishes, a value is not finite, or the last step is still above `tol`.
-pub fn project(f: &dyn Implicit, p: [f64; 3], steps: usize, tol: f64) -> Option<[f64; 3]> {
-    let planar = f.dim() == 2;
-    let mut q = p;
-    for _ in 0..steps.max(1) {
-        let d = f.grad(q);
-        let mut g = d.g;
-        if planar {
-            g[2] = 0.0;
-        }
-        let g2 = geom::dot(g, g);
-        if !(g2 > 0.0) || !d.v.is_finite() || !g2.is_finite() {
-            return None;
-        }
-        let t = d.v / g2;
-        q = geom::sub(q, geom::scale(g, t));
-        if (t.abs() * g2.sqrt()) <= tol {
-            return Some(q);
-        }
-    }
-    None
-}
+/// Project `p` onto f = 0 by Newton steps (the oracle's
+/// [`project`](crate::implicit::ops::project)).
+pub use crate::implicit::ops::project;
 
 /// The first-order distance estimate |f|/|∇f| at `p`.
 pub fn distance_estimate(f: &dyn Implicit, p: [f64; 3]) -> f64 {

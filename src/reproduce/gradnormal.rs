@@ -3,8 +3,8 @@
 //! Table 1, Figs 1–2, the random-plane experiment with adversarial refinement and the
 //! witnesses of its extremes, the Appendix A arcs of the valence-four square, timings,
 //! and `angles.svg`/`angles.png` (normalised angle histograms as in Fig 4).
-use crate::gradnormal::tiling::{Goldberg, LABELS, MIDPOINT_EDGES, PAPER_RATIOS};
 use crate::error::{Error, Result};
+use crate::gradnormal::tiling::{Goldberg, LABELS, MIDPOINT_EDGES, PAPER_RATIOS};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -76,11 +76,11 @@ pub fn reproduce(out_dir: &Path, quick: bool) -> Result<()> {
 // ---------------------------------------------------------------------------------
 // The reproduction proper.
 
+use crate::catalog;
 use crate::gradnormal::check::{angle_range, angles, topology};
 use crate::gradnormal::{GradNormal, GradNormalParams, GradNormalReport, MidNormal};
-use crate::catalog;
-use crate::kernel::geom::{dot, Aabb};
 use crate::implicit::{Formula, Implicit};
+use crate::kernel::geom::{dot, Aabb};
 use crate::mesh::TriMesh;
 use crate::mesher::{Mesher, NoProgress};
 use plotters::coord::Shift;
@@ -796,8 +796,12 @@ pub fn reproduce_with(out_dir: &Path, o: &ReproduceOptions) -> Result<()> {
     let _ = writeln!(md, "\nThe paper's Python took up to 1,141 s per run and 15.8 s for its genus-2 figure (2014 laptop). Interval pruning (octree over lattice blocks) makes the visited tetrahedra follow the surface: compare the last two columns. Total reproduction time: {:.1} s.\n", t_all.elapsed().as_secs_f64());
 
     // --- Refuted claims in real meshes (issue #6) and the bunny (Figs 3-4) -----------
-    md.push_str(&crate::gradnormal::witness::markdown(&crate::gradnormal::witness::refuted_claims()?));
-    md.push_str(&crate::reproduce::gradnormal_bunny::section(out_dir, o.quick)?);
+    md.push_str(&crate::gradnormal::witness::markdown(
+        &crate::gradnormal::witness::refuted_claims()?,
+    ));
+    md.push_str(&crate::reproduce::gradnormal_bunny::section(
+        out_dir, o.quick,
+    )?);
 
     let _ = writeln!(md, "## Notes on the paper\n");
     let _ = writeln!(md, "* **The Goldberg parameter** is stated three ways (a = e/4, e/2, e·√2/4); only e·√2/4 is the Sommerville/BCC tetrahedron the text describes ([GOLDBERG.md](GOLDBERG.md)).");

@@ -12,15 +12,15 @@
 //! (longest side 1 − 2·[`MARGIN`]) and meshed by [`GradNormal`] through the signed
 //! distance [`MeshSdf`] (exact distance, winding-number sign). Nothing is certified: the
 //! signed distance is floating point and `MeshSdf::is_rigorous()` is false.
+use crate::error::{Error, Result};
 use crate::gradnormal::check::{angle_range, angles, topology};
 use crate::gradnormal::tiling::{Goldberg, SOMMERVILLE_RATIO};
 use crate::gradnormal::{GradNormal, GradNormalParams};
-use crate::error::{Error, Result};
+use crate::implicit::sdf::{self, MeshSdf};
 use crate::kernel::geom::Aabb;
 use crate::mesh::TriMesh;
 use crate::mesher::NoProgress;
 use crate::reproduce::plot::{self, Series};
-use crate::implicit::sdf::{self, MeshSdf};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

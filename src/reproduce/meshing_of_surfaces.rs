@@ -16,16 +16,16 @@
 //!
 //! `quick` keeps the run to seconds (fewer grids and surfaces, no Snyder depth-14 runs on
 //! the large surfaces); the test suite runs it.
-use crate::subdivision::{leaf_boxes, AngleBound};
 use crate::catalog::{self, Entry};
 use crate::error::{Error, Result};
 use crate::implicit::{Counted, EvalCounts};
 use crate::marching::{MarchingCubes, MarchingSquares, MarchingTetrahedra};
+use crate::mesher::options::Crossing;
 use crate::mesher::{self, Certificate, Mesh, MeshOutput, Mesher, NoProgress, Run};
 use crate::metrics;
-use crate::mesher::options::Crossing;
 use crate::subdivision::plantinga_vegter::{run_pv, PlantingaVegter, PvParams};
 use crate::subdivision::snyder::{run_snyder, Snyder, SnyderParams};
+use crate::subdivision::{leaf_boxes, AngleBound};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;

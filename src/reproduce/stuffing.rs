@@ -1,8 +1,8 @@
 //! The `papers/stuffing/` reproduction: every Table 1 row run over the smooth catalog
 //! surfaces, measured angle ranges beside the guaranteed bounds, and histograms.
-use crate::stuffing::{quality, stuff, StuffingParams, TABLE1};
 use crate::catalog;
 use crate::error::{Error, Result};
+use crate::stuffing::{quality, stuff, StuffingParams, TABLE1};
 use std::fmt::Write as _;
 use std::path::Path;
 

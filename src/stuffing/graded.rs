@@ -22,10 +22,10 @@ use super::field::{Field, OUT};
 use super::stencils::{pattern_index, EDGES, TABLE};
 use super::warp::violates;
 use super::{QuadZero, Stuffed, StuffingParams};
-use crate::lattice::bcc::{orient, Coord, TET_TEMPLATES};
 use crate::error::{Error, Result};
-use crate::kernel::geom::{lerp, Aabb};
 use crate::implicit::Implicit;
+use crate::kernel::geom::{lerp, Aabb};
+use crate::lattice::bcc::{orient, Coord, TET_TEMPLATES};
 use crate::mesh::TetMesh;
 use std::collections::{HashMap, HashSet};
 
@@ -316,10 +316,11 @@ pub fn stuff_graded(
                 if s[i] == 1 && s[j] == -1 {
                     let (pi, pj) = (t[i], t[j]);
                     let id = fl.lat.id(pi).expect("in window");
-                    let d = crate::lattice::bcc::dir_of([pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]])
-                        .ok_or_else(|| {
-                            Error::Param("graded stuffing: a cut edge is not a BCC edge".into())
-                        })?;
+                    let d =
+                        crate::lattice::bcc::dir_of([pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]])
+                            .ok_or_else(|| {
+                                Error::Param("graded stuffing: a cut edge is not a BCC edge".into())
+                            })?;
                     let (tt, _) = fl
                         .cut_at(id, d)
                         .ok_or_else(|| Error::Param("graded stuffing: missing cut point".into()))?;

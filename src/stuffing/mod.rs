@@ -43,11 +43,11 @@ pub use quality::AngleSummary;
 pub use warp::Order;
 
 use crate::error::{Error, Result};
-use crate::kernel::geom::Aabb;
 use crate::implicit::Implicit;
+use crate::kernel::geom::Aabb;
 use crate::mesh::{TetMesh, TriMesh};
-use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use crate::mesher::options::{Crossing, MesherOptions};
+use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use serde_json::json;
 
 /// What to do with quadruple-zero BCC tetrahedra (all four vertices on the surface),

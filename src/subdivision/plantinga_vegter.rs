@@ -18,10 +18,10 @@
 //! The run is certified ("isotopic to f = 0 inside the domain") only if every leaf met a
 //! criterion and every grid-point sign was decided by interval arithmetic.
 use crate::error::{Error, Result};
-use crate::kernel::geom::Aabb;
 use crate::implicit::Implicit;
-use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
+use crate::kernel::geom::Aabb;
 use crate::mesher::options::{Crossing, MesherOptions};
+use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use crate::subdivision::{
     assemble, cos_lower_bound, cut_arcs, excludes_zero, mean_value, snv_dot, subdivide, tree_stats,
     AngleBound, Budget, Decision, Grid, Pairing, SignChange, TileCrossing, Tree, Verdict,

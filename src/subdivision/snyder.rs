@@ -16,10 +16,10 @@
 //! changes only and reported. `generic_shift` moves the grid to a generic position
 //! ([`GenericMotion`]).
 use crate::error::{Error, Result};
-use crate::kernel::geom::Aabb;
 use crate::implicit::Implicit;
-use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
+use crate::kernel::geom::Aabb;
 use crate::mesher::options::MesherOptions;
+use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use crate::subdivision::plantinga_vegter::{
     boundary_failure, check_budget, check_input, subdivision_claims, PvPairing, UNDEFINED_BOX,
 };
