@@ -634,3 +634,32 @@ fn the_mean_value_form_is_not_used_across_a_pole() {
     certified_curve_agrees("x + 1/y", [-1.5, 0.5], [1.0, 1.0], true).unwrap();
     assert!(pv(&f, &d, 2, 8).certificate.is_certified());
 }
+
+#[test]
+fn claims_are_typed_and_match_their_text() {
+    use certmesh::mesher::{Cause, Claim};
+    let f = Formula::surface("x^2 + y^2 + z^2 - 1").unwrap();
+    let out = pv(&f, &cube(3, 1.5), 3, 6);
+    let c = &out.certificate;
+    assert!(c.proves_topology());
+    let typed = c.claims_typed();
+    assert!(matches!(typed[0], Claim::Isotopic { .. }));
+    let texts: Vec<String> = typed.iter().map(|t| t.to_string()).collect();
+    assert_eq!(texts, c.claims());
+    let j = serde_json::to_value(c).unwrap();
+    assert_eq!(j["claims_typed"][0]["kind"], "isotopic");
+    assert_eq!(
+        j["claims"][0],
+        certmesh::subdivision::plantinga_vegter::PV_CLAIM
+    );
+    // Uncertified regions carry their cause.
+    let f = Formula::surface("x/y").unwrap();
+    let out = pv(&f, &cube(3, 2.0), 3, 4);
+    match &out.certificate {
+        certmesh::Certificate::Uncertified { regions, .. } => {
+            assert!(regions.iter().any(|r| r.cause == Cause::NotContinuous));
+            assert!(!out.certificate.proves_topology());
+        }
+        c => panic!("{c:?}"),
+    }
+}

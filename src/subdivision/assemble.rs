@@ -218,10 +218,10 @@ pub fn assemble(
     for (k, s) in &signs {
         if !s.rigorous {
             let p = g.point(unpack(*k));
-            uncertain.push(Uncertified {
-                region: Aabb { min: p, max: p },
-                reason: "sign of f at a grid point not decided by interval arithmetic".into(),
-            });
+            uncertain.push(Uncertified::new(
+                Aabb { min: p, max: p },
+                "sign of f at a grid point not decided by interval arithmetic",
+            ));
         }
     }
     // 3. Crossings per segment.
@@ -237,10 +237,10 @@ pub fn assemble(
     for (s, r) in &roots {
         if !r.isolated {
             let (pa, pb) = (g.point(unpack(s.a)), g.point(unpack(s.b)));
-            uncertain.push(Uncertified {
-                region: Aabb::of_points(&[pa, pb]).unwrap_or(g.domain),
-                reason: "grazing intersection: roots on a box edge not isolated".into(),
-            });
+            uncertain.push(Uncertified::new(
+                Aabb::of_points(&[pa, pb]).unwrap_or(g.domain),
+                "grazing intersection: roots on a box edge not isolated",
+            ));
         }
     }
     let bad_tiles = AtomicU64::new(0);
@@ -327,12 +327,10 @@ pub fn assemble(
     let root_steps = steps.load(Relaxed);
     let nbad = bad_tiles.load(Relaxed);
     if nbad > 0 {
-        uncertain.push(Uncertified {
-            region: g.domain,
-            reason: format!(
-                "{nbad} face tile(s) whose crossing pattern contradicts the connection rule"
-            ),
-        });
+        uncertain.push(Uncertified::new(
+            g.domain,
+            format!("{nbad} face tile(s) whose crossing pattern contradicts the connection rule"),
+        ));
     }
     let nseg: usize = outs.iter().map(|o| o.segs.len()).sum();
     if g.dim == 2 {
@@ -416,11 +414,10 @@ pub fn assemble(
         }
         if !ok {
             bad += 1;
-            uncertain.push(Uncertified {
-                region: g.cell_aabb(c),
-                reason: "boundary crossing pattern of the box does not close into simple cycles"
-                    .into(),
-            });
+            uncertain.push(Uncertified::new(
+                g.cell_aabb(c),
+                "boundary crossing pattern of the box does not close into simple cycles",
+            ));
         }
     }
     let _ = bad;

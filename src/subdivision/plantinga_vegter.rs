@@ -21,7 +21,8 @@ use crate::error::{Error, Result};
 use crate::implicit::Implicit;
 use crate::kernel::geom::Aabb;
 use crate::mesher::options::{Crossing, MesherOptions};
-use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
+use crate::mesher::{Mesh, MeshOutput, Mesher, Progress};
+use crate::subdivision::certificate;
 use crate::subdivision::{
     assemble, cos_lower_bound, cut_arcs, excludes_zero, mean_value, snv_dot, subdivide, tree_stats,
     AngleBound, Budget, Decision, Grid, Pairing, SignChange, TileCrossing, Tree, Verdict,
@@ -33,30 +34,10 @@ use crate::subdivision::{
 pub const UNDEFINED_BOX: &str =
     "f is undefined on this whole box (a division by 0, a root of a negative number)";
 
+/// The theorem a certified run invokes.
+pub const PV_THEOREM: &str = "Plantinga–Vegter";
 /// The claim of a certified run.
 pub const PV_CLAIM: &str = "isotopic to f = 0 inside the domain (Plantinga–Vegter)";
-
-/// The claims of a certified subdivision run: the mesher's claim, what it rests on,
-/// and the part of the domain excluded as empty.
-pub(crate) fn subdivision_claims(claim: &str, tree: &Tree, dim: usize) -> Vec<String> {
-    let what = if dim == 2 { "curve" } else { "surface" };
-    let empty = tree
-        .leaves
-        .iter()
-        .filter(|l| l.verdict == Verdict::Empty)
-        .count();
-    vec![
-        claim.to_string(),
-        format!(
-            "f = 0 inside the domain is a regular {what}: every box meeting it is proven C^inf \
-             with a gradient bounded away from 0 (interval regularity flags and enclosures)"
-        ),
-        format!(
-            "{empty} of {} boxes proven free of f = 0 (0 not in the enclosure of f)",
-            tree.leaves.len()
-        ),
-    ]
-}
 
 /// Parameters of both Plantinga–Vegter meshers.
 #[derive(Clone, Debug)]
@@ -441,21 +422,7 @@ pub fn run_pv(
     stats.insert("max_angle_deg".into(), serde_json::json!(p.max_angle));
     let mut regions = tree.failures();
     regions.extend(asm.uncertain.iter().cloned());
-    let certificate = if regions.is_empty() {
-        Certificate::Certified {
-            claims: subdivision_claims(PV_CLAIM, &tree, dim),
-        }
-    } else {
-        Certificate::Uncertified {
-            reason: format!(
-                "{} region(s) not certified (first: {})",
-                regions.len(),
-                regions[0].reason
-            ),
-            claims: Vec::new(),
-            regions,
-        }
-    };
+    let certificate = certificate(PV_THEOREM, &tree, dim, domain, false, regions);
     let mesh = if dim == 2 {
         Mesh::Curve(asm.curve.unwrap_or_default())
     } else {

@@ -19,9 +19,10 @@ use crate::error::{Error, Result};
 use crate::implicit::Implicit;
 use crate::kernel::geom::Aabb;
 use crate::mesher::options::MesherOptions;
-use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
+use crate::mesher::{Mesh, MeshOutput, Mesher, Progress};
+use crate::subdivision::certificate;
 use crate::subdivision::plantinga_vegter::{
-    boundary_failure, check_budget, check_input, subdivision_claims, PvPairing, UNDEFINED_BOX,
+    boundary_failure, check_budget, check_input, PvPairing, UNDEFINED_BOX,
 };
 use crate::subdivision::{
     assemble, enclose, excludes_zero, point_sign, subdivide, tree_stats, Budget, Cell, Decision,
@@ -30,6 +31,8 @@ use crate::subdivision::{
 };
 use std::sync::atomic::AtomicU64;
 
+/// The theorem a certified run invokes.
+pub const SNYDER_THEOREM: &str = "Snyder, Lemma 2";
 pub const SNYDER_CLAIM: &str = "isotopic to f = 0 inside the domain (Snyder, Lemma 2)";
 
 /// Parameters of both Snyder meshers.
@@ -389,26 +392,7 @@ pub fn run_snyder(
             Mesh::Volume { .. } => {}
         }
     }
-    let certificate = if regions.is_empty() {
-        let claim = if motion.is_some() {
-            format!("{SNYDER_CLAIM}, grid in generic position (the meshed region is a rotated box containing the domain)")
-        } else {
-            SNYDER_CLAIM.to_string()
-        };
-        Certificate::Certified {
-            claims: subdivision_claims(&claim, &tree, dim),
-        }
-    } else {
-        Certificate::Uncertified {
-            reason: format!(
-                "{} region(s) not certified (first: {})",
-                regions.len(),
-                regions[0].reason
-            ),
-            claims: Vec::new(),
-            regions,
-        }
-    };
+    let certificate = certificate(SNYDER_THEOREM, &tree, dim, &dom, motion.is_some(), regions);
     Ok((
         tree,
         MeshOutput {

@@ -1,6 +1,7 @@
 //! Statistics of a finished subdivision, as JSON, and the leaf boxes for figures.
 use super::*;
 use crate::kernel::geom::Aabb;
+use crate::mesher::{Certificate, Claim, Uncertified};
 use std::collections::BTreeMap;
 
 /// Statistics shared by both meshers, as JSON.
@@ -53,4 +54,48 @@ pub fn leaf_boxes(tree: &Tree) -> Vec<(Aabb, Verdict)> {
         .iter()
         .map(|l| (tree.grid.cell_aabb(l.cell), l.verdict))
         .collect()
+}
+
+/// The certificate of a finished subdivision run: certified (isotopy by `theorem`
+/// inside `inside`, the regularity of the zero set it rests on, the boxes excluded as
+/// empty) when no region failed, else uncertified with the regions.
+pub fn certificate(
+    theorem: &str,
+    tree: &Tree,
+    dim: usize,
+    inside: &Aabb,
+    generic_position: bool,
+    regions: Vec<Uncertified>,
+) -> Certificate {
+    if !regions.is_empty() {
+        return Certificate::uncertified(
+            format!(
+                "{} region(s) not certified (first: {})",
+                regions.len(),
+                regions[0].reason
+            ),
+            Vec::new(),
+            regions,
+        );
+    }
+    let empty = tree
+        .leaves
+        .iter()
+        .filter(|l| l.verdict == Verdict::Empty)
+        .count();
+    Certificate::certified(vec![
+        Claim::Isotopic {
+            inside: *inside,
+            theorem: theorem.to_string(),
+            generic_position,
+        },
+        Claim::RegularZeroSet {
+            dim,
+            inside: *inside,
+        },
+        Claim::ExcludedEmpty {
+            empty,
+            boxes: tree.leaves.len(),
+        },
+    ])
 }

@@ -483,10 +483,9 @@ impl Tree {
         self.leaves
             .iter()
             .filter_map(|l| match l.verdict {
-                Verdict::Failed(r) => Some(Uncertified {
-                    region: self.grid.cell_aabb(l.cell),
-                    reason: r.to_string(),
-                }),
+                Verdict::Failed(r) => {
+                    Some(Uncertified::new(self.grid.cell_aabb(l.cell), r.to_string()))
+                }
                 _ => None,
             })
             .collect()
