@@ -311,12 +311,22 @@ pub struct EvalCounts {
     pub gradients: u64,
     pub interval_gradients: u64,
     pub hessians: u64,
+    /// Regularity checks ([`Implicit::regularity`]: one decorated interval evaluation
+    /// each), counted apart so the interval counts stay comparable with runs before
+    /// the checks existed.
+    #[serde(default)]
+    pub regularity: u64,
 }
 
 impl EvalCounts {
     /// All evaluations of any kind.
     pub fn total(&self) -> u64 {
-        self.points + self.intervals + self.gradients + self.interval_gradients + self.hessians
+        self.points
+            + self.intervals
+            + self.gradients
+            + self.interval_gradients
+            + self.hessians
+            + self.regularity
     }
 }
 
@@ -324,7 +334,7 @@ impl EvalCounts {
 /// way for every mesher (a mesher cannot under-report).
 pub struct Counted<'a> {
     inner: &'a dyn Implicit,
-    c: [AtomicU64; 5],
+    c: [AtomicU64; 6],
 }
 
 impl<'a> Counted<'a> {
@@ -341,6 +351,7 @@ impl<'a> Counted<'a> {
             gradients: self.c[2].load(Relaxed),
             interval_gradients: self.c[3].load(Relaxed),
             hessians: self.c[4].load(Relaxed),
+            regularity: self.c[5].load(Relaxed),
         }
     }
 }
@@ -378,7 +389,7 @@ impl Implicit for Counted<'_> {
         self.inner.is_rigorous()
     }
     fn regularity(&self, b: &IBox) -> Regularity {
-        self.c[1].fetch_add(1, Relaxed);
+        self.c[5].fetch_add(1, Relaxed);
         self.inner.regularity(b)
     }
     fn describe(&self) -> String {

@@ -25,7 +25,7 @@ use crate::subdivision::plantinga_vegter::{
     boundary_failure, check_budget, check_input, PvPairing, UNDEFINED_BOX,
 };
 use crate::subdivision::{
-    assemble, enclose, excludes_zero, point_sign, subdivide, tree_stats, Budget, Cell, Decision,
+    assemble, enclose, excludes_zero, no_zero_plus, point_sign, subdivide, tree_stats, Budget, Cell, Decision,
     GenericMotion, Grid, IntervalIsolation, Pairing, TileCrossing, Tree, Verdict,
     DEFAULT_MAX_BOXES, MAX_LEVEL,
 };
@@ -215,12 +215,15 @@ impl Mesher for Snyder2 {
     }
 }
 
-/// Face criterion of Lemma 2: 0 ∉ □f, or one of the two in-plane partials excludes 0.
-/// Strict: □f ⊂ [0, ∞) proves nothing about f = 0 on the face (a double zero is not a
-/// sign change).
+/// Face criterion of Lemma 2: f has no zero on the face in the sign⁺ sense (□f ⊂
+/// [0, ∞) or (−∞, 0)), or one of the two in-plane partials excludes 0. Called only
+/// for a face of a box already proven C^∞ with a partial bounded away from 0, where
+/// the zero set is regular and the sign⁺ convention (meshing f + ε) is isotopic to
+/// f = 0: a face the surface only touches (the blob at (±1, 0, 0)) is then fine. It
+/// is never used to exclude a box: that needs 0 ∉ □f strictly.
 fn face_ok(f: &dyn Implicit, ib: &crate::implicit::IBox, normal: usize) -> bool {
     let (v, g) = enclose(f, ib);
-    excludes_zero(v) || (0..3).any(|j| j != normal && excludes_zero(g[j]))
+    no_zero_plus(v) || (0..3).any(|j| j != normal && excludes_zero(g[j]))
 }
 
 fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Decision {
@@ -247,6 +250,9 @@ fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Dec
             continue;
         }
         any_param = true;
+        if let Some(reason) = smooth {
+            return Decision::Split(reason);
+        }
         if dim == 3 {
             let mut ok = true;
             for w in [lo[k], hi[k]] {
@@ -262,9 +268,6 @@ fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Dec
                 faces_failed = true;
                 continue;
             }
-        }
-        if let Some(reason) = smooth {
-            return Decision::Split(reason);
         }
         // The sign⁺ convention and the edge isolation are blind to a zero set that
         // touches the domain boundary (a tangency, a corner): see `boundary_failure`.
