@@ -24,7 +24,7 @@ pub mod tiling;
 pub mod valence4;
 pub mod witness;
 
-pub use midnormal::{extract, NormalSurface};
+pub use midnormal::{extract, extract_bounded, NormalSurface};
 pub use tiling::Goldberg;
 
 use crate::error::{Error, Result};
@@ -99,6 +99,9 @@ pub struct GradNormalParams {
     pub newton_steps: usize,
     /// Octree leaf size in lattice steps. Default 8.
     pub leaf: usize,
+    /// Refuse runs expected to produce more triangles than this (default
+    /// [`midnormal::DEFAULT_MAX_TRIANGLES`]; `--set max_triangles=N`).
+    pub max_triangles: u64,
     /// Prune empty blocks with interval arithmetic. Default true.
     pub prune: bool,
 }
@@ -114,13 +117,14 @@ impl Default for GradNormalParams {
             remove_valence4: true,
             newton_steps: 1,
             leaf: 8,
+            max_triangles: midnormal::DEFAULT_MAX_TRIANGLES,
             prune: true,
         }
     }
 }
 
 /// The `--set` keys MidNormal understands.
-pub const MIDNORMAL_KEYS: &[&str] = &["a_ratio", "quad_rule", "leaf", "prune"];
+pub const MIDNORMAL_KEYS: &[&str] = &["a_ratio", "quad_rule", "leaf", "prune", "max_triangles"];
 /// The `--set` keys GradNormal understands:
 /// * `a_ratio` (f64, default √2/4): a/e of the Goldberg tetrahedron;
 /// * `quad_rule` (`paper` | `alternate` | `shorter`): diagonals of the quadrilaterals;
@@ -214,6 +218,9 @@ impl GradNormalParams {
         }
         if let Some(v) = o.get::<bool>("prune")? {
             p.prune = v;
+        }
+        if let Some(v) = o.get::<u64>("max_triangles")? {
+            p.max_triangles = v;
         }
         p.validate()?;
         Ok(p)
@@ -311,7 +318,7 @@ impl MidNormal {
             DiagonalRule::Shorter => DiagonalRule::Paper,
             r => r,
         };
-        extract(
+        extract_bounded(
             f,
             domain,
             &g,
@@ -319,6 +326,7 @@ impl MidNormal {
             false,
             self.params.leaf,
             self.params.prune,
+            self.params.max_triangles,
             progress,
         )
     }
@@ -426,7 +434,7 @@ impl GradNormal {
         let p = &self.params;
         let g = p.goldberg(domain);
         let keep_quads = p.quad_rule == DiagonalRule::Shorter;
-        let ns = extract(
+        let ns = extract_bounded(
             f,
             domain,
             &g,
@@ -434,6 +442,7 @@ impl GradNormal {
             keep_quads,
             p.leaf,
             p.prune,
+            p.max_triangles,
             progress,
         )?;
         // Step 2 (line 6): gradient projection. Positions do not depend on connectivity,
