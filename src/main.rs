@@ -73,7 +73,7 @@ enum Cmd {
     /// Examples:
     ///   certmesh mesh torus --algo mc --resolution 64 -o torus.obj
     ///   certmesh mesh --formula "x^2 + y^2 + z^2 - 1" --algo pv -o sphere.obj
-    ///   certmesh mesh --formula "x^4 + y^4 + z^4 - 1" --domain -1.5,-1.5,-1.5,1.5,1.5,1.5 --algo mc -o s.ply --json
+    ///   certmesh mesh -f "x^4 + y^4 + z^4 - 1" --domain -1.2,-1.2,-1.2,1.2,1.2,1.2 --algo mc -o s.ply
     ///   certmesh mesh --formula 0 --domain -1,-1,-1,1,1,1 --algo pv --max-boxes 2000 -o x.obj
     #[command(verbatim_doc_comment)]
     Mesh(MeshArgs),
@@ -154,7 +154,7 @@ enum Cmd {
     /// The main job on built-in defaults: mesh catalog entries with every algorithm,
     /// print the comparison, write the meshes and angle histograms to the output folder.
     ///
-    /// Example: certmesh demo --quick --out out/demo-quick
+    /// Example: certmesh demo --quick
     #[command(verbatim_doc_comment)]
     Demo {
         #[arg(long, default_value = "out/demo")]
@@ -169,7 +169,7 @@ enum Cmd {
     ///
     /// Papers: gradnormal, stuffing, meshing-of-surfaces.
     ///
-    /// Example: certmesh reproduce meshing-of-surfaces --quick --out out/mos
+    /// Example: certmesh reproduce meshing-of-surfaces --quick --out papers-quick/meshing-of-surfaces
     #[command(verbatim_doc_comment)]
     Reproduce {
         /// Which paper: gradnormal, stuffing or meshing-of-surfaces.

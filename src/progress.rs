@@ -47,21 +47,24 @@ impl Bar {
 
 impl Progress for Bar {
     fn start(&self, phase: &str, total: u64) {
-        self.pb.reset();
         let style = if total > 0 {
-            self.pb.set_length(total);
             ProgressStyle::with_template(
                 "{spinner} {msg:>12} [{bar:40}] {pos}/{len} ({elapsed}, eta {eta})",
             )
             .expect("valid template")
             .progress_chars("=> ")
         } else {
-            self.pb.unset_length();
-            ProgressStyle::with_template("{spinner} {msg:>12} {pos} ({elapsed})")
+            ProgressStyle::with_template("{spinner} {msg:>12} ({elapsed})")
                 .expect("valid template")
         };
         self.pb.set_style(style);
         self.pb.set_message(phase.to_string());
+        if total > 0 {
+            self.pb.set_length(total);
+        } else {
+            self.pb.unset_length();
+        }
+        self.pb.reset();
         if self.visible {
             self.pb.enable_steady_tick(TICK);
         }
