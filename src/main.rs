@@ -1292,7 +1292,7 @@ fn demo_cmd(out: &Path, quick: bool, json: bool, quiet: bool) -> CliResult<()> {
     Ok(())
 }
 
-fn reproduce_cmd(paper: &str, out: Option<&Path>, quick: bool) -> CliResult<()> {
+fn reproduce_cmd(paper: &str, out: Option<&Path>, quick: bool, quiet: bool) -> CliResult<()> {
     if !certmesh::demo::PAPERS.contains(&paper) {
         return Err(CliError::from(Error::Unknown {
             kind: "paper",
@@ -1302,7 +1302,11 @@ fn reproduce_cmd(paper: &str, out: Option<&Path>, quick: bool) -> CliResult<()> 
     }
     let default = Path::new("papers").join(paper);
     check_out_dir(out.unwrap_or(&default))?;
-    certmesh::demo::reproduce(paper, out, quick).runtime()
+    let bar = Bar::new(quiet);
+    bar.phase(paper);
+    let r = certmesh::demo::reproduce(paper, out, quick).runtime();
+    bar.finish();
+    r
 }
 
 fn run(cmd: Cmd, quiet: bool) -> CliResult<()> {
@@ -1396,7 +1400,7 @@ fn run(cmd: Cmd, quiet: bool) -> CliResult<()> {
             quiet,
         )?,
         Cmd::Demo { out, quick, json } => demo_cmd(&out, quick, json, quiet)?,
-        Cmd::Reproduce { paper, out, quick } => reproduce_cmd(&paper, out.as_deref(), quick)?,
+        Cmd::Reproduce { paper, out, quick } => reproduce_cmd(&paper, out.as_deref(), quick, quiet)?,
     }
     Ok(())
 }
