@@ -37,12 +37,6 @@ impl Bar {
     pub fn phase(&self, name: &str) {
         self.start(name, 0);
     }
-
-    /// Is anything drawn at all?
-    #[allow(dead_code)]
-    pub fn visible(&self) -> bool {
-        self.visible
-    }
 }
 
 impl Progress for Bar {
