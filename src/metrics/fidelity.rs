@@ -202,10 +202,6 @@ pub fn project(f: &dyn Implicit, p: [f64; 3], steps: usize, tol: f64) -> Option<
     let mut q = p;
     for _ in 0..steps.max(1) {
         let d = f.grad(q);
-        if d.v == 0.0 {
-            // On f = 0 exactly (also where ∇f vanishes, e.g. f ≡ 0).
-            return Some(q);
-        }
         let mut g = d.g;
         if planar {
             g[2] = 0.0;
@@ -221,6 +217,16 @@ pub fn project(f: &dyn Implicit, p: [f64; 3], steps: usize, tol: f64) -> Option<
         }
     }
     None
+}
+
+/// [`project`] for the distance samples: a point where f is exactly 0 is on f = 0
+/// already, also where ∇f vanishes there (e.g. f ≡ 0), where `project` gives up; its
+/// distance is then measured (0), not left out.
+fn project_sample(f: &dyn Implicit, p: [f64; 3], steps: usize, tol: f64) -> Option<[f64; 3]> {
+    if f.eval(p) == 0.0 {
+        return Some(p);
+    }
+    project(f, p, steps, tol)
 }
 
 /// The first-order distance estimate |f|/|∇f| at `p`.
@@ -304,7 +310,7 @@ pub fn surface_points_counted(
                 return None;
             }
             candidates.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            let q = project(f, p, steps, tol)?;
+            let q = project_sample(f, p, steps, tol)?;
             grown.contains(q).then_some(q)
         })
         .collect();
@@ -447,7 +453,7 @@ pub fn surface_fidelity(
     let m2s: Vec<Option<f64>> = verts
         .par_iter()
         .chain(samples.par_iter())
-        .map(|&p| project(f, p, steps, tol).map(|q| geom::dist(p, q)))
+        .map(|&p| project_sample(f, p, steps, tol).map(|q| geom::dist(p, q)))
         .collect();
     let attempted = m2s.len();
     let unconverged = m2s.iter().filter(|d| d.is_none()).count();
@@ -575,7 +581,7 @@ pub fn curve_fidelity(
     let m2s: Vec<Option<f64>> = verts
         .par_iter()
         .chain(samples.par_iter())
-        .map(|&p| project(f, p, steps, tol).map(|q| geom::dist(p, q)))
+        .map(|&p| project_sample(f, p, steps, tol).map(|q| geom::dist(p, q)))
         .collect();
     let attempted = m2s.len();
     let unconverged = m2s.iter().filter(|d| d.is_none()).count();
