@@ -2,16 +2,16 @@
 //! estimates at the vertices, a sampled two-sided Hausdorff estimate, and the deviation
 //! of the triangle normals from ∇f.
 //!
-//! These are *measurements*, not certificates: sampling can miss the worst point (an
-//! underestimate), and a mesh point's distance is taken to its Newton projection, a
-//! point of the surface but not always the nearest one (an overestimate per sample).
-//! Each field says what it measures.
-//!
 //! A quantity that could not be measured is not reported as 0: it is NaN (`null` in
 //! JSON) with the reason in [`Fidelity::fidelity_undefined`] (e.g. no mesh point could
 //! be projected onto f = 0 because f has a pole there, or f = 0 was never found); an
 //! infinite one (|f|/|∇f| where ∇f = 0 ≠ f, the distance to an empty mesh) is `inf`
 //! (`null` in JSON) with its reason there too.
+//!
+//! These are *measurements*, not certificates: sampling can miss the worst point (an
+//! underestimate), and a mesh point's distance is taken to its Newton projection, a
+//! point of the surface but not always the nearest one (an overestimate per sample).
+//! Each field says what it measures.
 use crate::bvh::{SegBvh, TriBvh};
 use crate::error::{Error, Result};
 use crate::geom::{self, Aabb};
