@@ -811,8 +811,12 @@ fn undefined_and_infinite_figures_are_reported_as_such() {
         assert_eq!(v[k], serde_json::Value::Null, "{k}: {out}");
         assert!(v["fidelity_undefined"][k].as_str().is_some(), "{k}: {out}");
     }
+    // The normals cannot be compared with ∇f on f = 0 either (no centre projects).
+    assert_eq!(v["normal_dev_max_deg"], serde_json::Value::Null, "{out}");
+    assert!(v["fidelity_undefined"]["normal_dev_max_deg"].as_str().is_some(), "{out}");
     let (_, text, _) = certmesh_in(&dir, &["stats", "p.obj", "--formula", "1/x"]);
     assert!(text.contains("Hausdorff (est.) ≈ undefined"), "{text}");
+    assert!(text.contains("normal deviation max undefined"), "{text}");
     // f ≡ 0: every point is on f = 0 (distance 0 is measured, not assumed), but there is
     // no normal to compare with: undefined, not 0.
     let (_, out, _) = certmesh_in(&dir, &["stats", "p.obj", "--formula", "0", "--json"]);

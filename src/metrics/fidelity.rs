@@ -359,12 +359,23 @@ fn mesh_to_surface(
     )
 }
 
-/// Normal deviation over the elements where ∇f could be evaluated.
+/// Normal deviation over the elements where ∇f could be evaluated; undefined when no
+/// element's centre could be projected onto f = 0 (it would be measured off f = 0).
 fn normal_deviation(
     dev: &[f64],
     elements: usize,
+    projected: usize,
     undefined: &mut BTreeMap<String, String>,
 ) -> (f64, f64) {
+    if elements > 0 && projected == 0 {
+        let why = format!(
+            "no element centre of the {elements} could be projected onto f = 0: ∇f there \
+             says nothing about f = 0"
+        );
+        undefined.insert("normal_dev_max_deg".into(), why.clone());
+        undefined.insert("normal_dev_mean_deg".into(), why);
+        return (f64::NAN, f64::NAN);
+    }
     measured(
         dev,
         elements,
@@ -473,7 +484,9 @@ pub fn surface_fidelity(
         .collect();
     let (h_sm, mean_sm) = surface_to_mesh(&s2m, candidates, spts.len(), &mut undefined);
 
-    // Normal deviation at the centroids' projections.
+    // Normal deviation at the centroids' projections (at the centroid itself where
+    // Newton fails; if it fails everywhere, the deviation is undefined).
+    let projected = std::sync::atomic::AtomicUsize::new(0);
     let dev: Vec<Option<f64>> = (0..mesh.triangles.len())
         .into_par_iter()
         .map(|t| {
@@ -483,7 +496,13 @@ pub fn surface_fidelity(
                 return None;
             }
             let cen = geom::scale(geom::add(geom::add(a, b), c), 1.0 / 3.0);
-            let q = project(f, cen, steps, tol).unwrap_or(cen);
+            let q = match project_sample(f, cen, steps, tol) {
+                Some(q) => {
+                    projected.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    q
+                }
+                None => cen,
+            };
             let g = f.grad(q).g;
             if !(geom::norm(g) > 0.0) {
                 return None;
@@ -498,7 +517,12 @@ pub fn surface_fidelity(
     let dev: Vec<f64> = dev.into_iter().flatten().collect();
     let flipped = dev.iter().filter(|&&a| a > 90.0).count();
     let unsigned: Vec<f64> = dev.iter().map(|&a| a.min(180.0 - a)).collect();
-    let (dmax, dmean) = normal_deviation(&unsigned, mesh.triangles.len(), &mut undefined);
+    let (dmax, dmean) = normal_deviation(
+        &unsigned,
+        mesh.triangles.len(),
+        projected.into_inner(),
+        &mut undefined,
+    );
 
     Ok(Fidelity {
         max_distance_estimate: max_est,
@@ -601,6 +625,7 @@ pub fn curve_fidelity(
         .collect();
     let (h_sm, mean_sm) = surface_to_mesh(&s2m, candidates, spts.len(), &mut undefined);
 
+    let projected = std::sync::atomic::AtomicUsize::new(0);
     let dev: Vec<f64> = curve
         .segments
         .par_iter()
@@ -612,7 +637,13 @@ pub fn curve_fidelity(
                 return None;
             }
             let mid = geom::lerp(a, b, 0.5);
-            let q = project(f, mid, steps, tol).unwrap_or(mid);
+            let q = match project_sample(f, mid, steps, tol) {
+                Some(q) => {
+                    projected.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    q
+                }
+                None => mid,
+            };
             let mut g = f.grad(q).g;
             g[2] = 0.0;
             if !(geom::norm(g) > 0.0) {
@@ -624,7 +655,12 @@ pub fn curve_fidelity(
             Some(th.min(180.0 - th))
         })
         .collect();
-    let (dmax, dmean) = normal_deviation(&dev, curve.segments.len(), &mut undefined);
+    let (dmax, dmean) = normal_deviation(
+        &dev,
+        curve.segments.len(),
+        projected.into_inner(),
+        &mut undefined,
+    );
     Ok(Fidelity {
         max_distance_estimate: max_est,
         mean_distance_estimate: mean_est,
