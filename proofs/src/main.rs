@@ -235,22 +235,62 @@ fn run() -> Result<(), String> {
             trees: _,
         } => stuffing_cmd(&row, json, shard.as_deref(), &out, tol_deg, count),
         Cmd::StuffingFigures { certs, out, bounds } => {
-            std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-            for name in stuffing::row_names() {
-                let p = certs.join(format!("{name}.json"));
-                if !p.exists() {
-                    continue;
+            // Everything is checked before anything is written: unknown bound names, a
+            // missing folder, a file that is not a certificate, no certificate at all.
+            let known: Vec<&str> = stuffing::BOUNDS.iter().map(|(n, _, _)| *n).collect();
+            let wanted: Vec<&str> = bounds.split(',').map(str::trim).collect();
+            if let Some(bad) = wanted.iter().find(|w| !known.contains(w)) {
+                return Err(format!(
+                    "unknown bound '{bad}' in --bounds; known: {}",
+                    known.join(" ")
+                ));
+            }
+            // --certs is a folder of ROW.json certificates, or one certificate file.
+            let certs_found: Vec<(String, stuffing::Certificate)> = if certs.is_file() {
+                let c = load_stuffing(&certs)?;
+                vec![(c.row.clone(), c)]
+            } else if certs.is_dir() {
+                let mut v = Vec::new();
+                for name in stuffing::row_names() {
+                    let p = certs.join(format!("{name}.json"));
+                    if p.exists() {
+                        v.push((name.to_string(), load_stuffing(&p)?));
+                    }
                 }
-                let c = load_stuffing(&p)?;
+                if v.is_empty() {
+                    return Err(format!(
+                        "{}: no stuffing certificate ROW.json in this folder (rows: {})",
+                        certs.display(),
+                        stuffing::row_names().join(" ")
+                    ));
+                }
+                v
+            } else {
+                return Err(format!(
+                    "{}: no such certificate file or folder",
+                    certs.display()
+                ));
+            };
+            std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+            let mut written = 0;
+            for (name, c) in &certs_found {
                 for (b, (bn, _, _)) in stuffing::BOUNDS.iter().enumerate() {
-                    if !bounds.split(',').any(|x| x == *bn) {
+                    if !wanted.contains(bn) {
                         continue;
                     }
                     let stem = out.join(format!("{name}-{bn}"));
-                    if proofs::stuffing_fig::witness_figure(&c, b, &stem)? {
+                    if proofs::stuffing_fig::witness_figure(c, b, &stem)? {
                         println!("{}.svg", stem.display());
+                        written += 1;
                     }
                 }
+            }
+            if written == 0 {
+                return Err(format!(
+                    "no figure written: the {} certificate(s) read have no witness for {}",
+                    certs_found.len(),
+                    wanted.join(", ")
+                ));
             }
             Ok(())
         }

@@ -45,9 +45,18 @@ fn demo_entries(quick: bool) -> Vec<Entry> {
         .collect()
 }
 
-/// Mesh the demo entries with every registered algorithm, print the comparison table,
-/// and write meshes, the table (markdown and JSON) and angle histograms into `out`.
-pub fn run(out: &Path, quick: bool, json: bool, progress: &dyn Progress) -> Result<()> {
+/// What a demo run produced (the caller prints it; the library does not print).
+#[derive(Clone, Debug)]
+pub struct DemoReport {
+    /// One row per (entry, algorithm) run.
+    pub rows: Vec<compare::Row>,
+    /// The rows as a markdown table (also written to `out/compare.md`).
+    pub table: String,
+}
+
+/// Mesh the demo entries with every registered algorithm and write meshes, the
+/// comparison table (markdown and JSON) and angle histograms into `out`.
+pub fn run(out: &Path, quick: bool, progress: &dyn Progress) -> Result<DemoReport> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let mesh_dir = out.join("meshes");
     std::fs::create_dir_all(&mesh_dir).map_err(|e| Error::io(&mesh_dir, e))?;
@@ -111,24 +120,7 @@ pub fn run(out: &Path, quick: bool, json: bool, progress: &dyn Progress) -> Resu
             1.0,
         )?;
     }
-    if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&rows).expect("rows serialize")
-        );
-    } else {
-        print!("{table}");
-        let wrong = rows.iter().filter(|r| r.topology_ok == Some(false)).count();
-        let cert = rows.iter().filter(|r| r.certified).count();
-        println!(
-            "\n{} runs: {} with the wrong topology, {} certified. Meshes, compare.md/json and angle histograms in {}",
-            rows.len(),
-            wrong,
-            cert,
-            out.display()
-        );
-    }
-    Ok(())
+    Ok(DemoReport { rows, table })
 }
 
 /// The papers `certmesh reproduce` knows.
