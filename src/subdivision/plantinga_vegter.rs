@@ -317,8 +317,8 @@ pub(crate) fn pv_classify(
         if let Some(reason) = f.regularity(&ib).c1_failure() {
             return Decision::Split(reason);
         }
-        if let Some(reason) = boundary_failure(f, g, c) {
-            return Decision::Split(reason);
+        if let Some(d) = boundary_failure(f, g, c) {
+            return d;
         }
         Decision::Leaf(Verdict::Snv)
     } else if (0..g.dim).all(|k| d.g[k].contains(0.0)) {
@@ -344,7 +344,7 @@ pub(crate) fn boundary_failure(
     f: &dyn Implicit,
     g: &Grid,
     c: crate::subdivision::Cell,
-) -> Option<&'static str> {
+) -> Option<Decision> {
     let (lo, hi) = g.cell_lo_hi(c);
     let top = 1u32 << g.depth;
     for k in 0..g.dim {
@@ -363,29 +363,66 @@ pub(crate) fn boundary_failure(
                     continue;
                 }
                 if !excludes_zero(d.g[t]) {
-                    return Some(
+                    return Some(Decision::Split(
                         "f = 0 may cross a domain edge twice (Theorem 2 needs a monotone f there)",
-                    );
+                    ));
                 }
                 // A zero exactly at an end (the curve through a corner of the domain,
                 // or touching it there) is not seen by the sign⁺ convention correctly.
                 for p in [g.point(a), g.point(b)] {
                     let pb = p.map(crate::implicit::number::point);
                     if !excludes_zero(f.eval_interval(&pb)) {
-                        return Some("f = 0 may pass through a grid point on the domain boundary");
+                        return Some(Decision::Split(
+                            "f = 0 may pass through a grid point on the domain boundary",
+                        ));
                     }
                 }
             } else {
                 let v = f.eval_interval(&fb);
                 if !excludes_zero(v) {
-                    return Some(
-                        "f = 0 may meet the domain boundary (Theorem 2 is proven for a surface inside the domain)",
-                    );
+                    // Smaller boxes may prove a face near the surface free of it, but
+                    // where the face's corners have proven opposite signs the surface
+                    // does cross the boundary: no refinement helps, stop here.
+                    let signs: Vec<_> = face_corners(a, b, k)
+                        .into_iter()
+                        .map(|q| crate::implicit::ops::point_sign(f, g.point(q)))
+                        .collect();
+                    let crosses = signs.iter().all(|s| s.rigorous)
+                        && signs.iter().any(|s| s.pos)
+                        && signs.iter().any(|s| !s.pos);
+                    let reason = "f = 0 may meet the domain boundary (Theorem 2 is proven for a surface inside the domain)";
+                    return Some(if crosses {
+                        Decision::Leaf(Verdict::Failed(
+                            "f = 0 meets the domain boundary (Theorem 2 is proven for a surface inside the domain)",
+                        ))
+                    } else {
+                        Decision::Split(reason)
+                    });
                 }
             }
         }
     }
     None
+}
+
+/// The four corners of the face spanned by grid points `a` and `b` (equal in axis
+/// `normal`).
+fn face_corners(a: [u32; 3], b: [u32; 3], normal: usize) -> [[u32; 3]; 4] {
+    let (u, v) = match normal {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    };
+    let mut out = [a; 4];
+    for (m, q) in out.iter_mut().enumerate() {
+        if m & 1 == 1 {
+            q[u] = b[u];
+        }
+        if m & 2 == 2 {
+            q[v] = b[v];
+        }
+    }
+    out
 }
 
 /// Run Plantinga–Vegter; also returns the tree (for figures and reports).

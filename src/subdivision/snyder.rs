@@ -271,8 +271,8 @@ fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Dec
         }
         // The sign⁺ convention and the edge isolation are blind to a zero set that
         // touches the domain boundary (a tangency, a corner): see `boundary_failure`.
-        if let Some(reason) = boundary_failure(f, g, c) {
-            return Decision::Split(reason);
+        if let Some(d) = boundary_failure(f, g, c) {
+            return d;
         }
         if !edges_isolated(f, g, lo, hi, p) {
             return Decision::Split("grazing intersection: roots on a box edge not isolated");
