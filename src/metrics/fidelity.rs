@@ -197,6 +197,132 @@ fn default_domain(pts: &[[f64; 3]], planar: bool) -> Result<Aabb> {
     Ok(d)
 }
 
+/// The vertices some element uses, in index order.
+fn used_vertices<const N: usize>(nv: usize, elems: &[[u32; N]]) -> Vec<u32> {
+    let mut used = vec![false; nv];
+    for e in elems {
+        for &v in e {
+            used[v as usize] = true;
+        }
+    }
+    (0..nv as u32).filter(|&v| used[v as usize]).collect()
+}
+
+/// `n` deterministic points spread over the elements in proportion to their sizes
+/// (stratified along the cumulative size; none when the total is not positive):
+/// `point(e, i)` places sample `i` in element `e`.
+fn stratified(
+    sizes: &[f64],
+    n: usize,
+    point: impl Fn(usize, usize) -> [f64; 3] + Sync,
+) -> Vec<[f64; 3]> {
+    let mut cum = Vec::with_capacity(sizes.len());
+    let mut acc = 0.0;
+    for s in sizes {
+        acc += s;
+        cum.push(acc);
+    }
+    let ns = if acc > 0.0 { n } else { 0 };
+    (0..ns)
+        .into_par_iter()
+        .map(|i| {
+            let u = (i as f64 + 0.5) / ns as f64 * acc;
+            let e = cum.partition_point(|&c| c < u).min(sizes.len() - 1);
+            point(e, i)
+        })
+        .collect()
+}
+
+/// What surfaces and curves measure alike: the search domain, the Newton tolerance and
+/// steps, and the used vertices.
+struct Setup<'a> {
+    f: &'a dyn Implicit,
+    verts: Vec<[f64; 3]>,
+    domain: Aabb,
+    tol: f64,
+    steps: usize,
+}
+
+impl<'a> Setup<'a> {
+    fn new(
+        f: &'a dyn Implicit,
+        verts: Vec<[f64; 3]>,
+        planar: bool,
+        params: &FidelityParams,
+    ) -> Result<Self> {
+        let domain = match params.domain {
+            Some(d) => d,
+            None => default_domain(&verts, planar)?,
+        };
+        Ok(Setup {
+            f,
+            verts,
+            domain,
+            tol: 1e-10 * domain.diagonal().max(f64::MIN_POSITIVE),
+            steps: params.newton_steps,
+        })
+    }
+
+    fn project(&self, p: [f64; 3]) -> Option<[f64; 3]> {
+        project(self.f, p, self.steps, self.tol)
+    }
+
+    /// The report, from the mesh samples, the distance from a surface point to the mesh
+    /// (`to_mesh`), the unsigned normal deviations and the flipped elements.
+    fn finish(
+        &self,
+        samples: &[[f64; 3]],
+        seed_grid: usize,
+        to_mesh: impl Fn([f64; 3]) -> Option<f64> + Sync,
+        deviations: &[f64],
+        flipped_normals: usize,
+    ) -> Fidelity {
+        let est: Vec<f64> = self
+            .verts
+            .par_iter()
+            .map(|&p| distance_estimate(self.f, p))
+            .collect();
+        let (max_est, mean_est) = max_mean(&est);
+        let m2s: Vec<Option<f64>> = self
+            .verts
+            .par_iter()
+            .chain(samples.par_iter())
+            .map(|&p| self.project(p).map(|q| geom::dist(p, q)))
+            .collect();
+        let unconverged = m2s.iter().filter(|d| d.is_none()).count();
+        let m2s: Vec<f64> = m2s.into_iter().flatten().collect();
+        let (h_ms, mean_ms) = max_mean(&m2s);
+        let spts = surface_points(self.f, &self.domain, seed_grid, self.steps, self.tol);
+        let s2m: Vec<f64> = spts.par_iter().filter_map(|&p| to_mesh(p)).collect();
+        let (h_sm, mean_sm) = max_mean(&s2m);
+        let (dmax, dmean) = max_mean(deviations);
+        Fidelity {
+            max_distance_estimate: max_est,
+            mean_distance_estimate: mean_est,
+            hausdorff_mesh_to_surface: h_ms,
+            mean_mesh_to_surface: mean_ms,
+            hausdorff_surface_to_mesh: h_sm,
+            mean_surface_to_mesh: mean_sm,
+            hausdorff: h_ms.max(h_sm),
+            fidelity_mesh_samples: m2s.len(),
+            fidelity_surface_samples: s2m.len(),
+            fidelity_unconverged: unconverged,
+            normal_dev_max_deg: dmax,
+            normal_dev_mean_deg: dmean,
+            flipped_normals,
+        }
+    }
+}
+
+/// `params.seed_grid`, or `default` when it is 0.
+fn seeds(params: &FidelityParams, default: usize) -> usize {
+    if params.seed_grid == 0 {
+        default
+    } else {
+        params.seed_grid
+    }
+}
+
 /// Fidelity of a triangle mesh to f = 0.
 pub fn surface_fidelity(
     mesh: &TriMesh,
@@ -210,74 +336,28 @@ pub fn surface_fidelity(
             f.dim()
         )));
     }
-    let mut used = vec![false; mesh.vertices.len()];
-    for t in &mesh.triangles {
-        for &v in t {
-            used[v as usize] = true;
-        }
-    }
-    let verts: Vec<[f64; 3]> = (0..mesh.vertices.len())
-        .filter(|&v| used[v])
-        .map(|v| mesh.vertices[v])
+    let verts = used_vertices(mesh.vertices.len(), &mesh.triangles)
+        .into_iter()
+        .map(|v| mesh.vertices[v as usize])
         .collect();
-    let domain = match params.domain {
-        Some(d) => d,
-        None => default_domain(&verts, false)?,
-    };
-    let tol = 1e-10 * domain.diagonal().max(f64::MIN_POSITIVE);
-    let steps = params.newton_steps;
+    let setup = Setup::new(f, verts, false, params)?;
 
-    let est: Vec<f64> = verts.par_iter().map(|&p| distance_estimate(f, p)).collect();
-    let (max_est, mean_est) = max_mean(&est);
-
-    // Area-proportional deterministic samples: stratified along the cumulative area.
+    // Area-proportional deterministic samples.
     let areas: Vec<f64> = (0..mesh.triangles.len())
         .map(|t| {
             let [a, b, c] = mesh.corners(t);
             0.5 * geom::norm(geom::cross(geom::sub(b, a), geom::sub(c, a)))
         })
         .collect();
-    let mut cum = Vec::with_capacity(areas.len());
-    let mut acc = 0.0;
-    for a in &areas {
-        acc += a;
-        cum.push(acc);
-    }
-    let total = acc;
-    let ns = if total > 0.0 { params.mesh_samples } else { 0 };
-    let samples: Vec<[f64; 3]> = (0..ns)
-        .into_par_iter()
-        .map(|i| {
-            let u = (i as f64 + 0.5) / ns as f64 * total;
-            let t = cum.partition_point(|&c| c < u).min(areas.len() - 1);
-            let [a, b, c] = mesh.corners(t);
-            let (r1, r2) = r2(i);
-            let s = r1.sqrt();
-            let (wa, wb, wc) = (1.0 - s, s * (1.0 - r2), s * r2);
-            [0, 1, 2].map(|k| wa * a[k] + wb * b[k] + wc * c[k])
-        })
-        .collect();
-    let m2s: Vec<Option<f64>> = verts
-        .par_iter()
-        .chain(samples.par_iter())
-        .map(|&p| project(f, p, steps, tol).map(|q| geom::dist(p, q)))
-        .collect();
-    let unconverged = m2s.iter().filter(|d| d.is_none()).count();
-    let m2s: Vec<f64> = m2s.into_iter().flatten().collect();
-    let (h_ms, mean_ms) = max_mean(&m2s);
+    let samples = stratified(&areas, params.mesh_samples, |t, i| {
+        let [a, b, c] = mesh.corners(t);
+        let (r1, r2) = r2(i);
+        let s = r1.sqrt();
+        let (wa, wb, wc) = (1.0 - s, s * (1.0 - r2), s * r2);
+        [0, 1, 2].map(|k| wa * a[k] + wb * b[k] + wc * c[k])
+    });
 
-    let n = if params.seed_grid == 0 {
-        48
-    } else {
-        params.seed_grid
-    };
-    let spts = surface_points(f, &domain, n, steps, tol);
     let bvh = TriBvh::new(mesh)?;
-    let s2m: Vec<f64> = spts
-        .par_iter()
-        .filter_map(|&p| bvh.closest(p).map(|c| c.dist2.sqrt()))
-        .collect();
-    let (h_sm, mean_sm) = max_mean(&s2m);
 
     // Normal deviation at the centroids' projections.
     let dev: Vec<Option<f64>> = (0..mesh.triangles.len())
@@ -289,7 +369,7 @@ pub fn surface_fidelity(
                 return None;
             }
             let cen = geom::scale(geom::add(geom::add(a, b), c), 1.0 / 3.0);
-            let q = project(f, cen, steps, tol).unwrap_or(cen);
+            let q = setup.project(cen).unwrap_or(cen);
             let g = f.grad(q).g;
             if !(geom::norm(g) > 0.0) {
                 return None;
@@ -304,23 +384,14 @@ pub fn surface_fidelity(
     let dev: Vec<f64> = dev.into_iter().flatten().collect();
     let flipped = dev.iter().filter(|&&a| a > 90.0).count();
     let unsigned: Vec<f64> = dev.iter().map(|&a| a.min(180.0 - a)).collect();
-    let (dmax, dmean) = max_mean(&unsigned);
 
-    Ok(Fidelity {
-        max_distance_estimate: max_est,
-        mean_distance_estimate: mean_est,
-        hausdorff_mesh_to_surface: h_ms,
-        mean_mesh_to_surface: mean_ms,
-        hausdorff_surface_to_mesh: h_sm,
-        mean_surface_to_mesh: mean_sm,
-        hausdorff: h_ms.max(h_sm),
-        fidelity_mesh_samples: m2s.len(),
-        fidelity_surface_samples: s2m.len(),
-        fidelity_unconverged: unconverged,
-        normal_dev_max_deg: dmax,
-        normal_dev_mean_deg: dmean,
-        flipped_normals: flipped,
-    })
+    Ok(setup.finish(
+        &samples,
+        seeds(params, 48),
+        |p| bvh.closest(p).map(|c| c.dist2.sqrt()),
+        &unsigned,
+        flipped,
+    ))
 }
 
 /// Fidelity of a planar curve to f(x, y) = 0: the same measures in 2D (segment samples,
@@ -341,67 +412,23 @@ pub fn curve_fidelity(
         let [x, y] = curve.vertices[v as usize];
         [x, y, 0.0]
     };
-    let mut used = vec![false; curve.vertices.len()];
-    for s in &curve.segments {
-        for &v in s {
-            used[v as usize] = true;
-        }
-    }
-    let verts: Vec<[f64; 3]> = (0..curve.vertices.len() as u32)
-        .filter(|&v| used[v as usize])
+    let verts = used_vertices(curve.vertices.len(), &curve.segments)
+        .into_iter()
         .map(lift)
         .collect();
-    let domain = match params.domain {
-        Some(d) => d,
-        None => default_domain(&verts, true)?,
-    };
-    let tol = 1e-10 * domain.diagonal().max(f64::MIN_POSITIVE);
-    let steps = params.newton_steps;
-    let est: Vec<f64> = verts.par_iter().map(|&p| distance_estimate(f, p)).collect();
-    let (max_est, mean_est) = max_mean(&est);
+    let setup = Setup::new(f, verts, true, params)?;
 
     let lens: Vec<f64> = curve
         .segments
         .iter()
         .map(|&[a, b]| geom::dist(lift(a), lift(b)))
         .collect();
-    let mut cum = Vec::with_capacity(lens.len());
-    let mut acc = 0.0;
-    for l in &lens {
-        acc += l;
-        cum.push(acc);
-    }
-    let ns = if acc > 0.0 { params.mesh_samples } else { 0 };
-    let samples: Vec<[f64; 3]> = (0..ns)
-        .into_par_iter()
-        .map(|i| {
-            let u = (i as f64 + 0.5) / ns as f64 * acc;
-            let s = cum.partition_point(|&c| c < u).min(lens.len() - 1);
-            let [a, b] = curve.segments[s];
-            geom::lerp(lift(a), lift(b), r2(i).0)
-        })
-        .collect();
-    let m2s: Vec<Option<f64>> = verts
-        .par_iter()
-        .chain(samples.par_iter())
-        .map(|&p| project(f, p, steps, tol).map(|q| geom::dist(p, q)))
-        .collect();
-    let unconverged = m2s.iter().filter(|d| d.is_none()).count();
-    let m2s: Vec<f64> = m2s.into_iter().flatten().collect();
-    let (h_ms, mean_ms) = max_mean(&m2s);
+    let samples = stratified(&lens, params.mesh_samples, |s, i| {
+        let [a, b] = curve.segments[s];
+        geom::lerp(lift(a), lift(b), r2(i).0)
+    });
 
-    let n = if params.seed_grid == 0 {
-        256
-    } else {
-        params.seed_grid
-    };
-    let spts = surface_points(f, &domain, n, steps, tol);
     let bvh = SegBvh::new(curve)?;
-    let s2m: Vec<f64> = spts
-        .par_iter()
-        .filter_map(|&p| bvh.closest([p[0], p[1]]).map(|c| c.dist2.sqrt()))
-        .collect();
-    let (h_sm, mean_sm) = max_mean(&s2m);
 
     let dev: Vec<f64> = curve
         .segments
@@ -414,7 +441,7 @@ pub fn curve_fidelity(
                 return None;
             }
             let mid = geom::lerp(a, b, 0.5);
-            let q = project(f, mid, steps, tol).unwrap_or(mid);
+            let q = setup.project(mid).unwrap_or(mid);
             let mut g = f.grad(q).g;
             g[2] = 0.0;
             if !(geom::norm(g) > 0.0) {
@@ -426,20 +453,11 @@ pub fn curve_fidelity(
             Some(th.min(180.0 - th))
         })
         .collect();
-    let (dmax, dmean) = max_mean(&dev);
-    Ok(Fidelity {
-        max_distance_estimate: max_est,
-        mean_distance_estimate: mean_est,
-        hausdorff_mesh_to_surface: h_ms,
-        mean_mesh_to_surface: mean_ms,
-        hausdorff_surface_to_mesh: h_sm,
-        mean_surface_to_mesh: mean_sm,
-        hausdorff: h_ms.max(h_sm),
-        fidelity_mesh_samples: m2s.len(),
-        fidelity_surface_samples: s2m.len(),
-        fidelity_unconverged: unconverged,
-        normal_dev_max_deg: dmax,
-        normal_dev_mean_deg: dmean,
-        flipped_normals: 0,
-    })
+    Ok(setup.finish(
+        &samples,
+        seeds(params, 256),
+        |p| bvh.closest([p[0], p[1]]).map(|c| c.dist2.sqrt()),
+        &dev,
+        0,
+    ))
 }
