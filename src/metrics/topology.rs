@@ -19,7 +19,7 @@
 use super::{check_curve, check_tetmesh, check_trimesh};
 use crate::catalog::Topology;
 use crate::error::Result;
-use crate::mesh::{Curve2, TetMesh, TriMesh};
+use crate::mesh::{Curve2, TetMesh, TriMesh, TET_FACES};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -505,9 +505,6 @@ pub struct TetTopology {
     /// The full report of the boundary surface (outward for positively oriented tets).
     pub boundary: TopologyReport,
 }
-
-/// Faces opposite each corner, outward for a positively oriented tetrahedron.
-const TET_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
 
 pub fn analyze_tets(mesh: &TetMesh) -> Result<TetTopology> {
     check_tetmesh(mesh)?;
