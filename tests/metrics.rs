@@ -194,8 +194,8 @@ fn corner_tetrahedron_dihedrals() {
     let s = angles::tet_summary(&tm, 10.0).unwrap();
     assert_eq!(s.inverted, 1);
     assert_eq!(s.degenerate, 0);
-    assert!((s.min_dihedral_deg.unwrap() - other).abs() < 1e-12);
-    assert!((s.max_dihedral_deg.unwrap() - 90.0).abs() < 1e-12);
+    assert!((s.ranges.min_dihedral_deg.unwrap() - other).abs() < 1e-12);
+    assert!((s.ranges.max_dihedral_deg.unwrap() - 90.0).abs() < 1e-12);
     assert_eq!(s.dihedral_histogram.total(), 12);
 }
 
@@ -514,9 +514,9 @@ fn tet_mesh_topology() {
     assert!(metrics::tet_verdict(&r, &sphere_topology()).ok);
     let s = metrics::tet_stats(&m, None, &FidelityParams::default()).unwrap();
     assert_eq!(s.inverted_tets, 0);
-    assert!((s.max_dihedral_deg.unwrap() - 90.0).abs() < 1e-12);
+    assert!((s.ranges.max_dihedral_deg.unwrap() - 90.0).abs() < 1e-12);
     // Kuhn tetrahedra are orthoschemes: dihedral angles 90° (×3), 60°, 45° (×2).
-    assert!((s.min_dihedral_deg.unwrap() - 45.0).abs() < 1e-12);
+    assert!((s.ranges.min_dihedral_deg.unwrap() - 45.0).abs() < 1e-12);
     // A third tetrahedron on an interior face: non-conforming.
     let mut bad = m.clone();
     bad.vertices.push([2.0, 2.0, 2.0]);

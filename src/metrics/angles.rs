@@ -272,6 +272,17 @@ pub struct TetAngles {
     pub inverted: usize,
     /// Flat or index-repeating tetrahedra, left out of the ranges.
     pub degenerate: usize,
+    /// Serialised in place (flattened): the JSON fields are the range fields.
+    #[serde(flatten)]
+    pub ranges: TetRanges,
+    /// Histogram of dihedral angles, bins of `bin_width` degrees over [0, 180].
+    pub dihedral_histogram: Histogram,
+}
+
+/// The ranges of the shape measures over the non-degenerate tetrahedra of a mesh
+/// (`None` when there is none), as [`TetAngles`] and [`super::TetStats`] report them.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TetRanges {
     pub min_dihedral_deg: Option<f64>,
     pub max_dihedral_deg: Option<f64>,
     pub min_face_angle_deg: Option<f64>,
@@ -279,8 +290,6 @@ pub struct TetAngles {
     pub min_edge_ratio: Option<f64>,
     pub max_edge_ratio: Option<f64>,
     pub min_radius_ratio: Option<f64>,
-    /// Histogram of dihedral angles, bins of `bin_width` degrees over [0, 180].
-    pub dihedral_histogram: Histogram,
 }
 
 /// Per-tetrahedron measures; `None` for degenerate tetrahedra.
@@ -330,13 +339,15 @@ pub fn tet_summary(mesh: &TetMesh, bin_width: f64) -> Result<TetAngles> {
         tets: mesh.tets.len(),
         inverted: per.iter().filter(|(v, _)| *v < 0.0).count(),
         degenerate: per.iter().filter(|(_, s)| s.is_none()).count(),
-        min_dihedral_deg,
-        max_dihedral_deg,
-        min_face_angle_deg,
-        max_face_angle_deg,
-        min_edge_ratio,
-        max_edge_ratio,
-        min_radius_ratio,
+        ranges: TetRanges {
+            min_dihedral_deg,
+            max_dihedral_deg,
+            min_face_angle_deg,
+            max_face_angle_deg,
+            min_edge_ratio,
+            max_edge_ratio,
+            min_radius_ratio,
+        },
         dihedral_histogram: Histogram::new(
             0.0,
             180.0,
