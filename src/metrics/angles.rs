@@ -181,8 +181,18 @@ pub fn triangle_summary(mesh: &TriMesh, bin_width: f64) -> Result<TriangleAngles
     })
 }
 
-/// The six edges of a tetrahedron as corner pairs; edge `e` is opposite edge `5 - e`.
-pub const TET_EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+/// The six edges of a tetrahedron as corner pairs; edge `e` is opposite edge `5 - e`:
+/// the `(i, j)` of [`geom::TET_EDGES_WITH_OPPOSITE`].
+pub const TET_EDGES: [[usize; 2]; 6] = {
+    let e = geom::TET_EDGES_WITH_OPPOSITE;
+    let mut out = [[0; 2]; 6];
+    let mut k = 0;
+    while k < 6 {
+        out[k] = [e[k].0, e[k].1];
+        k += 1;
+    }
+    out
+};
 
 /// Six times the signed volume: positive for the mesh's orientation convention.
 pub fn signed_volume6(p: &[[f64; 3]; 4]) -> f64 {
@@ -209,10 +219,7 @@ fn outward_normal(p: &[[f64; 3]; 4], k: usize) -> [f64; 3] {
 /// tetrahedron has the same angles as its mirror image.
 pub fn dihedral_angles(p: &[[f64; 3]; 4]) -> [f64; 6] {
     let n: [[f64; 3]; 4] = [0, 1, 2, 3].map(|k| outward_normal(p, k));
-    TET_EDGES.map(|[i, j]| {
-        let mut kl = (0..4).filter(|&m| m != i && m != j);
-        let k = kl.next().unwrap_or(0);
-        let l = kl.next().unwrap_or(0);
+    geom::TET_EDGES_WITH_OPPOSITE.map(|(_, _, k, l)| {
         let between = norm(cross(n[k], n[l])).atan2(dot(n[k], n[l])).to_degrees();
         180.0 - between
     })
