@@ -2,6 +2,13 @@
 //! tetrahedra ([`MarchingTetrahedra`], `"mt"`) and marching squares
 //! ([`MarchingSquares`], `"ms"`).
 //!
+//! **One mesher, three tables.** The three are one type, [`Marching`], over a cell
+//! [`Table`] ([`Cubes`], [`Tetrahedra`], [`Squares`]): sampling, pruning, statistics and
+//! the certificate are written once; the tables differ (the cube's 256 cases derived
+//! from the face rule, the six Kuhn tetrahedra's, the square's 16 from the same face
+//! rule), and so do the two extraction loops (the packed-sign, layer-parallel one for a
+//! cube table, a plain one for squares).
+//!
 //! All three sample f once per vertex of a regular [`Grid`] (or, with `prune`, only at
 //! the vertices of the cells interval arithmetic could not prove empty, see
 //! [`crate::octree`]) and read nothing but the signs of those samples, plus the
