@@ -519,7 +519,11 @@ fn check_mesh_output(path: &Path, dim: usize) -> CliResult<()> {
             "{}: a .{} file cannot hold {}; use {}",
             path.display(),
             f.extension(),
-            if dim == 2 { "a curve" } else { "a surface or volume mesh" },
+            if dim == 2 {
+                "a curve"
+            } else {
+                "a surface or volume mesh"
+            },
             if dim == 2 {
                 ".svg or .csv"
             } else {
@@ -809,7 +813,10 @@ fn mesh_cmd(a: MeshArgs, dim: usize, quiet: bool) -> CliResult<()> {
         }
         print_json(&v);
     } else {
-        out!("{}", compare::markdown(std::slice::from_ref(&row)).trim_end());
+        out!(
+            "{}",
+            compare::markdown(std::slice::from_ref(&row)).trim_end()
+        );
         out!(
             "domain: {}{}",
             fmt_domain(&t.domain, dim),
@@ -971,7 +978,11 @@ fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
         return Ok(());
     }
     let m = io::read_tri(&a.mesh)?;
-    bar.phase(if fref.is_some() { "fidelity" } else { "measuring" });
+    bar.phase(if fref.is_some() {
+        "fidelity"
+    } else {
+        "measuring"
+    });
     let s = metrics::stats_with(&m, fref, &params)?;
     let verdict = match &entry {
         Some(e) => e
@@ -1061,7 +1072,10 @@ fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
             // The reasons of the measured fields (the means and the two-sided maximum
             // repeat them; --json has every field).
             for (field, why) in &fd.fidelity_undefined {
-                if field != "hausdorff" && !field.starts_with("mean_") && !field.ends_with("mean_deg") {
+                if field != "hausdorff"
+                    && !field.starts_with("mean_")
+                    && !field.ends_with("mean_deg")
+                {
                     out!("  {field}: {why}");
                 }
             }
@@ -1195,7 +1209,11 @@ fn compare_cmd(a: CompareArgs, quiet: bool) -> CliResult<()> {
                     what(handles[0]),
                     handles[0],
                     what(handles[0]),
-                    if handles[0] == 2 { "--curves" } else { "--surfaces" }
+                    if handles[0] == 2 {
+                        "--curves"
+                    } else {
+                        "--surfaces"
+                    }
                 ))));
             }
         }
@@ -1204,7 +1222,10 @@ fn compare_cmd(a: CompareArgs, quiet: bool) -> CliResult<()> {
     // Every algorithm option is checked once before the matrix runs.
     for name in &algos {
         for d in [2, 3] {
-            if dims.contains(&d) && algorithms::list().iter().any(|i| i.name == name && i.dim == d)
+            if dims.contains(&d)
+                && algorithms::list()
+                    .iter()
+                    .any(|i| i.name == name && i.dim == d)
             {
                 algorithms::build(name, d, &o)?;
             }
@@ -1230,8 +1251,7 @@ fn compare_cmd(a: CompareArgs, quiet: bool) -> CliResult<()> {
             }
             TableFormat::Csv => compare::csv(&rows),
         };
-        std::fs::write(p, text)
-            .map_err(|e| CliError::from(Error::io(p, e)).runtime())?;
+        std::fs::write(p, text).map_err(|e| CliError::from(Error::io(p, e)).runtime())?;
     }
     // Pairs left out because the algorithm does not handle the entry's dimension.
     let skipped: Vec<String> = if explicit {
@@ -1401,7 +1421,9 @@ fn run(cmd: Cmd, quiet: bool) -> CliResult<()> {
             quiet,
         )?,
         Cmd::Demo { out, quick, json } => demo_cmd(&out, quick, json, quiet)?,
-        Cmd::Reproduce { paper, out, quick } => reproduce_cmd(&paper, out.as_deref(), quick, quiet)?,
+        Cmd::Reproduce { paper, out, quick } => {
+            reproduce_cmd(&paper, out.as_deref(), quick, quiet)?
+        }
     }
     Ok(())
 }

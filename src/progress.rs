@@ -48,8 +48,7 @@ impl Progress for Bar {
             .expect("valid template")
             .progress_chars("=> ")
         } else {
-            ProgressStyle::with_template("{spinner} {msg:>12} ({elapsed})")
-                .expect("valid template")
+            ProgressStyle::with_template("{spinner} {msg:>12} ({elapsed})").expect("valid template")
         };
         self.pb.set_style(style);
         self.pb.set_message(phase.to_string());

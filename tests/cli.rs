@@ -45,7 +45,15 @@ fn unknown_names_list_the_known_ones() {
 fn bad_domains_are_rejected() {
     // A formula without --domain now has a default domain (issue 12), so the case that
     // must name --domain is a --domain of the wrong length.
-    let (code, _, err) = certmesh(&["mesh", "--formula", "x", "--domain", "1,2,3", "--algo", "mc"]);
+    let (code, _, err) = certmesh(&[
+        "mesh",
+        "--formula",
+        "x",
+        "--domain",
+        "1,2,3",
+        "--algo",
+        "mc",
+    ]);
     assert_eq!(code, 2);
     assert!(err.contains("--domain"), "{err}");
     let (code, _, err) = certmesh(&[
@@ -334,21 +342,86 @@ fn json_errors_are_objects_on_stdout_with_exit_2() {
             serde_json::json!(7),
         ),
         (
-            vec!["curve", "--formula", "x^2 + y^2 - 1", "--domain", "1,1,0,0", "--algo", "ms", "--json"],
+            vec![
+                "curve",
+                "--formula",
+                "x^2 + y^2 - 1",
+                "--domain",
+                "1,1,0,0",
+                "--algo",
+                "ms",
+                "--json",
+            ],
             "domain",
             serde_json::Value::Null,
         ),
-        (vec!["mesh", "no-such-surface", "--algo", "mc", "--json"], "unknown-name", serde_json::Value::Null),
-        (vec!["mesh", "sphere", "--algo", "mc", "--resolution", "abc", "--json"], "usage", serde_json::Value::Null),
-        (vec!["mesh", "sphere", "--algo", "mc", "--crossing", "cubic", "--json"], "unknown-name", serde_json::Value::Null),
+        (
+            vec!["mesh", "no-such-surface", "--algo", "mc", "--json"],
+            "unknown-name",
+            serde_json::Value::Null,
+        ),
+        (
+            vec![
+                "mesh",
+                "sphere",
+                "--algo",
+                "mc",
+                "--resolution",
+                "abc",
+                "--json",
+            ],
+            "usage",
+            serde_json::Value::Null,
+        ),
+        (
+            vec![
+                "mesh",
+                "sphere",
+                "--algo",
+                "mc",
+                "--crossing",
+                "cubic",
+                "--json",
+            ],
+            "unknown-name",
+            serde_json::Value::Null,
+        ),
         (vec!["stats", bad, "--json"], "file", serde_json::json!(4)),
-        (vec!["stats", "/nonexistent/m.obj", "--json"], "io", serde_json::Value::Null),
-        (vec!["stats", "data-not-here.obj", "--formula", "x +", "--json"], "formula", serde_json::json!(4)),
-        (vec!["compare", "--surfaces", "no-such", "--json"], "unknown-name", serde_json::Value::Null),
-        (vec!["compare", "--surfaces", "circle", "--json"], "parameter", serde_json::Value::Null),
-        (vec!["surfaces", "--json", "--bogus"], "usage", serde_json::Value::Null),
-        (vec!["algos", "--json", "extra"], "usage", serde_json::Value::Null),
-        (vec!["demo", "--out", bad, "--json"], "io", serde_json::Value::Null),
+        (
+            vec!["stats", "/nonexistent/m.obj", "--json"],
+            "io",
+            serde_json::Value::Null,
+        ),
+        (
+            vec!["stats", "data-not-here.obj", "--formula", "x +", "--json"],
+            "formula",
+            serde_json::json!(4),
+        ),
+        (
+            vec!["compare", "--surfaces", "no-such", "--json"],
+            "unknown-name",
+            serde_json::Value::Null,
+        ),
+        (
+            vec!["compare", "--surfaces", "circle", "--json"],
+            "parameter",
+            serde_json::Value::Null,
+        ),
+        (
+            vec!["surfaces", "--json", "--bogus"],
+            "usage",
+            serde_json::Value::Null,
+        ),
+        (
+            vec!["algos", "--json", "extra"],
+            "usage",
+            serde_json::Value::Null,
+        ),
+        (
+            vec!["demo", "--out", bad, "--json"],
+            "io",
+            serde_json::Value::Null,
+        ),
     ];
     for (args, kind, pos) in cases {
         let (code, out, err) = certmesh_in(&dir, &args);
@@ -356,7 +429,10 @@ fn json_errors_are_objects_on_stdout_with_exit_2() {
         let v = json_error(&out);
         assert_eq!(v["kind"], kind, "{args:?}: {out}");
         assert_eq!(v["position"], pos, "{args:?}: {out}");
-        assert!(!err.contains("error"), "{args:?}: the error goes to stdout as JSON, stderr: {err}");
+        assert!(
+            !err.contains("error"),
+            "{args:?}: the error goes to stdout as JSON, stderr: {err}"
+        );
     }
     // Without --json the same error is text on stderr, with the same exit code.
     let (code, out, err) = certmesh_in(&dir, &["mesh", "--formula", "x^2 + * y", "--algo", "mc"]);
@@ -370,8 +446,10 @@ fn json_errors_are_objects_on_stdout_with_exit_2() {
     // passes the checks (it opens) and fails on the write.
     if Path::new("/dev/full").exists() {
         std::os::unix::fs::symlink("/dev/full", dir.join("full.obj")).unwrap();
-        let (code, out, err) =
-            certmesh_in(&dir, &["mesh", "sphere", "--algo", "mc", "-o", "full.obj", "--json"]);
+        let (code, out, err) = certmesh_in(
+            &dir,
+            &["mesh", "sphere", "--algo", "mc", "-o", "full.obj", "--json"],
+        );
         assert_eq!(code, 1, "{out} {err}");
         let v = json_error(&out);
         assert_eq!(v["kind"], "io", "{out}");
@@ -410,13 +488,29 @@ fn outputs_are_checked_before_the_work_starts() {
         let t0 = Instant::now();
         let (code, stdout, err) = certmesh_in(
             &dir,
-            &["mesh", "sphere", "--algo", "mc", "--resolution", "500", "-o", out, "--json"],
+            &[
+                "mesh",
+                "sphere",
+                "--algo",
+                "mc",
+                "--resolution",
+                "500",
+                "-o",
+                out,
+                "--json",
+            ],
         );
         let dt = t0.elapsed();
         assert_eq!(code, 2, "{out}: {stdout} {err}");
         let v = json_error(&stdout);
-        assert!(v["error"].as_str().unwrap().contains(what), "{out}: {stdout}");
-        assert!(dt < Duration::from_secs(3), "{out}: failed only after {dt:?}");
+        assert!(
+            v["error"].as_str().unwrap().contains(what),
+            "{out}: {stdout}"
+        );
+        assert!(
+            dt < Duration::from_secs(3),
+            "{out}: failed only after {dt:?}"
+        );
     }
     // A curve cannot go to a surface format; a volume boundary must be a triangle format.
     let (code, _, err) = certmesh_in(&dir, &["curve", "circle", "--algo", "ms", "-o", "c.obj"]);
@@ -424,28 +518,68 @@ fn outputs_are_checked_before_the_work_starts() {
     assert!(err.contains("cannot hold a curve"), "{err}");
     let (code, _, err) = certmesh_in(
         &dir,
-        &["mesh", "sphere", "--algo", "stuffing", "-o", "t.vtk", "--boundary", "b.svg"],
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "stuffing",
+            "-o",
+            "t.vtk",
+            "--boundary",
+            "b.svg",
+        ],
     );
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("b.svg"), "{err}");
     // Nothing was left behind by the checks.
-    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     let mut left = left;
     left.sort();
-    assert_eq!(left, ["a-file", "d.obj"].map(std::ffi::OsString::from), "{left:?}");
+    assert_eq!(
+        left,
+        ["a-file", "d.obj"].map(std::ffi::OsString::from),
+        "{left:?}"
+    );
     // The other commands' outputs are checked the same way.
-    let (code, _, err) = certmesh_in(&dir, &["compare", "--surfaces", "sphere", "--algos", "mc", "-o", "t.txt"]);
+    let (code, _, err) = certmesh_in(
+        &dir,
+        &[
+            "compare",
+            "--surfaces",
+            "sphere",
+            "--algos",
+            "mc",
+            "-o",
+            "t.txt",
+        ],
+    );
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("table format 'txt'"), "{err}");
     let (code, _, err) = certmesh_in(
         &dir,
-        &["compare", "--surfaces", "sphere", "--algos", "mc", "-o", "/nonexistent-dir/t.md"],
+        &[
+            "compare",
+            "--surfaces",
+            "sphere",
+            "--algos",
+            "mc",
+            "-o",
+            "/nonexistent-dir/t.md",
+        ],
     );
     assert_eq!(code, 2, "{err}");
     let spot = repo().join("data/spot.obj");
     let (code, _, err) = certmesh_in(
         &dir,
-        &["stats", spot.to_str().unwrap(), "--histogram", "/nonexistent-dir/h"],
+        &[
+            "stats",
+            spot.to_str().unwrap(),
+            "--histogram",
+            "/nonexistent-dir/h",
+        ],
     );
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("does not exist"), "{err}");
@@ -464,10 +598,21 @@ fn formulas_beyond_the_argument_limit_come_from_files() {
     let text = long_sphere(5000);
     assert!(text.len() > 200 * 1024, "{}", text.len());
     std::fs::write(dir.join("long.txt"), format!("{text}\n")).unwrap();
-    for form in [vec!["--formula", "@long.txt"], vec!["--formula-file", "long.txt"]] {
+    for form in [
+        vec!["--formula", "@long.txt"],
+        vec!["--formula-file", "long.txt"],
+    ] {
         let mut args = vec!["mesh"];
         args.extend(form.iter().copied());
-        args.extend(["--algo", "mc", "--resolution", "12", "-o", "l.obj", "--json"]);
+        args.extend([
+            "--algo",
+            "mc",
+            "--resolution",
+            "12",
+            "-o",
+            "l.obj",
+            "--json",
+        ]);
         let (code, out, err) = certmesh_in(&dir, &args);
         assert_eq!(code, 0, "{form:?}: {err}");
         let v: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -482,7 +627,10 @@ fn formulas_beyond_the_argument_limit_come_from_files() {
         }
     }
     // stats reads a formula file too.
-    let (code, out, err) = certmesh_in(&dir, &["stats", "l.obj", "--formula", "@long.txt", "--json"]);
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &["stats", "l.obj", "--formula", "@long.txt", "--json"],
+    );
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert!(v["hausdorff"].as_f64().unwrap() < 0.2, "{out}");
@@ -493,19 +641,45 @@ fn formulas_beyond_the_argument_limit_come_from_files() {
         .arg(dir.join("d.obj"))
         .output();
     if cfg!(target_os = "linux") {
-        assert!(direct.is_err(), "the OS accepted a {} byte argument", text.len());
+        assert!(
+            direct.is_err(),
+            "the OS accepted a {} byte argument",
+            text.len()
+        );
     }
     // Errors in a formula file name the file and the column; a missing file is an i/o
     // error naming the path.
     std::fs::write(dir.join("bad.txt"), "x^2 + * y\n").unwrap();
-    let (code, out, _) = certmesh_in(&dir, &["mesh", "--formula", "@bad.txt", "--algo", "mc", "--json"]);
+    let (code, out, _) = certmesh_in(
+        &dir,
+        &["mesh", "--formula", "@bad.txt", "--algo", "mc", "--json"],
+    );
     assert_eq!(code, 2);
     let v = json_error(&out);
     assert_eq!(v["position"], 7, "{out}");
-    assert!(v["error"].as_str().unwrap().starts_with("bad.txt: "), "{out}");
-    let (code, out, _) = certmesh_in(&dir, &["mesh", "--formula-file", "nope.txt", "--algo", "mc", "--json"]);
+    assert!(
+        v["error"].as_str().unwrap().starts_with("bad.txt: "),
+        "{out}"
+    );
+    let (code, out, _) = certmesh_in(
+        &dir,
+        &[
+            "mesh",
+            "--formula-file",
+            "nope.txt",
+            "--algo",
+            "mc",
+            "--json",
+        ],
+    );
     assert_eq!(code, 2);
-    assert!(json_error(&out)["error"].as_str().unwrap().contains("nope.txt"), "{out}");
+    assert!(
+        json_error(&out)["error"]
+            .as_str()
+            .unwrap()
+            .contains("nope.txt"),
+        "{out}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -515,14 +689,34 @@ fn formulas_have_a_documented_default_domain() {
     // The README's first example.
     let (code, out, err) = certmesh_in(
         &dir,
-        &["mesh", "--formula", "x^2 + y^2 + z^2 - 1", "--algo", "mc", "-o", "sphere.obj"],
+        &[
+            "mesh",
+            "--formula",
+            "x^2 + y^2 + z^2 - 1",
+            "--algo",
+            "mc",
+            "-o",
+            "sphere.obj",
+        ],
     );
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("domain: [-2, 2] × [-2, 2] × [-2, 2] (the default domain"), "{out}");
+    assert!(
+        out.contains("domain: [-2, 2] × [-2, 2] × [-2, 2] (the default domain"),
+        "{out}"
+    );
     assert!(dir.join("sphere.obj").exists());
     let (code, out, err) = certmesh_in(
         &dir,
-        &["curve", "--formula", "x^2 + y^2 - 1", "--algo", "pv", "-o", "c.svg", "--json"],
+        &[
+            "curve",
+            "--formula",
+            "x^2 + y^2 - 1",
+            "--algo",
+            "pv",
+            "-o",
+            "c.svg",
+            "--json",
+        ],
     );
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -571,7 +765,8 @@ fn readme_commands() -> Vec<String> {
             }
         } else if !in_other {
             for (k, span) in t.split('`').enumerate() {
-                if k % 2 == 1 && span.starts_with("certmesh ") && !cmds.contains(&span.to_string()) {
+                if k % 2 == 1 && span.starts_with("certmesh ") && !cmds.contains(&span.to_string())
+                {
                     cmds.push(span.to_string());
                 }
             }
@@ -624,7 +819,10 @@ fn help_examples(help: &str) -> Vec<String> {
         }
     }
     for c in &out {
-        assert!(c.starts_with("certmesh "), "a help example that is not a command (wrapped?): {c}");
+        assert!(
+            c.starts_with("certmesh "),
+            "a help example that is not a command (wrapped?): {c}"
+        );
     }
     out
 }
@@ -643,7 +841,12 @@ fn every_documented_command_runs() {
         cmds.iter().filter(|c| c.starts_with("certmesh ")).count() >= 10,
         "{cmds:?}"
     );
-    assert!(cmds.contains(&"certmesh mesh --formula \"x^2 + y^2 + z^2 - 1\" --algo mc -o sphere.obj".to_string()), "{cmds:?}");
+    assert!(
+        cmds.contains(
+            &"certmesh mesh --formula \"x^2 + y^2 + z^2 - 1\" --algo mc -o sphere.obj".to_string()
+        ),
+        "{cmds:?}"
+    );
     let mut todo: Vec<String> = Vec::new();
     for c in &cmds {
         match README_ALLOWLIST.iter().find(|(shown, _, _)| shown == c) {
@@ -664,7 +867,16 @@ fn every_documented_command_runs() {
     }
     // The help examples, in this order (stats' example reads the mesh example's torus).
     let mut from_help = 0;
-    for sub in ["surfaces", "algos", "mesh", "curve", "stats", "compare", "demo", "reproduce"] {
+    for sub in [
+        "surfaces",
+        "algos",
+        "mesh",
+        "curve",
+        "stats",
+        "compare",
+        "demo",
+        "reproduce",
+    ] {
         let (code, help, err) = certmesh_in(&dir, &[sub, "--help"]);
         assert_eq!(code, 0, "{err}");
         let ex = help_examples(&help);
@@ -684,7 +896,19 @@ fn every_documented_command_runs() {
         done.push(c);
     }
     // The files the README says its commands write.
-    for f in ["sphere.obj", "torus.obj", "torus-angles.svg", "torus-angles.png", "cassini.svg", "ellipse.csv", "x.obj", "quartic.ply", "cmp.csv", "spot-remesh.obj", "out/demo/compare.json"] {
+    for f in [
+        "sphere.obj",
+        "torus.obj",
+        "torus-angles.svg",
+        "torus-angles.png",
+        "cassini.svg",
+        "ellipse.csv",
+        "x.obj",
+        "quartic.ply",
+        "cmp.csv",
+        "spot-remesh.obj",
+        "out/demo/compare.json",
+    ] {
         assert!(dir.join(f).exists(), "{f} was not written");
     }
     std::fs::remove_dir_all(&dir).ok();
@@ -718,7 +942,10 @@ fn progress_is_shown_on_a_terminal_only_and_not_with_quiet() {
         String::from_utf8_lossy(&out.stdout).into_owned()
     };
     let shown = tty("");
-    assert!(shown.contains("fidelity") && shown.contains("(0s)"), "{shown}");
+    assert!(
+        shown.contains("fidelity") && shown.contains("(0s)"),
+        "{shown}"
+    );
     let quiet = tty("--quiet");
     assert!(quiet.contains("vertices"), "{quiet}");
     assert!(!quiet.contains("fidelity ("), "{quiet}");
@@ -733,29 +960,49 @@ fn compare_checks_dimensions_and_writes_the_format_of_its_extension() {
     assert!(err.contains("'ms' meshes curves (2D) only"), "{err}");
     let (code, _, err) = certmesh_in(&dir, &["compare", "--surfaces", "circle"]);
     assert_eq!(code, 2);
-    assert!(err.contains("'circle' is a curve: give it with --curves"), "{err}");
+    assert!(
+        err.contains("'circle' is a curve: give it with --curves"),
+        "{err}"
+    );
     let (code, _, err) = certmesh_in(&dir, &["compare", "--curves", "sphere"]);
     assert_eq!(code, 2);
-    assert!(err.contains("'sphere' is a surface: give it with --surfaces"), "{err}");
-    let base = ["compare", "--surfaces", "sphere", "--curves", "circle", "--algos", "mc,ms", "--resolution", "16"];
-    for (file, check) in [
-        ("cmp.json", "json"),
-        ("cmp.md", "md"),
-        ("cmp.csv", "csv"),
-    ] {
+    assert!(
+        err.contains("'sphere' is a surface: give it with --surfaces"),
+        "{err}"
+    );
+    let base = [
+        "compare",
+        "--surfaces",
+        "sphere",
+        "--curves",
+        "circle",
+        "--algos",
+        "mc,ms",
+        "--resolution",
+        "16",
+    ];
+    for (file, check) in [("cmp.json", "json"), ("cmp.md", "md"), ("cmp.csv", "csv")] {
         let mut args = base.to_vec();
         args.extend(["-o", file]);
         let (code, out, err) = certmesh_in(&dir, &args);
         assert_eq!(code, 0, "{err}");
-        assert!(out.contains("| sphere | mc |") && out.contains("| circle | ms |"), "{out}");
-        assert!(out.contains("not run") && out.contains("ms on sphere"), "{out}");
+        assert!(
+            out.contains("| sphere | mc |") && out.contains("| circle | ms |"),
+            "{out}"
+        );
+        assert!(
+            out.contains("not run") && out.contains("ms on sphere"),
+            "{out}"
+        );
         let text = std::fs::read_to_string(dir.join(file)).unwrap();
         match check {
             "json" => {
                 let v: serde_json::Value = serde_json::from_str(&text).expect("JSON in cmp.json");
                 let rows = v.as_array().unwrap();
                 assert_eq!(rows.len(), 2, "{text}");
-                assert!(rows.iter().any(|r| r["surface"] == "circle" && r["algo"] == "ms"));
+                assert!(rows
+                    .iter()
+                    .any(|r| r["surface"] == "circle" && r["algo"] == "ms"));
             }
             "md" => assert!(text.starts_with("| surface | algo |"), "{text}"),
             _ => {
@@ -773,11 +1020,20 @@ fn compare_checks_dimensions_and_writes_the_format_of_its_extension() {
 fn stats_histogram_with_an_image_extension_writes_that_file() {
     let dir = tmp("hist");
     let spot = repo().join("data/spot.obj");
-    let (code, out, err) = certmesh_in(&dir, &["stats", spot.to_str().unwrap(), "--histogram", "h.png"]);
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &["stats", spot.to_str().unwrap(), "--histogram", "h.png"],
+    );
     assert_eq!(code, 0, "{err}");
-    assert!(dir.join("h.png").exists() && dir.join("h.svg").exists(), "{out}");
+    assert!(
+        dir.join("h.png").exists() && dir.join("h.svg").exists(),
+        "{out}"
+    );
     assert!(!dir.join("h.png.png").exists() && !dir.join("h.png.svg").exists());
-    let (code, _, err) = certmesh_in(&dir, &["stats", spot.to_str().unwrap(), "--histogram", "g.svg"]);
+    let (code, _, err) = certmesh_in(
+        &dir,
+        &["stats", spot.to_str().unwrap(), "--histogram", "g.svg"],
+    );
     assert_eq!(code, 0, "{err}");
     assert!(dir.join("g.png").exists() && dir.join("g.svg").exists());
     std::fs::remove_dir_all(&dir).ok();
@@ -789,31 +1045,70 @@ fn undefined_and_infinite_figures_are_reported_as_such() {
     // mc on 1/x meshes the pole x = 0: no point of that mesh is on f = 0.
     let (code, out, err) = certmesh_in(
         &dir,
-        &["mesh", "--formula", "1/x", "--domain", "-1.1,-1,-1,1,1,1", "--algo", "mc", "-o", "p.obj", "--json"],
+        &[
+            "mesh",
+            "--formula",
+            "1/x",
+            "--domain",
+            "-1.1,-1,-1,1,1,1",
+            "--algo",
+            "mc",
+            "-o",
+            "p.obj",
+            "--json",
+        ],
     );
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert!(v["faces"].as_u64().unwrap() > 0, "{out}");
     assert_eq!(v["hausdorff"], serde_json::Value::Null, "{out}");
     let note = v["hausdorff_note"].as_str().expect("a reason");
-    assert!(note.starts_with("undefined") && note.contains("no mesh point"), "{note}");
-    assert!(v["hausdorff_kind"].as_str().unwrap().contains("estimate"), "{out}");
+    assert!(
+        note.starts_with("undefined") && note.contains("no mesh point"),
+        "{note}"
+    );
+    assert!(
+        v["hausdorff_kind"].as_str().unwrap().contains("estimate"),
+        "{out}"
+    );
     let (_, text, _) = certmesh_in(
         &dir,
-        &["mesh", "--formula", "1/x", "--domain", "-1.1,-1,-1,1,1,1", "--algo", "mc", "-o", "p.obj"],
+        &[
+            "mesh",
+            "--formula",
+            "1/x",
+            "--domain",
+            "-1.1,-1,-1,1,1,1",
+            "--algo",
+            "mc",
+            "-o",
+            "p.obj",
+        ],
     );
-    assert!(text.contains("Hausdorff (est.)") && text.contains("| undefined |"), "{text}");
+    assert!(
+        text.contains("Hausdorff (est.)") && text.contains("| undefined |"),
+        "{text}"
+    );
     // stats: null in JSON with the reason, "undefined" in text; the field names stay.
     let (code, out, err) = certmesh_in(&dir, &["stats", "p.obj", "--formula", "1/x", "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    for k in ["hausdorff", "hausdorff_mesh_to_surface", "hausdorff_surface_to_mesh"] {
+    for k in [
+        "hausdorff",
+        "hausdorff_mesh_to_surface",
+        "hausdorff_surface_to_mesh",
+    ] {
         assert_eq!(v[k], serde_json::Value::Null, "{k}: {out}");
         assert!(v["fidelity_undefined"][k].as_str().is_some(), "{k}: {out}");
     }
     // The normals cannot be compared with ∇f on f = 0 either (no centre projects).
     assert_eq!(v["normal_dev_max_deg"], serde_json::Value::Null, "{out}");
-    assert!(v["fidelity_undefined"]["normal_dev_max_deg"].as_str().is_some(), "{out}");
+    assert!(
+        v["fidelity_undefined"]["normal_dev_max_deg"]
+            .as_str()
+            .is_some(),
+        "{out}"
+    );
     let (_, text, _) = certmesh_in(&dir, &["stats", "p.obj", "--formula", "1/x"]);
     assert!(text.contains("Hausdorff (est.) ≈ undefined"), "{text}");
     assert!(text.contains("normal deviation max undefined"), "{text}");
@@ -822,11 +1117,32 @@ fn undefined_and_infinite_figures_are_reported_as_such() {
     let (_, out, _) = certmesh_in(&dir, &["stats", "p.obj", "--formula", "0", "--json"]);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["hausdorff_mesh_to_surface"], 0.0, "{out}");
-    assert!(v["hausdorff_surface_to_mesh"].as_f64().unwrap() > 0.1, "{out}");
+    assert!(
+        v["hausdorff_surface_to_mesh"].as_f64().unwrap() > 0.1,
+        "{out}"
+    );
     assert_eq!(v["normal_dev_max_deg"], serde_json::Value::Null, "{out}");
-    assert!(v["fidelity_undefined"]["normal_dev_max_deg"].as_str().unwrap().contains("∇f"), "{out}");
+    assert!(
+        v["fidelity_undefined"]["normal_dev_max_deg"]
+            .as_str()
+            .unwrap()
+            .contains("∇f"),
+        "{out}"
+    );
     // A regular case has every figure, and no reasons.
-    let (_, out, _) = certmesh_in(&dir, &["mesh", "sphere", "--algo", "mc", "--resolution", "24", "-o", "s.obj"]);
+    let (_, out, _) = certmesh_in(
+        &dir,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "mc",
+            "--resolution",
+            "24",
+            "-o",
+            "s.obj",
+        ],
+    );
     assert!(out.contains("wrote s.obj"), "{out}");
     let (_, out, _) = certmesh_in(&dir, &["stats", "s.obj", "--surface", "sphere", "--json"]);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -841,7 +1157,20 @@ fn a_run_stopped_by_its_box_budget_says_so() {
     let t0 = Instant::now();
     let (code, out, err) = certmesh_in(
         &dir,
-        &["mesh", "--formula", "0", "--domain", "-1,-1,-1,1,1,1", "--algo", "pv", "--max-boxes", "2000", "-o", "x.obj", "--json"],
+        &[
+            "mesh",
+            "--formula",
+            "0",
+            "--domain",
+            "-1,-1,-1,1,1,1",
+            "--algo",
+            "pv",
+            "--max-boxes",
+            "2000",
+            "-o",
+            "x.obj",
+            "--json",
+        ],
     );
     let dt = t0.elapsed();
     assert_eq!(code, 0, "{err}");
@@ -854,11 +1183,25 @@ fn a_run_stopped_by_its_box_budget_says_so() {
     assert_eq!(v["stopped"], "box budget exhausted (raise --max-boxes)");
     let (code, text, _) = certmesh_in(
         &dir,
-        &["mesh", "--formula", "0", "--domain", "-1,-1,-1,1,1,1", "--algo", "pv", "--max-boxes", "2000", "-o", "x.obj"],
+        &[
+            "mesh",
+            "--formula",
+            "0",
+            "--domain",
+            "-1,-1,-1,1,1,1",
+            "--algo",
+            "pv",
+            "--max-boxes",
+            "2000",
+            "-o",
+            "x.obj",
+        ],
     );
     assert_eq!(code, 0);
     assert!(
-        text.contains("stopped before the refinement was complete: box budget exhausted (raise --max-boxes)"),
+        text.contains(
+            "stopped before the refinement was complete: box budget exhausted (raise --max-boxes)"
+        ),
         "{text}"
     );
     assert!(!text.contains("proven:"), "{text}");
@@ -869,11 +1212,20 @@ fn a_run_stopped_by_its_box_budget_says_so() {
     assert_eq!(v["refinement_complete"], true, "{out}");
     // The options are documented and checked.
     let (_, help, _) = certmesh_in(&dir, &["mesh", "--help"]);
-    assert!(help.contains("--max-boxes") && help.contains("refinement_complete: false"), "{help}");
+    assert!(
+        help.contains("--max-boxes") && help.contains("refinement_complete: false"),
+        "{help}"
+    );
     assert!(help.contains("--time-limit"), "{help}");
-    let (code, _, err) = certmesh_in(&dir, &["mesh", "sphere", "--algo", "pv", "--time-limit", "-1"]);
+    let (code, _, err) = certmesh_in(
+        &dir,
+        &["mesh", "sphere", "--algo", "pv", "--time-limit", "-1"],
+    );
     assert_eq!(code, 2, "{err}");
-    let (code, _, err) = certmesh_in(&dir, &["mesh", "sphere", "--algo", "pv", "--max-boxes", "0"]);
+    let (code, _, err) = certmesh_in(
+        &dir,
+        &["mesh", "sphere", "--algo", "pv", "--max-boxes", "0"],
+    );
     assert_eq!(code, 2, "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -7,11 +7,13 @@ use certmesh::marching::{marching_cubes, MarchingCubes, MarchingSquares, Marchin
 use certmesh::mesh::{Curve2, TriMesh};
 use certmesh::mesher::options::{Crossing, MesherOptions};
 use certmesh::mesher::{Mesh, MeshOutput, Mesher, NoProgress};
+use certmesh::metrics;
 use certmesh::{Aabb, Error, Formula, Implicit};
 use proptest::prelude::*;
-use std::collections::HashMap;
 
-/// Private topology check (to be replaced by the shared `metrics` module when merged).
+/// The topology the tests check, read from the shared [`metrics::analyze`] (χ and
+/// components as every module computes them; an index-repeating triangle, which
+/// marching never makes, counts as a hole).
 #[derive(Debug, PartialEq)]
 struct TestTopology {
     euler: i64,
@@ -20,79 +22,19 @@ struct TestTopology {
     closed: bool,
     /// Every directed edge appears once (neighbours agree on orientation).
     oriented: bool,
-    /// Every vertex's link is a single cycle.
+    /// No vertex's link is other than a single path or cycle; with `closed` and
+    /// `oriented`, every vertex's link is a single oriented cycle.
     vertex_manifold: bool,
 }
 
 fn test_topology(m: &TriMesh) -> TestTopology {
-    let mut undirected: HashMap<(u32, u32), usize> = HashMap::new();
-    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
-    let mut link: HashMap<u32, Vec<(u32, u32)>> = HashMap::new();
-    for t in &m.triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            *undirected.entry((a.min(b), a.max(b))).or_default() += 1;
-            *directed.entry((a, b)).or_default() += 1;
-            link.entry(t[k])
-                .or_default()
-                .push((t[(k + 1) % 3], t[(k + 2) % 3]));
-        }
-    }
-    let used: std::collections::BTreeSet<u32> = m.triangles.iter().flatten().cloned().collect();
-    let closed = undirected.values().all(|&c| c == 2);
-    let oriented = directed.values().all(|&c| c == 1);
-    let vertex_manifold = link.values().all(|edges| {
-        // Follow the oriented link b -> c from one edge; it must return after all.
-        let next: HashMap<u32, u32> = edges.iter().cloned().collect();
-        if next.len() != edges.len() {
-            return false;
-        }
-        let start = edges[0].0;
-        let (mut v, mut n) = (start, 0);
-        loop {
-            match next.get(&v) {
-                Some(&w) => v = w,
-                None => return false,
-            }
-            n += 1;
-            if v == start {
-                return n == edges.len();
-            }
-            if n > edges.len() {
-                return false;
-            }
-        }
-    });
-    // Components by union-find over vertices of triangles.
-    let mut parent: HashMap<u32, u32> = used.iter().map(|&v| (v, v)).collect();
-    fn find(p: &mut HashMap<u32, u32>, v: u32) -> u32 {
-        let mut r = v;
-        while p[&r] != r {
-            r = p[&r];
-        }
-        let mut x = v;
-        while p[&x] != r {
-            let nx = p[&x];
-            p.insert(x, r);
-            x = nx;
-        }
-        r
-    }
-    for t in &m.triangles {
-        let a = find(&mut parent, t[0]);
-        for &v in &t[1..] {
-            let b = find(&mut parent, v);
-            parent.insert(b, a);
-        }
-    }
-    let roots: std::collections::HashSet<u32> =
-        used.iter().map(|&v| find(&mut parent, v)).collect();
+    let r = metrics::analyze(m).unwrap();
     TestTopology {
-        euler: used.len() as i64 - undirected.len() as i64 + m.triangles.len() as i64,
-        components: roots.len(),
-        closed,
-        oriented,
-        vertex_manifold,
+        euler: r.euler_characteristic,
+        components: r.components,
+        closed: r.boundary_edges == 0 && r.non_manifold_edges == 0 && r.degenerate_faces == 0,
+        oriented: r.inconsistent_edges == 0 && r.non_manifold_edges == 0,
+        vertex_manifold: r.non_manifold_vertices == 0,
     }
 }
 

@@ -22,15 +22,30 @@ fn stuffing_figures_without_certificates_is_an_error() {
     std::fs::create_dir_all(dir.join("empty")).unwrap();
     std::fs::write(dir.join("notes.txt"), "not json\n").unwrap();
     for (args, says) in [
-        (vec!["--certs", "missing", "--out", "figs"], "no such certificate file or folder"),
-        (vec!["--certs", "notes.txt", "--out", "figs"], "not a stuffing certificate"),
-        (vec!["--certs", "empty", "--out", "figs"], "no stuffing certificate"),
-        (vec!["--certs", "empty", "--out", "figs", "--bounds", "nope"], "unknown bound 'nope'"),
+        (
+            vec!["--certs", "missing", "--out", "figs"],
+            "no such certificate file or folder",
+        ),
+        (
+            vec!["--certs", "notes.txt", "--out", "figs"],
+            "not a stuffing certificate",
+        ),
+        (
+            vec!["--certs", "empty", "--out", "figs"],
+            "no stuffing certificate",
+        ),
+        (
+            vec!["--certs", "empty", "--out", "figs", "--bounds", "nope"],
+            "unknown bound 'nope'",
+        ),
     ] {
         let (code, err) = figures(&args, &dir);
         assert_ne!(code, 0, "{args:?}: {err}");
         assert!(err.contains(says), "{args:?}: {err}");
-        assert!(!dir.join("figs").exists(), "{args:?} created the output folder");
+        assert!(
+            !dir.join("figs").exists(),
+            "{args:?} created the output folder"
+        );
     }
     std::fs::remove_dir_all(&dir).ok();
 }

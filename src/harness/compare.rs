@@ -164,19 +164,17 @@ pub fn evaluate(
 /// The Hausdorff estimate of a row and, when it is not a finite number, why.
 fn set_hausdorff(row: &mut Row, fd: Option<&metrics::Fidelity>) {
     row.hausdorff = fd.map(|x| x.hausdorff);
-    row.hausdorff_note = fd
-        .filter(|x| !x.hausdorff.is_finite())
-        .map(|x| {
-            let what = if x.hausdorff.is_nan() {
-                "undefined"
-            } else {
-                "infinite"
-            };
-            match x.fidelity_undefined.get("hausdorff") {
-                Some(r) if !r.is_empty() => format!("{what}: {r}"),
-                _ => what.to_string(),
-            }
-        });
+    row.hausdorff_note = fd.filter(|x| !x.hausdorff.is_finite()).map(|x| {
+        let what = if x.hausdorff.is_nan() {
+            "undefined"
+        } else {
+            "infinite"
+        };
+        match x.fidelity_undefined.get("hausdorff") {
+            Some(r) if !r.is_empty() => format!("{what}: {r}"),
+            _ => what.to_string(),
+        }
+    });
 }
 
 /// Run the matrix `entries × algos`. Algorithms that do not handle an entry's dimension

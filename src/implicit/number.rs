@@ -365,6 +365,67 @@ impl Num for Interval {
     }
 }
 
+/// The [`Num`] methods in which `Dual` and `Hyper` differ only by their derivative
+/// fields (`$d`): the fused constant operations (constants have zero derivatives:
+/// shifting leaves the derivatives alone, scaling scales them — no products with zero
+/// derivatives, no materialised constants), `sign` and `kink` (constant almost
+/// everywhere: zero derivatives), and `min`/`max`. Expands to the same code as writing
+/// each out for each type.
+macro_rules! derivative_ops {
+    ($ty:ident { $($d:ident),+ }) => {
+        #[inline]
+        fn add_const(&self, c: &Const) -> Self {
+            $ty {
+                v: self.v.add_const(c),
+                $($d: self.$d.clone(),)+
+            }
+        }
+        #[inline]
+        fn sub_const(&self, c: &Const) -> Self {
+            $ty {
+                v: self.v.sub_const(c),
+                $($d: self.$d.clone(),)+
+            }
+        }
+        #[inline]
+        fn const_sub(&self, c: &Const) -> Self {
+            $ty {
+                v: self.v.const_sub(c),
+                $($d: self.$d.clone().map(|x| -x),)+
+            }
+        }
+        #[inline]
+        fn mul_const(&self, c: &Const) -> Self {
+            $ty {
+                v: self.v.mul_const(c),
+                $($d: self.$d.clone().map(|x| x.mul_const(c)),)+
+            }
+        }
+        #[inline]
+        fn div_const(&self, c: &Const) -> Self {
+            $ty {
+                v: self.v.div_const(c),
+                $($d: self.$d.clone().map(|x| x.div_const(c)),)+
+            }
+        }
+        fn sign(&self) -> Self {
+            Self::lit(0.0).with_v(self.v.sign())
+        }
+        fn kink(&self) -> Self {
+            Self::lit(0.0).with_v(self.v.kink())
+        }
+        fn min(&self, o: &Self) -> Self {
+            // min(a,b) = (a + b - |a - b|)/2 gives the derivative enclosure at ties.
+            let m = (self.clone() + o.clone() - (self.clone() - o.clone()).abs()) * Self::lit(0.5);
+            m.with_v(self.v.min(&o.v))
+        }
+        fn max(&self, o: &Self) -> Self {
+            let m = (self.clone() + o.clone() + (self.clone() - o.clone()).abs()) * Self::lit(0.5);
+            m.with_v(self.v.max(&o.v))
+        }
+    };
+}
+
 /// Forward-mode first derivatives: the value and the gradient with respect to x, y, z.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dual<T> {
@@ -447,43 +508,7 @@ impl<T: Num> Num for Dual<T> {
             g: [T::lit(0.0), T::lit(0.0), T::lit(0.0)],
         }
     }
-    // Constants have zero derivatives: shifting leaves the gradient alone, scaling
-    // scales it (no products with zero gradients, no materialised constant Duals).
-    #[inline]
-    fn add_const(&self, c: &Const) -> Self {
-        Dual {
-            v: self.v.add_const(c),
-            g: self.g.clone(),
-        }
-    }
-    #[inline]
-    fn sub_const(&self, c: &Const) -> Self {
-        Dual {
-            v: self.v.sub_const(c),
-            g: self.g.clone(),
-        }
-    }
-    #[inline]
-    fn const_sub(&self, c: &Const) -> Self {
-        Dual {
-            v: self.v.const_sub(c),
-            g: self.g.clone().map(|x| -x),
-        }
-    }
-    #[inline]
-    fn mul_const(&self, c: &Const) -> Self {
-        Dual {
-            v: self.v.mul_const(c),
-            g: self.g.clone().map(|x| x.mul_const(c)),
-        }
-    }
-    #[inline]
-    fn div_const(&self, c: &Const) -> Self {
-        Dual {
-            v: self.v.div_const(c),
-            g: self.g.clone().map(|x| x.div_const(c)),
-        }
-    }
+    derivative_ops!(Dual { g });
     #[inline]
     fn square(&self) -> Self {
         // (u²)' = 2u u'; 2u = u + u is exact (or rounded outward for intervals).
@@ -503,21 +528,6 @@ impl<T: Num> Num for Dual<T> {
     }
     fn abs(&self) -> Self {
         self.chain(self.v.abs(), self.v.sign())
-    }
-    fn sign(&self) -> Self {
-        Dual::cst(Const::exact(0.0)).with_v(self.v.sign())
-    }
-    fn kink(&self) -> Self {
-        Dual::cst(Const::exact(0.0)).with_v(self.v.kink())
-    }
-    fn min(&self, o: &Self) -> Self {
-        // min(a,b) = (a + b - |a - b|)/2 gives the derivative enclosure at ties.
-        let m = (self.clone() + o.clone() - (self.clone() - o.clone()).abs()) * Self::lit(0.5);
-        m.with_v(self.v.min(&o.v))
-    }
-    fn max(&self, o: &Self) -> Self {
-        let m = (self.clone() + o.clone() + (self.clone() - o.clone()).abs()) * Self::lit(0.5);
-        m.with_v(self.v.max(&o.v))
     }
     fn sin(&self) -> Self {
         self.chain(self.v.sin(), self.v.cos())
@@ -665,47 +675,7 @@ impl<T: Num> Num for Hyper<T> {
             h: [z.clone(), z.clone(), z.clone(), z.clone(), z.clone(), z],
         }
     }
-    // As for `Dual`: constants shift the value only and scale every derivative.
-    #[inline]
-    fn add_const(&self, c: &Const) -> Self {
-        Hyper {
-            v: self.v.add_const(c),
-            g: self.g.clone(),
-            h: self.h.clone(),
-        }
-    }
-    #[inline]
-    fn sub_const(&self, c: &Const) -> Self {
-        Hyper {
-            v: self.v.sub_const(c),
-            g: self.g.clone(),
-            h: self.h.clone(),
-        }
-    }
-    #[inline]
-    fn const_sub(&self, c: &Const) -> Self {
-        Hyper {
-            v: self.v.const_sub(c),
-            g: self.g.clone().map(|x| -x),
-            h: self.h.clone().map(|x| -x),
-        }
-    }
-    #[inline]
-    fn mul_const(&self, c: &Const) -> Self {
-        Hyper {
-            v: self.v.mul_const(c),
-            g: self.g.clone().map(|x| x.mul_const(c)),
-            h: self.h.clone().map(|x| x.mul_const(c)),
-        }
-    }
-    #[inline]
-    fn div_const(&self, c: &Const) -> Self {
-        Hyper {
-            v: self.v.div_const(c),
-            g: self.g.clone().map(|x| x.div_const(c)),
-            h: self.h.clone().map(|x| x.div_const(c)),
-        }
-    }
+    derivative_ops!(Hyper { g, h });
     #[inline]
     fn square(&self) -> Self {
         // (u²)' = 2u, (u²)'' = 2.
@@ -734,20 +704,6 @@ impl<T: Num> Num for Hyper<T> {
     }
     fn abs(&self) -> Self {
         self.chain(self.v.abs(), self.v.sign(), self.v.kink())
-    }
-    fn sign(&self) -> Self {
-        Self::lit(0.0).with_v(self.v.sign())
-    }
-    fn kink(&self) -> Self {
-        Self::lit(0.0).with_v(self.v.kink())
-    }
-    fn min(&self, o: &Self) -> Self {
-        let m = (self.clone() + o.clone() - (self.clone() - o.clone()).abs()) * Self::lit(0.5);
-        m.with_v(self.v.min(&o.v))
-    }
-    fn max(&self, o: &Self) -> Self {
-        let m = (self.clone() + o.clone() + (self.clone() - o.clone()).abs()) * Self::lit(0.5);
-        m.with_v(self.v.max(&o.v))
     }
     fn sin(&self) -> Self {
         let s = self.v.sin();

@@ -140,31 +140,9 @@ fn cells<const K: usize>(
 }
 
 /// The boundary faces of a tetrahedral mesh (faces in exactly one tetrahedron, oriented
-/// outward), in its own vertex numbering, sorted.
+/// outward), in its own vertex numbering, sorted: [`TetMesh::boundary_faces`].
 pub fn boundary_faces(mesh: &TetMesh) -> Vec<[u32; 3]> {
-    use std::collections::HashMap;
-    // Faces opposite each vertex, outward for a positively oriented tetrahedron
-    // (the same table as `TetMesh::boundary`).
-    const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
-    let mut count: HashMap<[u32; 3], (u32, [u32; 3])> = HashMap::new();
-    for t in &mesh.tets {
-        for f in FACES {
-            let tri = f.map(|k| t[k]);
-            let mut key = tri;
-            key.sort_unstable();
-            count
-                .entry(key)
-                .and_modify(|e| e.0 += 1)
-                .or_insert((1, tri));
-        }
-    }
-    let mut out: Vec<[u32; 3]> = count
-        .into_values()
-        .filter(|(c, _)| *c == 1)
-        .map(|(_, t)| t)
-        .collect();
-    out.sort_unstable();
-    out
+    mesh.boundary_faces()
 }
 
 fn write_parts(

@@ -158,11 +158,35 @@ impl Format {
     }
 }
 
-fn wrong_kind(kind: &'static str, f: Format, known: &str) -> Error {
-    Error::Unknown {
-        kind,
-        name: f.extension().into(),
-        known: known.into(),
+/// What a file is read or written as, for choosing and checking its format.
+#[derive(Clone, Copy)]
+enum Kind {
+    Triangles,
+    Tets,
+    Curve,
+}
+
+impl Kind {
+    /// The format of `path`, refused unless it can hold this kind of mesh.
+    fn format_of(self, path: &Path) -> Result<Format> {
+        let f = Format::from_path(path)?;
+        let (holds, kind, known) = match self {
+            Kind::Triangles => (
+                f.holds_triangles(),
+                "triangle mesh format",
+                "obj, off, ply, stl, vtk, mesh",
+            ),
+            Kind::Tets => (f.holds_tets(), "tetrahedral mesh format", "vtk, mesh"),
+            Kind::Curve => (f.holds_curves(), "curve format", "svg, csv"),
+        };
+        if !holds {
+            return Err(Error::Unknown {
+                kind,
+                name: f.extension().into(),
+                known: known.into(),
+            });
+        }
+        Ok(f)
     }
 }
 
@@ -190,14 +214,7 @@ fn with_file(
 /// mesh`; for `.vtk` and `.mesh` the file's triangles, over all its vertices).
 pub fn read_tri(path: impl AsRef<Path>) -> Result<TriMesh> {
     let path = path.as_ref();
-    let f = Format::from_path(path)?;
-    if !f.holds_triangles() {
-        return Err(wrong_kind(
-            "triangle mesh format",
-            f,
-            "obj, off, ply, stl, vtk, mesh",
-        ));
-    }
+    let f = Kind::Triangles.format_of(path)?;
     let data = read_file(path)?;
     let r = &data[..];
     match f {
@@ -215,14 +232,7 @@ pub fn read_tri(path: impl AsRef<Path>) -> Result<TriMesh> {
 /// `.ply` is binary little-endian, `.stl` is binary (float32).
 pub fn write_tri(path: impl AsRef<Path>, mesh: &TriMesh) -> Result<()> {
     let path = path.as_ref();
-    let f = Format::from_path(path)?;
-    if !f.holds_triangles() {
-        return Err(wrong_kind(
-            "triangle mesh format",
-            f,
-            "obj, off, ply, stl, vtk, mesh",
-        ));
-    }
+    let f = Kind::Triangles.format_of(path)?;
     with_file(path, |w| match f {
         Format::Obj => obj::write(w, mesh),
         Format::Off => off::write(w, mesh),
@@ -236,28 +246,18 @@ pub fn write_tri(path: impl AsRef<Path>, mesh: &TriMesh) -> Result<()> {
 /// Read a tetrahedral mesh (`vtk`, `mesh`).
 pub fn read_tet(path: impl AsRef<Path>) -> Result<TetMesh> {
     let path = path.as_ref();
-    let f = Format::from_path(path)?;
-    let data = read_file_for(path, f)?;
+    let f = Kind::Tets.format_of(path)?;
+    let data = read_file(path)?;
     match f {
         Format::Vtk => vtk::read(&data[..]),
         _ => medit::read(&data[..]).map(|m| m.mesh),
     }
 }
 
-fn read_file_for(path: &Path, f: Format) -> Result<Vec<u8>> {
-    if !f.holds_tets() {
-        return Err(wrong_kind("tetrahedral mesh format", f, "vtk, mesh"));
-    }
-    read_file(path)
-}
-
 /// Write a tetrahedral mesh (`vtk`, or `mesh` with the boundary triangles).
 pub fn write_tet(path: impl AsRef<Path>, mesh: &TetMesh) -> Result<()> {
     let path = path.as_ref();
-    let f = Format::from_path(path)?;
-    if !f.holds_tets() {
-        return Err(wrong_kind("tetrahedral mesh format", f, "vtk, mesh"));
-    }
+    let f = Kind::Tets.format_of(path)?;
     with_file(path, |w| match f {
         Format::Vtk => vtk::write(w, mesh),
         _ => medit::write(w, mesh, true),
@@ -267,10 +267,7 @@ pub fn write_tet(path: impl AsRef<Path>, mesh: &TetMesh) -> Result<()> {
 /// Write a planar curve (`svg`, or `csv` with one row per polyline vertex).
 pub fn write_curve(path: impl AsRef<Path>, curve: &Curve2) -> Result<()> {
     let path = path.as_ref();
-    let f = Format::from_path(path)?;
-    if !f.holds_curves() {
-        return Err(wrong_kind("curve format", f, "svg, csv"));
-    }
+    let f = Kind::Curve.format_of(path)?;
     with_file(path, |w| match f {
         Format::Svg => svg::write(w, curve),
         _ => csv::write(w, curve, csv::CsvLayout::Vertices),

@@ -14,18 +14,15 @@
 //! into closed loops, which are triangulated without a diagonal between two crossings
 //! of the same face (two cells sharing a face could otherwise both draw it, making an
 //! edge with four triangles).
-use super::{extract, mesh_3d, GridParams, Place, Scheme};
+use super::{extract, face_rule, Cells, Marching, Place, Scheme, Table};
 use crate::error::Result;
-use crate::implicit::Implicit;
-use crate::kernel::geom::Aabb;
 use crate::lattice::grid::Field;
 use crate::mesh::TriMesh;
-use crate::mesher::options::{Crossing, MesherOptions};
-use crate::mesher::{MeshOutput, Mesher, Progress};
 use std::sync::OnceLock;
 
-/// Marching cubes, `"mc"`. Defaults ([`GridParams::default`]): 64 cells along the
-/// longest side, linear interpolation, no pruning.
+/// Marching cubes, `"mc"`: [`Marching`] over the [`Cubes`] table. Defaults
+/// ([`GridParams::default`](super::GridParams::default)): 64 cells along the longest
+/// side, linear interpolation, no pruning.
 ///
 /// ```
 /// use certmesh::marching::MarchingCubes;
@@ -36,57 +33,18 @@ use std::sync::OnceLock;
 /// assert!(!out.certificate.is_certified());
 /// assert!(out.mesh.surface().unwrap().triangles.len() > 100);
 /// ```
+pub type MarchingCubes = Marching<Cubes>;
+
+/// The marching cubes table: 256 sign cases of the cube, derived from the face rule.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct MarchingCubes {
-    pub params: GridParams,
-}
+pub struct Cubes;
 
-impl MarchingCubes {
-    pub fn new() -> Self {
-        Self::default()
-    }
-    /// Cells along the longest side of the domain (default 64).
-    pub fn resolution(mut self, n: usize) -> Self {
-        self.params.resolution = n;
-        self
-    }
-    /// Linear interpolation (default) or bisection on f.
-    pub fn crossing(mut self, c: Crossing) -> Self {
-        self.params.crossing = c;
-        self
-    }
-    /// Bisection tolerance, as a fraction of the edge (default 1e-6).
-    pub fn tolerance(mut self, t: f64) -> Self {
-        self.params.tolerance = t;
-        self
-    }
-    /// Prune empty space with intervals (default false). Same output, fewer evaluations.
-    pub fn prune(mut self, p: bool) -> Self {
-        self.params.prune = p;
-        self
-    }
-    /// Side of the pruning descent's leaf blocks, in cells (default 4).
-    pub fn leaf(mut self, n: usize) -> Self {
-        self.params.leaf = n;
-        self
-    }
-    /// From `--resolution`, `--crossing`, `--tolerance`, `--prune`, `--set leaf=N`.
-    pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        Ok(MarchingCubes {
-            params: GridParams::from_options("mc", o)?,
-        })
-    }
-}
-
-impl Mesher for MarchingCubes {
-    fn name(&self) -> &'static str {
-        "mc"
-    }
-    fn dim(&self) -> usize {
-        3
-    }
-    fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
-        mesh_3d("marching cubes", table(), &self.params, f, domain, progress)
+impl Cells for Cubes {
+    const ALGO: &'static str = "mc";
+    const TITLE: &'static str = "marching cubes";
+    const TYPE_NAME: &'static str = "MarchingCubes";
+    fn table() -> Table {
+        Table::Cube(table())
     }
 }
 
@@ -146,12 +104,8 @@ fn build() -> Scheme {
                 let slot = &mut face_of[e[m] as usize];
                 slot[(slot[0] != u8::MAX) as usize] = fi as u8;
             }
-            let cross: Vec<bool> = (0..4).map(|m| neg(q[m]) != neg(q[(m + 1) % 4])).collect();
-            for m in 0..4 {
-                if !neg(q[m]) && neg(q[(m + 1) % 4]) {
-                    let m2 = (1..4).map(|o| (m + o) % 4).find(|&m2| cross[m2]).unwrap();
-                    next[e[m] as usize] = e[m2];
-                }
+            for (m, m2) in face_rule(q.map(neg)) {
+                next[e[m] as usize] = e[m2];
             }
         }
         let mut tris = Vec::new();

@@ -2,6 +2,13 @@
 //! tetrahedra ([`MarchingTetrahedra`], `"mt"`) and marching squares
 //! ([`MarchingSquares`], `"ms"`).
 //!
+//! **One mesher, three tables.** The three are one type, [`Marching`], over a cell
+//! [`Table`] ([`Cubes`], [`Tetrahedra`], [`Squares`]): sampling, pruning, statistics and
+//! the certificate are written once; the tables differ (the cube's 256 cases derived
+//! from the face rule, the six Kuhn tetrahedra's, the square's 16 from the same face
+//! rule), and so do the two extraction loops (the packed-sign, layer-parallel one for a
+//! cube table, a plain one for squares).
+//!
 //! All three sample f once per vertex of a regular [`Grid`] (or, with `prune`, only at
 //! the vertices of the cells interval arithmetic could not prove empty, see
 //! [`crate::lattice::octree`]) and read nothing but the signs of those samples, plus the
@@ -39,9 +46,9 @@ pub mod cubes;
 pub mod squares;
 pub mod tets;
 
-pub use cubes::{marching_cubes, MarchingCubes};
-pub use squares::{marching_squares, MarchingSquares};
-pub use tets::{marching_tetrahedra, MarchingTetrahedra};
+pub use cubes::{marching_cubes, Cubes, MarchingCubes};
+pub use squares::{marching_squares, MarchingSquares, Squares};
+pub use tets::{marching_tetrahedra, MarchingTetrahedra, Tetrahedra};
 
 use crate::error::{Error, Result};
 use crate::implicit::ops::crossing_t;
@@ -51,21 +58,15 @@ use crate::lattice::grid::{Field, Grid, Samples, SignBits};
 use crate::lattice::octree;
 use crate::mesh::TriMesh;
 use crate::mesher::options::{Crossing, MesherOptions};
-use crate::mesher::{Certificate, Mesh, MeshOutput, Progress};
+use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use rayon::prelude::*;
 use serde_json::{json, Map, Value};
+use std::marker::PhantomData;
 
 /// Default cells along the longest side of the domain.
 pub const DEFAULT_RESOLUTION: usize = 64;
 /// Default bisection tolerance, relative to the edge length.
 pub const DEFAULT_TOLERANCE: f64 = 1e-6;
-
-/// Is there a sign change between two samples? (f == 0 is positive; a NaN sample, i.e.
-/// a vertex pruning skipped, never gives a crossing.)
-#[inline(always)]
-pub(crate) fn crosses(a: f64, b: f64) -> bool {
-    (a < 0.0 && b >= 0.0) || (a >= 0.0 && b < 0.0)
-}
 
 /// The parameters every grid mesher here shares. Defaults: resolution 64, linear
 /// interpolation of crossings (the classic algorithm), bisection tolerance 1e-6 of the
@@ -135,16 +136,16 @@ impl GridParams {
 }
 
 /// A triangulation scheme of a grid cell: marching cubes or the Kuhn tetrahedra.
-pub(crate) struct Scheme {
+pub struct Scheme {
     /// Edge directions as bit masks (1 = +x, 2 = +y, 4 = +z; sums for diagonals). A
     /// grid edge is (lower vertex, direction).
-    pub dirs: Vec<u8>,
+    pub(crate) dirs: Vec<u8>,
     /// The cell's local edges: (corner of the lower end, index into `dirs`). Corner `c`
     /// is at offset `(c & 1, c >> 1 & 1, c >> 2 & 1)`.
-    pub edges: Vec<(u8, u8)>,
+    pub(crate) edges: Vec<(u8, u8)>,
     /// Per sign case (bit `c` set when corner `c` is negative): triangles as local edge
     /// triples, oriented so that normals point toward f > 0.
-    pub cases: Vec<Vec<[u8; 3]>>,
+    pub(crate) cases: Vec<Vec<[u8; 3]>>,
 }
 
 impl Scheme {
@@ -170,11 +171,30 @@ impl Scheme {
     }
 }
 
-/// How the crossing on an edge is placed.
+/// How the crossing on an edge with a sign change is placed.
 #[derive(Clone, Copy)]
-pub(crate) enum Place<'a> {
+pub enum Place<'a> {
+    /// Linear interpolation of the two samples.
     Linear,
+    /// Bisection on f, to this tolerance (a fraction of the edge).
     Bisection(&'a dyn Implicit, f64),
+}
+
+/// The face rule of marching squares and of marching cubes' faces: on a square whose
+/// corners, counter-clockwise, are negative where `neg` says, walk counter-clockwise and
+/// join every crossing where the sign goes from positive to negative to the next
+/// crossing. Yields `(m, m2)`: the side from corner `m` to `m + 1` is joined to side
+/// `m2`, in increasing `m`. On a square with four crossings this cuts each negative
+/// corner off by itself ("negative corners are separated"), the negative corner lying
+/// on the segment's right.
+pub(crate) fn face_rule(neg: [bool; 4]) -> impl Iterator<Item = (usize, usize)> {
+    let cross = [0, 1, 2, 3].map(|m| neg[m] != neg[(m + 1) % 4]);
+    (0..4)
+        .filter(move |&m| !neg[m] && neg[(m + 1) % 4])
+        .map(move |m| {
+            let m2 = (1..4).map(|o| (m + o) % 4).find(|&m2| cross[m2]).unwrap();
+            (m, m2)
+        })
 }
 
 /// What an extraction did.
@@ -184,8 +204,9 @@ pub(crate) struct Extracted {
     pub cells_visited: u64,
 }
 
+/// The offset of cell corner `c`: `(c & 1, c >> 1 & 1, c >> 2 & 1)`.
 #[inline(always)]
-fn corner(c: u8) -> [usize; 3] {
+pub(crate) fn corner(c: u8) -> [usize; 3] {
     [
         (c & 1) as usize,
         ((c >> 1) & 1) as usize,
@@ -328,13 +349,7 @@ pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Res
                     );
                     let p = grid.point(i, j, k);
                     let q = grid.point(i + o[0], j + o[1], k + o[2]);
-                    let t = match place {
-                        Place::Linear => crossing_t_linear(a, b),
-                        Place::Bisection(f, tol) => {
-                            crossing_t(f, p, a, q, b, Crossing::Bisection, tol)
-                        }
-                    };
-                    out[n] = lerp(p, q, t);
+                    out[n] = lerp(p, q, place.t(p, a, q, b));
                     n += 1;
                 });
                 if k + 1 == nz {
@@ -418,6 +433,18 @@ pub(crate) fn crossing_t_linear(a: f64, b: f64) -> f64 {
     }
 }
 
+impl Place<'_> {
+    /// The parameter in [0, 1] of the crossing on the edge from `p` (sample `a`) to `q`
+    /// (sample `b`).
+    #[inline(always)]
+    pub(crate) fn t(&self, p: [f64; 3], a: f64, q: [f64; 3], b: f64) -> f64 {
+        match *self {
+            Place::Linear => crossing_t_linear(a, b),
+            Place::Bisection(f, tol) => crossing_t(f, p, a, q, b, Crossing::Bisection, tol),
+        }
+    }
+}
+
 /// The statistics every grid mesher reports.
 pub(crate) fn base_stats(grid: &Grid, p: &GridParams) -> Map<String, Value> {
     let mut s = Map::new();
@@ -435,68 +462,198 @@ pub(crate) fn base_stats(grid: &Grid, p: &GridParams) -> Map<String, Value> {
     s
 }
 
-/// Sample (dense or pruned) and run a 3D scheme: the body of `mc` and `mt`.
-pub(crate) fn mesh_3d(
-    name: &str,
-    scheme: &Scheme,
-    p: &GridParams,
-    f: &dyn Implicit,
-    domain: &Aabb,
-    progress: &dyn Progress,
-) -> Result<MeshOutput> {
-    p.check()?;
-    if f.dim() != 3 {
-        return Err(Error::Param(format!(
-            "'{name}' meshes surfaces f(x, y, z); this function is a curve (use 'ms')"
-        )));
-    }
-    let grid = Grid::new(domain, p.resolution, 3)?;
-    check_extract_size(&grid, scheme.dirs.len())?;
-    let mut stats = base_stats(&grid, p);
-    let bis = Counted::new(f);
-    let place = match p.crossing {
-        Crossing::Linear => Place::Linear,
-        Crossing::Bisection => Place::Bisection(&bis, p.tolerance),
-    };
-    let ex = if p.prune {
-        let (s, st) = octree::sample_pruned_with(f, &grid, p.leaf, progress)?;
-        stats.insert("cells_pruned".into(), json!(st.cells_pruned));
-        stats.insert(
-            "interval_evaluations".into(),
-            json!(st.interval_evaluations),
-        );
-        stats.insert("point_evaluations".into(), json!(st.point_evaluations));
-        stats.insert("cells_kept".into(), json!(st.cells_kept));
-        stats.insert("prune_leaf".into(), json!(p.leaf));
-        progress.start("extracting", 0);
-        extract(&s, scheme, place)?
-    } else {
-        let s = Samples::sample(f, &grid, progress)?;
-        stats.insert("cells_pruned".into(), json!(0));
-        stats.insert("interval_evaluations".into(), json!(0));
-        stats.insert("point_evaluations".into(), json!(grid.num_vertices()));
-        progress.start("extracting", 0);
-        extract(&s, scheme, place)?
-    };
-    progress.finish();
-    stats.insert("cells_visited".into(), json!(ex.cells_visited));
-    stats.insert("crossing_evaluations".into(), json!(bis.counts().points));
-    Ok(MeshOutput {
-        mesh: Mesh::Surface(ex.mesh),
-        certificate: Certificate::none(format!(
-            "{name} proves nothing: it reads the signs of f at grid vertices only, so \
-             components, handles and gaps smaller than a cell are missed or merged"
-        )),
-        stats,
-    })
+/// What makes a grid mesher marching cubes, tetrahedra or squares: its cell table and
+/// its names. The three are one type, [`Marching`], over the three tables [`Cubes`],
+/// [`Tetrahedra`] and [`Squares`].
+pub trait Cells: Copy + Default + PartialEq + Send + Sync + 'static {
+    /// The registry name (`"mc"`).
+    const ALGO: &'static str;
+    /// The name in messages and certificates (`"marching cubes"`).
+    const TITLE: &'static str;
+    /// The name of the mesher type, for `Debug` (`"MarchingCubes"`).
+    const TYPE_NAME: &'static str;
+    fn table() -> Table;
 }
 
-/// Check the function dimension against the mesher, for `from_options` users.
-pub(crate) fn check_curve(name: &str, f: &dyn Implicit) -> Result<()> {
-    if f.dim() != 2 {
-        return Err(Error::Param(format!(
-            "'{name}' meshes curves f(x, y); this function is a surface (use 'mc' or 'mt')"
-        )));
+/// A cell table: the sign cases of a cube (triangles) or of a square (segments).
+#[derive(Clone, Copy)]
+pub enum Table {
+    /// A triangulation scheme of the grid cube (surfaces).
+    Cube(&'static Scheme),
+    /// Per sign case of a square (bit `m` set when corner `m`, counter-clockwise from
+    /// (0, 0), is negative): the sides `(m, m2)` the face rule joins (curves).
+    Square(&'static [Vec<(u8, u8)>; 16]),
+}
+
+impl Table {
+    /// 3 for surfaces, 2 for curves.
+    pub fn dim(&self) -> usize {
+        match self {
+            Table::Cube(_) => 3,
+            Table::Square(_) => 2,
+        }
     }
-    Ok(())
+    /// What, smaller than a cell, is missed or merged (for the certificate).
+    fn misses(&self) -> &'static str {
+        match self {
+            Table::Cube(_) => "components, handles and gaps",
+            Table::Square(_) => "components and necks",
+        }
+    }
+    /// Refuse grids whose extraction would not fit in memory (before sampling).
+    fn check_size(&self, grid: &Grid) -> Result<()> {
+        match self {
+            Table::Cube(s) => check_extract_size(grid, s.dirs.len()),
+            Table::Square(_) => Ok(()),
+        }
+    }
+    /// Extract f = 0 from a sampled grid: the mesh and the cells with a sign change.
+    fn extract<F: Field>(&self, field: &F, place: Place) -> Result<(Mesh, u64)> {
+        match self {
+            Table::Cube(s) => {
+                let ex = extract(field, s, place)?;
+                Ok((Mesh::Surface(ex.mesh), ex.cells_visited))
+            }
+            Table::Square(cases) => {
+                let (curve, visited) = squares::extract(field, cases, place)?;
+                Ok((Mesh::Curve(curve), visited))
+            }
+        }
+    }
+}
+
+/// A marching mesher over the cell table `C`: [`MarchingCubes`], [`MarchingTetrahedra`]
+/// or [`MarchingSquares`]. Defaults ([`GridParams::default`]): 64 cells along the
+/// longest side, linear interpolation, no pruning.
+#[derive(Clone, Copy, Default, PartialEq)]
+pub struct Marching<C> {
+    pub params: GridParams,
+    cells: PhantomData<C>,
+}
+
+impl<C: Cells> std::fmt::Debug for Marching<C> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct(C::TYPE_NAME)
+            .field("params", &self.params)
+            .finish()
+    }
+}
+
+impl<C: Cells> Marching<C> {
+    pub fn new() -> Self {
+        Self::default()
+    }
+    /// Cells along the longest side of the domain (default 64).
+    pub fn resolution(mut self, n: usize) -> Self {
+        self.params.resolution = n;
+        self
+    }
+    /// Linear interpolation (default) or bisection on f.
+    pub fn crossing(mut self, c: Crossing) -> Self {
+        self.params.crossing = c;
+        self
+    }
+    /// Bisection tolerance, as a fraction of the edge (default 1e-6).
+    pub fn tolerance(mut self, t: f64) -> Self {
+        self.params.tolerance = t;
+        self
+    }
+    /// Prune empty space with intervals (default false). Same output, fewer evaluations.
+    pub fn prune(mut self, p: bool) -> Self {
+        self.params.prune = p;
+        self
+    }
+    /// Side of the pruning descent's leaf blocks, in cells (default 4).
+    pub fn leaf(mut self, n: usize) -> Self {
+        self.params.leaf = n;
+        self
+    }
+    /// From `--resolution`, `--crossing`, `--tolerance`, `--prune`, `--set leaf=N`.
+    pub fn from_options(o: &MesherOptions) -> Result<Self> {
+        Ok(Marching {
+            params: GridParams::from_options(C::ALGO, o)?,
+            cells: PhantomData,
+        })
+    }
+}
+
+impl<C: Cells> Mesher for Marching<C> {
+    fn name(&self) -> &'static str {
+        C::ALGO
+    }
+    fn dim(&self) -> usize {
+        C::table().dim()
+    }
+    /// Sample (dense or pruned) and extract with the table.
+    fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
+        let p = &self.params;
+        let table = C::table();
+        p.check()?;
+        check_dim::<C>(f)?;
+        let grid = Grid::new(domain, p.resolution, table.dim())?;
+        table.check_size(&grid)?;
+        let mut stats = base_stats(&grid, p);
+        let bis = Counted::new(f);
+        let place = match p.crossing {
+            Crossing::Linear => Place::Linear,
+            Crossing::Bisection => Place::Bisection(&bis, p.tolerance),
+        };
+        // The surface extractors also report the pruning's kept cells and leaf size, and
+        // extraction as a progress phase; marching squares reports neither (as before).
+        let surface = table.dim() == 3;
+        let (mesh, visited) = if p.prune {
+            let (s, st) = octree::sample_pruned_with(f, &grid, p.leaf, progress)?;
+            stats.insert("cells_pruned".into(), json!(st.cells_pruned));
+            stats.insert(
+                "interval_evaluations".into(),
+                json!(st.interval_evaluations),
+            );
+            stats.insert("point_evaluations".into(), json!(st.point_evaluations));
+            if surface {
+                stats.insert("cells_kept".into(), json!(st.cells_kept));
+                stats.insert("prune_leaf".into(), json!(p.leaf));
+                progress.start("extracting", 0);
+            }
+            table.extract(&s, place)?
+        } else {
+            let s = Samples::sample(f, &grid, progress)?;
+            stats.insert("cells_pruned".into(), json!(0));
+            stats.insert("interval_evaluations".into(), json!(0));
+            stats.insert("point_evaluations".into(), json!(grid.num_vertices()));
+            if surface {
+                progress.start("extracting", 0);
+            }
+            table.extract(&s, place)?
+        };
+        if surface {
+            progress.finish();
+        }
+        stats.insert("cells_visited".into(), json!(visited));
+        stats.insert("crossing_evaluations".into(), json!(bis.counts().points));
+        Ok(MeshOutput {
+            mesh,
+            certificate: Certificate::none(format!(
+                "{} proves nothing: it reads the signs of f at grid vertices only, so {} \
+                 smaller than a cell are missed or merged",
+                C::TITLE,
+                table.misses()
+            )),
+            stats,
+        })
+    }
+}
+
+/// Check the function's dimension against the mesher's.
+fn check_dim<C: Cells>(f: &dyn Implicit) -> Result<()> {
+    match (C::table().dim(), f.dim()) {
+        (3, 3) | (2, 2) => Ok(()),
+        (3, _) => Err(Error::Param(format!(
+            "'{}' meshes surfaces f(x, y, z); this function is a curve (use 'ms')",
+            C::TITLE
+        ))),
+        _ => Err(Error::Param(format!(
+            "'{}' meshes curves f(x, y); this function is a surface (use 'mc' or 'mt')",
+            C::ALGO
+        ))),
+    }
 }

@@ -5,118 +5,56 @@
 //!
 //! Segments are oriented with f < 0 on their left: each closed polyline runs
 //! counter-clockwise around the region it encloses when that region is negative.
-use super::{base_stats, check_curve, crosses, crossing_t_linear, GridParams};
+use super::{face_rule, Cells, Marching, Place, Table};
 use crate::error::{Error, Result};
-use crate::implicit::ops::crossing_t;
-use crate::implicit::{Counted, Implicit};
-use crate::kernel::geom::{lerp, Aabb};
-use crate::lattice::grid::{Field, Grid, Samples};
-use crate::lattice::octree;
+use crate::kernel::geom::lerp;
+use crate::lattice::grid::Field;
 use crate::mesh::Curve2;
-use crate::mesher::options::{Crossing, MesherOptions};
-use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
-use serde_json::json;
 use std::collections::HashMap;
+use std::sync::OnceLock;
 
-/// Marching squares, `"ms"`. Defaults ([`GridParams::default`]): 64 cells along the
-/// longest side, linear interpolation, no pruning.
+/// Marching squares, `"ms"`: [`Marching`] over the [`Squares`] table. Defaults
+/// ([`GridParams::default`](super::GridParams::default)): 64 cells along the longest
+/// side, linear interpolation, no pruning.
+pub type MarchingSquares = Marching<Squares>;
+
+/// The marching squares table: 16 sign cases of the square, from the face rule.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct MarchingSquares {
-    pub params: GridParams,
-}
+pub struct Squares;
 
-impl MarchingSquares {
-    pub fn new() -> Self {
-        Self::default()
-    }
-    /// Cells along the longest side of the domain (default 64).
-    pub fn resolution(mut self, n: usize) -> Self {
-        self.params.resolution = n;
-        self
-    }
-    /// Linear interpolation (default) or bisection on f.
-    pub fn crossing(mut self, c: Crossing) -> Self {
-        self.params.crossing = c;
-        self
-    }
-    /// Bisection tolerance, as a fraction of the edge (default 1e-6).
-    pub fn tolerance(mut self, t: f64) -> Self {
-        self.params.tolerance = t;
-        self
-    }
-    /// Prune empty space with intervals (default false). Same output, fewer evaluations.
-    pub fn prune(mut self, p: bool) -> Self {
-        self.params.prune = p;
-        self
-    }
-    /// Side of the pruning descent's leaf blocks, in cells (default 4).
-    pub fn leaf(mut self, n: usize) -> Self {
-        self.params.leaf = n;
-        self
-    }
-    /// From `--resolution`, `--crossing`, `--tolerance`, `--prune`, `--set leaf=N`.
-    pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        Ok(MarchingSquares {
-            params: GridParams::from_options("ms", o)?,
-        })
-    }
-}
-
-impl Mesher for MarchingSquares {
-    fn name(&self) -> &'static str {
-        "ms"
-    }
-    fn dim(&self) -> usize {
-        2
-    }
-    fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
-        let p = &self.params;
-        p.check()?;
-        check_curve("ms", f)?;
-        let grid = Grid::new(domain, p.resolution, 2)?;
-        let mut stats = base_stats(&grid, p);
-        let bis = Counted::new(f);
-        let bisect = match p.crossing {
-            Crossing::Linear => None,
-            Crossing::Bisection => Some((&bis as &dyn Implicit, p.tolerance)),
-        };
-        let (curve, visited) = if p.prune {
-            let (s, st) = octree::sample_pruned_with(f, &grid, p.leaf, progress)?;
-            stats.insert("cells_pruned".into(), json!(st.cells_pruned));
-            stats.insert(
-                "interval_evaluations".into(),
-                json!(st.interval_evaluations),
-            );
-            stats.insert("point_evaluations".into(), json!(st.point_evaluations));
-            squares(&s, bisect)?
-        } else {
-            let s = Samples::sample(f, &grid, progress)?;
-            stats.insert("cells_pruned".into(), json!(0));
-            stats.insert("interval_evaluations".into(), json!(0));
-            stats.insert("point_evaluations".into(), json!(grid.num_vertices()));
-            squares(&s, bisect)?
-        };
-        stats.insert("cells_visited".into(), json!(visited));
-        stats.insert("crossing_evaluations".into(), json!(bis.counts().points));
-        Ok(MeshOutput {
-            mesh: Mesh::Curve(curve),
-            certificate: Certificate::none(
-                "marching squares proves nothing: it reads the signs of f at grid vertices \
-                 only, so components and necks smaller than a cell are missed or merged",
-            ),
-            stats,
-        })
+impl Cells for Squares {
+    const ALGO: &'static str = "ms";
+    const TITLE: &'static str = "marching squares";
+    const TYPE_NAME: &'static str = "MarchingSquares";
+    fn table() -> Table {
+        Table::Square(table())
     }
 }
 
 /// Marching squares on an already sampled planar grid, crossings by linear
 /// interpolation.
 pub fn marching_squares<F: Field>(field: &F) -> Result<Curve2> {
-    Ok(squares(field, None)?.0)
+    Ok(extract(field, table(), Place::Linear)?.0)
 }
 
-/// The extraction; returns the curve and the number of cells with a sign change.
-fn squares<F: Field>(field: &F, bisect: Option<(&dyn Implicit, f64)>) -> Result<(Curve2, u64)> {
+/// The table (see [`Table::Square`]), built from the face rule at first use.
+fn table() -> &'static [Vec<(u8, u8)>; 16] {
+    static T: OnceLock<[Vec<(u8, u8)>; 16]> = OnceLock::new();
+    T.get_or_init(|| {
+        std::array::from_fn(|case| {
+            face_rule([0, 1, 2, 3].map(|m| case >> m & 1 == 1))
+                .map(|(m, m2)| (m as u8, m2 as u8))
+                .collect()
+        })
+    })
+}
+
+/// The extraction with a square table: the curve and the cells with a sign change.
+pub(crate) fn extract<F: Field>(
+    field: &F,
+    table: &[Vec<(u8, u8)>; 16],
+    place: Place,
+) -> Result<(Curve2, u64)> {
     let g = *field.grid();
     if g.dim() != 2 {
         return Err(Error::Param("marching squares needs a planar grid".into()));
@@ -132,11 +70,7 @@ fn squares<F: Field>(field: &F, bisect: Option<(&dyn Implicit, f64)>) -> Result<
             let (i2, j2) = if axis == 0 { (i + 1, j) } else { (i, j + 1) };
             let (a, b) = (field.value(i, j, 0), field.value(i2, j2, 0));
             let (p, q) = (g.point(i, j, 0), g.point(i2, j2, 0));
-            let t = match bisect {
-                None => crossing_t_linear(a, b),
-                Some((f, tol)) => crossing_t(f, p, a, q, b, Crossing::Bisection, tol),
-            };
-            let x = lerp(p, q, t);
+            let x = lerp(p, q, place.t(p, a, q, b));
             vertices.push([x[0], x[1]]);
             (vertices.len() - 1) as u32
         })
@@ -149,26 +83,23 @@ fn squares<F: Field>(field: &F, bisect: Option<(&dyn Implicit, f64)>) -> Result<
     for j in 0..cy {
         for i in 0..cx {
             let v = Q.map(|o| field.value(i + o[0], j + o[1], 0));
+            // (Dense samples are finite; a sparse field's NaN marks a pruned cell.)
             if F::SPARSE && v.iter().any(|x| x.is_nan()) {
                 continue;
             }
-            let cr = [0, 1, 2, 3].map(|m| crosses(v[m], v[(m + 1) % 4]));
-            if !cr.iter().any(|&c| c) {
+            let case = (0..4).fold(0, |c, m| c | (((v[m] < 0.0) as usize) << m));
+            if case == 0 || case == 15 {
                 continue;
             }
             visited += 1;
-            // Walking counter-clockwise, join each positive-to-negative crossing to the
-            // next crossing: the negative corner in between is on the segment's right,
-            // so emit the segment reversed (negative on the left).
-            for m in 0..4 {
-                if v[m] >= 0.0 && v[(m + 1) % 4] < 0.0 {
-                    let m2 = (1..4).map(|o| (m + o) % 4).find(|&m2| cr[m2]).unwrap();
-                    let (o1, a1) = E[m];
-                    let (o2, a2) = E[m2];
-                    let s = vertex(i + o1[0], j + o1[1], a1);
-                    let e = vertex(i + o2[0], j + o2[1], a2);
-                    segments.push([e, s]);
-                }
+            // The face rule's segments have the negative corner on their right: emit
+            // each reversed (negative on the left).
+            for &(m, m2) in &table[case] {
+                let (o1, a1) = E[m as usize];
+                let (o2, a2) = E[m2 as usize];
+                let s = vertex(i + o1[0], j + o1[1], a1);
+                let e = vertex(i + o2[0], j + o2[1], a2);
+                segments.push([e, s]);
             }
         }
     }

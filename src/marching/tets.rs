@@ -9,76 +9,28 @@
 //!
 //! Grid edges are of 7 kinds (the 0/1 offsets +x, +y, +z, the face diagonals and the
 //! main diagonal); crossings are shared through them like marching cubes' edges.
-use super::{extract, mesh_3d, GridParams, Place, Scheme};
+use super::{corner, extract, Cells, Marching, Place, Scheme, Table};
 use crate::error::Result;
-use crate::implicit::Implicit;
-use crate::kernel::geom::{cross, dot, Aabb};
+use crate::kernel::geom::{cross, dot};
 use crate::lattice::grid::Field;
 use crate::mesh::TriMesh;
-use crate::mesher::options::{Crossing, MesherOptions};
-use crate::mesher::{MeshOutput, Mesher, Progress};
 use std::sync::OnceLock;
 
-/// Marching tetrahedra, `"mt"`. Defaults ([`GridParams::default`]): 64 cells along the
-/// longest side, linear interpolation, no pruning.
+/// Marching tetrahedra, `"mt"`: [`Marching`] over the [`Tetrahedra`] table. Defaults
+/// ([`GridParams::default`](super::GridParams::default)): 64 cells along the longest
+/// side, linear interpolation, no pruning.
+pub type MarchingTetrahedra = Marching<Tetrahedra>;
+
+/// The marching tetrahedra table: 256 sign cases of the cube's six Kuhn tetrahedra.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct MarchingTetrahedra {
-    pub params: GridParams,
-}
+pub struct Tetrahedra;
 
-impl MarchingTetrahedra {
-    pub fn new() -> Self {
-        Self::default()
-    }
-    /// Cells along the longest side of the domain (default 64).
-    pub fn resolution(mut self, n: usize) -> Self {
-        self.params.resolution = n;
-        self
-    }
-    /// Linear interpolation (default) or bisection on f.
-    pub fn crossing(mut self, c: Crossing) -> Self {
-        self.params.crossing = c;
-        self
-    }
-    /// Bisection tolerance, as a fraction of the edge (default 1e-6).
-    pub fn tolerance(mut self, t: f64) -> Self {
-        self.params.tolerance = t;
-        self
-    }
-    /// Prune empty space with intervals (default false). Same output, fewer evaluations.
-    pub fn prune(mut self, p: bool) -> Self {
-        self.params.prune = p;
-        self
-    }
-    /// Side of the pruning descent's leaf blocks, in cells (default 4).
-    pub fn leaf(mut self, n: usize) -> Self {
-        self.params.leaf = n;
-        self
-    }
-    /// From `--resolution`, `--crossing`, `--tolerance`, `--prune`, `--set leaf=N`.
-    pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        Ok(MarchingTetrahedra {
-            params: GridParams::from_options("mt", o)?,
-        })
-    }
-}
-
-impl Mesher for MarchingTetrahedra {
-    fn name(&self) -> &'static str {
-        "mt"
-    }
-    fn dim(&self) -> usize {
-        3
-    }
-    fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
-        mesh_3d(
-            "marching tetrahedra",
-            table(),
-            &self.params,
-            f,
-            domain,
-            progress,
-        )
+impl Cells for Tetrahedra {
+    const ALGO: &'static str = "mt";
+    const TITLE: &'static str = "marching tetrahedra";
+    const TYPE_NAME: &'static str = "MarchingTetrahedra";
+    fn table() -> Table {
+        Table::Cube(table())
     }
 }
 
@@ -106,7 +58,7 @@ pub(crate) fn kuhn_tets() -> [[u8; 4]; 6] {
 }
 
 fn pos(c: u8) -> [f64; 3] {
-    [(c & 1) as f64, ((c >> 1) & 1) as f64, ((c >> 2) & 1) as f64]
+    corner(c).map(|x| x as f64)
 }
 
 fn mid(a: u8, b: u8) -> [f64; 3] {

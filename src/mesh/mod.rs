@@ -11,6 +11,10 @@ pub struct TriMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
+/// The faces of a tetrahedron: face `k` is opposite corner `k`, ordered so that it
+/// points outward for a positively oriented tetrahedron.
+pub const TET_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+
 /// A tetrahedral volume mesh.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct TetMesh {
@@ -65,15 +69,13 @@ impl TetMesh {
     pub fn corners(&self, t: usize) -> [[f64; 3]; 4] {
         self.tets[t].map(|i| self.vertices[i as usize])
     }
-    /// The boundary surface: faces in exactly one tetrahedron, oriented outward.
-    /// Vertices keep the tetrahedral mesh's numbering (then compacted).
-    pub fn boundary(&self) -> TriMesh {
+    /// The boundary faces: faces in exactly one tetrahedron, oriented outward, in this
+    /// mesh's vertex numbering, sorted.
+    pub fn boundary_faces(&self) -> Vec<[u32; 3]> {
         use std::collections::HashMap;
-        // Faces opposite each vertex, oriented outward for a positively oriented tet.
-        const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
         let mut count: HashMap<[u32; 3], (u32, [u32; 3])> = HashMap::new();
         for t in &self.tets {
-            for f in FACES {
+            for f in TET_FACES {
                 let tri = f.map(|k| t[k]);
                 let mut key = tri;
                 key.sort_unstable();
@@ -89,9 +91,14 @@ impl TetMesh {
             .map(|(_, t)| t)
             .collect();
         tris.sort_unstable();
+        tris
+    }
+    /// The boundary surface: [`TetMesh::boundary_faces`], with the vertices no face
+    /// uses dropped (the rest renumbered in order of first use).
+    pub fn boundary(&self) -> TriMesh {
         let mut m = TriMesh {
             vertices: self.vertices.clone(),
-            triangles: tris,
+            triangles: self.boundary_faces(),
         };
         m.compact();
         m

@@ -181,8 +181,18 @@ pub fn triangle_summary(mesh: &TriMesh, bin_width: f64) -> Result<TriangleAngles
     })
 }
 
-/// The six edges of a tetrahedron as corner pairs; edge `e` is opposite edge `5 - e`.
-pub const TET_EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+/// The six edges of a tetrahedron as corner pairs; edge `e` is opposite edge `5 - e`:
+/// the `(i, j)` of [`geom::TET_EDGES_WITH_OPPOSITE`].
+pub const TET_EDGES: [[usize; 2]; 6] = {
+    let e = geom::TET_EDGES_WITH_OPPOSITE;
+    let mut out = [[0; 2]; 6];
+    let mut k = 0;
+    while k < 6 {
+        out[k] = [e[k].0, e[k].1];
+        k += 1;
+    }
+    out
+};
 
 /// Six times the signed volume: positive for the mesh's orientation convention.
 pub fn signed_volume6(p: &[[f64; 3]; 4]) -> f64 {
@@ -209,10 +219,7 @@ fn outward_normal(p: &[[f64; 3]; 4], k: usize) -> [f64; 3] {
 /// tetrahedron has the same angles as its mirror image.
 pub fn dihedral_angles(p: &[[f64; 3]; 4]) -> [f64; 6] {
     let n: [[f64; 3]; 4] = [0, 1, 2, 3].map(|k| outward_normal(p, k));
-    TET_EDGES.map(|[i, j]| {
-        let mut kl = (0..4).filter(|&m| m != i && m != j);
-        let k = kl.next().unwrap_or(0);
-        let l = kl.next().unwrap_or(0);
+    geom::TET_EDGES_WITH_OPPOSITE.map(|(_, _, k, l)| {
         let between = norm(cross(n[k], n[l])).atan2(dot(n[k], n[l])).to_degrees();
         180.0 - between
     })
@@ -272,6 +279,17 @@ pub struct TetAngles {
     pub inverted: usize,
     /// Flat or index-repeating tetrahedra, left out of the ranges.
     pub degenerate: usize,
+    /// Serialised in place (flattened): the JSON fields are the range fields.
+    #[serde(flatten)]
+    pub ranges: TetRanges,
+    /// Histogram of dihedral angles, bins of `bin_width` degrees over [0, 180].
+    pub dihedral_histogram: Histogram,
+}
+
+/// The ranges of the shape measures over the non-degenerate tetrahedra of a mesh
+/// (`None` when there is none), as [`TetAngles`] and [`super::TetStats`] report them.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TetRanges {
     pub min_dihedral_deg: Option<f64>,
     pub max_dihedral_deg: Option<f64>,
     pub min_face_angle_deg: Option<f64>,
@@ -279,8 +297,6 @@ pub struct TetAngles {
     pub min_edge_ratio: Option<f64>,
     pub max_edge_ratio: Option<f64>,
     pub min_radius_ratio: Option<f64>,
-    /// Histogram of dihedral angles, bins of `bin_width` degrees over [0, 180].
-    pub dihedral_histogram: Histogram,
 }
 
 /// Per-tetrahedron measures; `None` for degenerate tetrahedra.
@@ -330,13 +346,15 @@ pub fn tet_summary(mesh: &TetMesh, bin_width: f64) -> Result<TetAngles> {
         tets: mesh.tets.len(),
         inverted: per.iter().filter(|(v, _)| *v < 0.0).count(),
         degenerate: per.iter().filter(|(_, s)| s.is_none()).count(),
-        min_dihedral_deg,
-        max_dihedral_deg,
-        min_face_angle_deg,
-        max_face_angle_deg,
-        min_edge_ratio,
-        max_edge_ratio,
-        min_radius_ratio,
+        ranges: TetRanges {
+            min_dihedral_deg,
+            max_dihedral_deg,
+            min_face_angle_deg,
+            max_face_angle_deg,
+            min_edge_ratio,
+            max_edge_ratio,
+            min_radius_ratio,
+        },
         dihedral_histogram: Histogram::new(
             0.0,
             180.0,

@@ -5,7 +5,7 @@ pub mod angles;
 pub mod fidelity;
 pub mod topology;
 
-pub use angles::{Histogram, TetAngles, TriangleAngles};
+pub use angles::{Histogram, TetAngles, TetRanges, TriangleAngles};
 pub use fidelity::{Fidelity, FidelityParams};
 pub use topology::{
     analyze, analyze_curve, analyze_tets, curve_verdict, tet_verdict, verdict, CurveTopology,
@@ -181,13 +181,9 @@ pub struct TetStats {
     pub boundary_components: usize,
     pub boundary_closed_manifold: bool,
     pub boundary_genus: Vec<usize>,
-    pub min_dihedral_deg: Option<f64>,
-    pub max_dihedral_deg: Option<f64>,
-    pub min_face_angle_deg: Option<f64>,
-    pub max_face_angle_deg: Option<f64>,
-    pub min_edge_ratio: Option<f64>,
-    pub max_edge_ratio: Option<f64>,
-    pub min_radius_ratio: Option<f64>,
+    /// Dihedral, face angle, edge ratio and radius ratio ranges (flattened in JSON).
+    #[serde(flatten)]
+    pub ranges: TetRanges,
     /// Triangle angles of the boundary surface.
     pub boundary_min_angle_deg: Option<f64>,
     pub boundary_max_angle_deg: Option<f64>,
@@ -223,13 +219,7 @@ pub fn tet_stats(
         boundary_components: topo.boundary.components,
         boundary_closed_manifold: topo.boundary_closed_manifold,
         boundary_genus: topo.boundary.genus.clone(),
-        min_dihedral_deg: ang.min_dihedral_deg,
-        max_dihedral_deg: ang.max_dihedral_deg,
-        min_face_angle_deg: ang.min_face_angle_deg,
-        max_face_angle_deg: ang.max_face_angle_deg,
-        min_edge_ratio: ang.min_edge_ratio,
-        max_edge_ratio: ang.max_edge_ratio,
-        min_radius_ratio: ang.min_radius_ratio,
+        ranges: ang.ranges,
         boundary_min_angle_deg: bang.min_angle_deg,
         boundary_max_angle_deg: bang.max_angle_deg,
         fidelity,

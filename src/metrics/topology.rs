@@ -19,7 +19,7 @@
 use super::{check_curve, check_tetmesh, check_trimesh};
 use crate::catalog::Topology;
 use crate::error::Result;
-use crate::mesh::{Curve2, TetMesh, TriMesh};
+use crate::mesh::{Curve2, TetMesh, TriMesh, TET_FACES};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -506,9 +506,6 @@ pub struct TetTopology {
     pub boundary: TopologyReport,
 }
 
-/// Faces opposite each corner, outward for a positively oriented tetrahedron.
-const TET_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
-
 pub fn analyze_tets(mesh: &TetMesh) -> Result<TetTopology> {
     check_tetmesh(mesh)?;
     let nv = mesh.vertices.len();
@@ -597,6 +594,26 @@ fn plural(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
+/// "n things" onto the problems for each count n > 0, as (n, singular, plural).
+fn count(problems: &mut Vec<String>, counts: &[(usize, &str, &str)]) {
+    for &(n, one, many) in counts {
+        if n > 0 {
+            problems.push(plural(n, one, many));
+        }
+    }
+}
+
+/// "n components instead of m" onto the problems when n != m.
+fn component_count(problems: &mut Vec<String>, found: usize, expected: usize) {
+    if found != expected {
+        problems.push(format!("{} instead of {expected}", components(found)));
+    }
+}
+
+fn components(n: usize) -> String {
+    plural(n, "component", "components")
+}
+
 fn genus_list(g: &[usize]) -> String {
     let items: Vec<String> = g.iter().map(|g| g.to_string()).collect();
     format!("[{}]", items.join(", "))
@@ -618,7 +635,7 @@ pub fn verdict(report: &TopologyReport, expected: &Topology) -> Verdict {
     want.sort_unstable();
     let exp = format!(
         "{}, genus {}",
-        plural(expected.components, "component", "components"),
+        components(expected.components),
         genus_list(&want)
     );
     let per: Vec<String> = report
@@ -633,20 +650,14 @@ pub fn verdict(report: &TopologyReport, expected: &Topology) -> Verdict {
         .collect();
     let found = format!(
         "{}, genus [{}]",
-        plural(report.components, "component", "components"),
+        components(report.components),
         per.join(", ")
     );
     let mut p = Vec::new();
     if report.faces == 0 {
         p.push("the mesh is empty".to_string());
     }
-    if report.components != expected.components {
-        p.push(format!(
-            "{} instead of {}",
-            plural(report.components, "component", "components"),
-            expected.components
-        ));
-    }
+    component_count(&mut p, report.components, expected.components);
     if !report.closed {
         p.push(format!(
             "not closed: {} in {}",
@@ -654,34 +665,27 @@ pub fn verdict(report: &TopologyReport, expected: &Topology) -> Verdict {
             plural(report.boundary_loops, "loop", "loops")
         ));
     }
-    if report.non_manifold_edges > 0 {
-        p.push(plural(
-            report.non_manifold_edges,
-            "non-manifold edge",
-            "non-manifold edges",
-        ));
-    }
-    if report.non_manifold_vertices > 0 {
-        p.push(plural(
-            report.non_manifold_vertices,
-            "non-manifold vertex",
-            "non-manifold vertices",
-        ));
-    }
-    if report.degenerate_faces > 0 {
-        p.push(plural(
-            report.degenerate_faces,
-            "degenerate face",
-            "degenerate faces",
-        ));
-    }
-    if report.duplicate_faces > 0 {
-        p.push(plural(
-            report.duplicate_faces,
-            "duplicate face",
-            "duplicate faces",
-        ));
-    }
+    count(
+        &mut p,
+        &[
+            (
+                report.non_manifold_edges,
+                "non-manifold edge",
+                "non-manifold edges",
+            ),
+            (
+                report.non_manifold_vertices,
+                "non-manifold vertex",
+                "non-manifold vertices",
+            ),
+            (
+                report.degenerate_faces,
+                "degenerate face",
+                "degenerate faces",
+            ),
+            (report.duplicate_faces, "duplicate face", "duplicate faces"),
+        ],
+    );
     if !report.orientable {
         p.push("a component is not orientable".into());
     }
@@ -701,7 +705,7 @@ pub fn curve_verdict(report: &CurveTopology, expected: &Topology) -> Verdict {
     let exp = plural(expected.components, "closed curve", "closed curves");
     let mut found = format!(
         "{}, {} closed",
-        plural(report.components, "component", "components"),
+        components(report.components),
         report.closed_components
     );
     if report.open_ends > 0 {
@@ -717,40 +721,32 @@ pub fn curve_verdict(report: &CurveTopology, expected: &Topology) -> Verdict {
     if report.segments == 0 {
         p.push("the curve is empty".to_string());
     }
-    if report.components != expected.components {
-        p.push(format!(
-            "{} instead of {}",
-            plural(report.components, "component", "components"),
-            expected.components
-        ));
-    }
-    if report.open_ends > 0 {
-        p.push(plural(report.open_ends, "open end", "open ends"));
-    }
-    if report.branch_points > 0 {
-        p.push(plural(
-            report.branch_points,
-            "branch point",
-            "branch points",
-        ));
-    }
+    component_count(&mut p, report.components, expected.components);
+    count(
+        &mut p,
+        &[
+            (report.open_ends, "open end", "open ends"),
+            (report.branch_points, "branch point", "branch points"),
+        ],
+    );
     if report.closed_components != report.components && report.open_ends == 0 {
         p.push("a component is not a simple closed curve".into());
     }
-    if report.degenerate_segments > 0 {
-        p.push(plural(
-            report.degenerate_segments,
-            "degenerate segment",
-            "degenerate segments",
-        ));
-    }
-    if report.duplicate_segments > 0 {
-        p.push(plural(
-            report.duplicate_segments,
-            "duplicate segment",
-            "duplicate segments",
-        ));
-    }
+    count(
+        &mut p,
+        &[
+            (
+                report.degenerate_segments,
+                "degenerate segment",
+                "degenerate segments",
+            ),
+            (
+                report.duplicate_segments,
+                "duplicate segment",
+                "duplicate segments",
+            ),
+        ],
+    );
     finish(exp, found, p)
 }
 
@@ -759,20 +755,21 @@ pub fn curve_verdict(report: &CurveTopology, expected: &Topology) -> Verdict {
 pub fn tet_verdict(report: &TetTopology, expected: &Topology) -> Verdict {
     let mut v = verdict(&report.boundary, expected);
     let mut extra = Vec::new();
-    if report.nonconforming_faces > 0 {
-        extra.push(plural(
-            report.nonconforming_faces,
-            "face in 3 or more tetrahedra",
-            "faces in 3 or more tetrahedra",
-        ));
-    }
-    if report.degenerate_tets > 0 {
-        extra.push(plural(
-            report.degenerate_tets,
-            "degenerate tetrahedron",
-            "degenerate tetrahedra",
-        ));
-    }
+    count(
+        &mut extra,
+        &[
+            (
+                report.nonconforming_faces,
+                "face in 3 or more tetrahedra",
+                "faces in 3 or more tetrahedra",
+            ),
+            (
+                report.degenerate_tets,
+                "degenerate tetrahedron",
+                "degenerate tetrahedra",
+            ),
+        ],
+    );
     if !extra.is_empty() {
         v.ok = false;
         if !v.reason.is_empty() {

@@ -31,6 +31,19 @@ fn perr(e: impl std::fmt::Display) -> Error {
     Error::Param(format!("plotting failed: {e}"))
 }
 
+/// Draw a chart's series legend: boxed, on translucent white (inside the `draw!`
+/// routines, for either backend).
+macro_rules! legend {
+    ($chart:expr) => {
+        $chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(perr)?
+    };
+}
+
 fn with_ext(base: &Path, ext: &str) -> PathBuf {
     let mut p = base.to_path_buf();
     let name = format!(
@@ -160,12 +173,7 @@ pub fn histogram(
                     .map_err(perr)?;
             }
             if emphasis > 1.0 {
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.8))
-                    .border_style(BLACK)
-                    .draw()
-                    .map_err(perr)?;
+                legend!(chart);
             }
             Ok(())
         }};
@@ -249,12 +257,7 @@ pub fn lines(
                         PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2))
                     });
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(perr)?;
+            legend!(chart);
             Ok(())
         }};
     }

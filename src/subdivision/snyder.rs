@@ -25,8 +25,8 @@ use crate::subdivision::plantinga_vegter::{
     boundary_failure, check_budget, check_input, PvPairing, UNDEFINED_BOX,
 };
 use crate::subdivision::{
-    assemble, enclose, excludes_zero, no_zero_plus, point_sign, subdivide, tree_stats, Budget, Cell, Decision,
-    GenericMotion, Grid, IntervalIsolation, Pairing, TileCrossing, Tree, Verdict,
+    assemble, enclose, excludes_zero, no_zero_plus, point_sign, subdivide, tree_stats, Budget,
+    Cell, Decision, GenericMotion, Grid, IntervalIsolation, Pairing, TileCrossing, Tree, Verdict,
     DEFAULT_MAX_BOXES, MAX_LEVEL,
 };
 use std::sync::atomic::AtomicU64;

@@ -1,0 +1,178 @@
+//! Hand-built meshes whose topology and geometry are known exactly, shared by the
+//! metrics and topology tests.
+#![allow(dead_code)]
+use certmesh::catalog::{self, Topology};
+use certmesh::kernel::geom;
+use certmesh::mesh::{TetMesh, TriMesh};
+use certmesh::metrics::angles;
+
+// ---------------------------------------------------------------- hand-built meshes
+
+pub fn tetra_surface(offset: [f64; 3]) -> TriMesh {
+    let v = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let v = v.into_iter().map(|p| geom::add(p, offset)).collect();
+    // Outward (counter-clockwise seen from outside).
+    TriMesh::new(v, vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+}
+
+pub fn cube_surface() -> TriMesh {
+    let mut v = Vec::new();
+    for i in 0..8 {
+        v.push([(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64]);
+    }
+    // Each face as a counter-clockwise quad seen from outside.
+    let quads = [
+        [0, 2, 3, 1], // z = 0, normal -z
+        [4, 5, 7, 6], // z = 1
+        [0, 1, 5, 4], // y = 0
+        [2, 6, 7, 3], // y = 1
+        [0, 4, 6, 2], // x = 0
+        [1, 3, 7, 5], // x = 1
+    ];
+    let mut t = Vec::new();
+    for q in quads {
+        t.push([q[0], q[1], q[2]]);
+        t.push([q[0], q[2], q[3]]);
+    }
+    TriMesh::new(v, t)
+}
+
+/// A torus (R = 1, r = 0.3) from an n × m quad grid with wrap-around indices.
+pub fn torus(n: u32, m: u32) -> TriMesh {
+    let mut v = Vec::new();
+    for i in 0..n {
+        for j in 0..m {
+            let u = i as f64 / n as f64 * std::f64::consts::TAU;
+            let w = j as f64 / m as f64 * std::f64::consts::TAU;
+            let rr = 1.0 + 0.3 * w.cos();
+            v.push([rr * u.cos(), rr * u.sin(), 0.3 * w.sin()]);
+        }
+    }
+    let id = |i: u32, j: u32| (i % n) * m + (j % m);
+    let mut t = Vec::new();
+    for i in 0..n {
+        for j in 0..m {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            t.push([a, b, c]);
+            t.push([a, c, d]);
+        }
+    }
+    TriMesh::new(v, t)
+}
+
+/// Icosahedron subdivided `level` times, projected on the unit sphere; outward.
+pub fn icosphere(level: u32) -> TriMesh {
+    let p = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut v: Vec<[f64; 3]> = vec![
+        [-1.0, p, 0.0],
+        [1.0, p, 0.0],
+        [-1.0, -p, 0.0],
+        [1.0, -p, 0.0],
+        [0.0, -1.0, p],
+        [0.0, 1.0, p],
+        [0.0, -1.0, -p],
+        [0.0, 1.0, -p],
+        [p, 0.0, -1.0],
+        [p, 0.0, 1.0],
+        [-p, 0.0, -1.0],
+        [-p, 0.0, 1.0],
+    ]
+    .into_iter()
+    .map(geom::normalize)
+    .collect();
+    let mut t: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..level {
+        let mut mid = std::collections::HashMap::new();
+        let mut m = |a: u32, b: u32, v: &mut Vec<[f64; 3]>| {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                v.push(geom::normalize(geom::lerp(
+                    v[a as usize],
+                    v[b as usize],
+                    0.5,
+                )));
+                v.len() as u32 - 1
+            })
+        };
+        let mut nt = Vec::new();
+        for [a, b, c] in t {
+            let ab = m(a, b, &mut v);
+            let bc = m(b, c, &mut v);
+            let ca = m(c, a, &mut v);
+            nt.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        t = nt;
+    }
+    TriMesh::new(v, t)
+}
+
+pub fn sphere_topology() -> Topology {
+    catalog::get("sphere").unwrap().topology.unwrap()
+}
+
+pub fn concat(a: &TriMesh, b: &TriMesh) -> TriMesh {
+    let n = a.vertices.len() as u32;
+    let mut m = a.clone();
+    m.vertices.extend(&b.vertices);
+    m.triangles
+        .extend(b.triangles.iter().map(|t| t.map(|i| i + n)));
+    m
+}
+
+pub fn polygon(n: u32, center: [f64; 2], r: f64, first: u32) -> (Vec<[f64; 2]>, Vec<[u32; 2]>) {
+    let v = (0..n)
+        .map(|i| {
+            let a = i as f64 / n as f64 * std::f64::consts::TAU;
+            [center[0] + r * a.cos(), center[1] + r * a.sin()]
+        })
+        .collect();
+    let s = (0..n).map(|i| [first + i, first + (i + 1) % n]).collect();
+    (v, s)
+}
+
+pub fn cube_tets() -> TetMesh {
+    let mut v = Vec::new();
+    for i in 0..8 {
+        v.push([(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64]);
+    }
+    // Six tetrahedra around the diagonal 0-7 (Kuhn triangulation).
+    let paths = [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]];
+    let tets = paths
+        .iter()
+        .map(|&[a, b]| {
+            let t = [0u32, a, b, 7];
+            let p = t.map(|i| v[i as usize]);
+            if angles::signed_volume6(&p) > 0.0 {
+                t
+            } else {
+                [0, b, a, 7]
+            }
+        })
+        .collect();
+    TetMesh { vertices: v, tets }
+}
