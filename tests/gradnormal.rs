@@ -8,7 +8,9 @@ use certmesh::gradnormal::tiling::{
     colour, edge_endpoints, Goldberg, TetType, PAPER_RATIOS, SOMMERVILLE_RATIO,
 };
 use certmesh::gradnormal::valence4::remove_valence4;
-use certmesh::gradnormal::{DiagonalRule, GradNormal, GradNormalParams, MidNormal};
+use certmesh::gradnormal::{
+    DiagonalRule, GradNormal, GradNormalParams, MidNormal, DEFAULT_MAX_TRIANGLES,
+};
 use certmesh::kernel::geom::{add, scale, sub, Aabb};
 use certmesh::mesh::TriMesh;
 use certmesh::mesher::{Mesh, Mesher, NoProgress};
@@ -182,7 +184,18 @@ fn pruning_changes_cost_not_result() {
     let f = catalog::get("sphere").unwrap().function();
     let b = catalog::get("sphere").unwrap().domain;
     let g = Goldberg::sommerville(0.03);
-    let a = extract(&f, &b, &g, DiagonalRule::Paper, false, 8, true, &NoProgress).unwrap();
+    let a = extract(
+        &f,
+        &b,
+        &g,
+        DiagonalRule::Paper,
+        false,
+        8,
+        true,
+        DEFAULT_MAX_TRIANGLES,
+        &NoProgress,
+    )
+    .unwrap();
     let c = extract(
         &f,
         &b,
@@ -191,6 +204,7 @@ fn pruning_changes_cost_not_result() {
         false,
         8,
         false,
+        DEFAULT_MAX_TRIANGLES,
         &NoProgress,
     )
     .unwrap();
@@ -273,7 +287,18 @@ fn valence4_diagonal_rule() {
     let c = n[0] * p0[0] + n[1] * p0[1] + n[2] * p0[2];
     let f = plane(n, c);
     let b = Aabb::cube(1.0);
-    let ns = extract(&f, &b, &g, DiagonalRule::Paper, false, 8, true, &NoProgress).unwrap();
+    let ns = extract(
+        &f,
+        &b,
+        &g,
+        DiagonalRule::Paper,
+        false,
+        8,
+        true,
+        DEFAULT_MAX_TRIANGLES,
+        &NoProgress,
+    )
+    .unwrap();
     let edges = |tris: &[[u32; 3]]| {
         let mut s = std::collections::HashSet::new();
         for t in tris {

@@ -205,43 +205,20 @@ struct LeafOut {
     evals: u64,
 }
 
-/// Run Algorithm 1 over the tiling τ(g.a, g.e) on `domain`. With `keep_quads` the
-/// quadrilaterals are returned unsplit (the caller splits them, e.g. by the shorter
-/// diagonal after projection); otherwise they are split by `rule` (paper or alternate).
-#[allow(clippy::too_many_arguments)]
-pub fn extract(
-    f: &dyn Implicit,
-    domain: &Aabb,
-    g: &Goldberg,
-    rule: DiagonalRule,
-    keep_quads: bool,
-    leaf: usize,
-    prune: bool,
-    progress: &dyn Progress,
-) -> Result<NormalSurface> {
-    extract_bounded(
-        f,
-        domain,
-        g,
-        rule,
-        keep_quads,
-        leaf,
-        prune,
-        DEFAULT_MAX_TRIANGLES,
-        progress,
-    )
-}
-
 /// Default bound on the triangles a normal-surface extraction may produce (about
 /// 100 bytes each while the surface is assembled: 5 GB).
 pub const DEFAULT_MAX_TRIANGLES: u64 = 50_000_000;
 
-/// [`extract`] with a bound on the output: the pruned blocks near the surface are
+/// Run Algorithm 1 over the tiling τ(g.a, g.e) on `domain`. With `keep_quads` the
+/// quadrilaterals are returned unsplit (the caller splits them, e.g. by the shorter
+/// diagonal after projection); otherwise they are split by `rule` (paper or alternate).
+///
+/// The output is bounded: the pruned blocks near the surface are
 /// counted before any of them is processed, and a run that would produce more than
 /// about `max_triangles` triangles is refused (measured on the sphere: one triangle
 /// per ~8 tetrahedra visited; the estimate uses 1 per 10 so it errs on allowing).
 #[allow(clippy::too_many_arguments)]
-pub fn extract_bounded(
+pub fn extract(
     f: &dyn Implicit,
     domain: &Aabb,
     g: &Goldberg,

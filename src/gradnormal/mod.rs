@@ -24,7 +24,7 @@ pub mod tiling;
 pub mod valence4;
 pub mod witness;
 
-pub use midnormal::{extract, extract_bounded, NormalSurface};
+pub use midnormal::{extract, NormalSurface, DEFAULT_MAX_TRIANGLES};
 pub use tiling::Goldberg;
 
 use crate::error::{Error, Result};
@@ -318,7 +318,7 @@ impl MidNormal {
             DiagonalRule::Shorter => DiagonalRule::Paper,
             r => r,
         };
-        extract_bounded(
+        extract(
             f,
             domain,
             &g,
@@ -434,7 +434,7 @@ impl GradNormal {
         let p = &self.params;
         let g = p.goldberg(domain);
         let keep_quads = p.quad_rule == DiagonalRule::Shorter;
-        let ns = extract_bounded(
+        let ns = extract(
             f,
             domain,
             &g,

@@ -167,24 +167,10 @@ pub fn crossing_t(
     match how {
         Crossing::Linear => linear,
         Crossing::Bisection => {
-            let (mut lo, mut hi) = (0.0f64, 1.0f64);
             let neg_at_lo = fa < 0.0;
-            while hi - lo > tol {
-                let mid = 0.5 * (lo + hi);
-                if mid <= lo || mid >= hi {
-                    break;
-                }
-                let fm = f.eval(lerp(a, b, mid));
-                if fm == 0.0 {
-                    return mid;
-                }
-                if (fm < 0.0) == neg_at_lo {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            0.5 * (lo + hi)
+            bisect(f, a, b, tol, |fm| {
+                (fm != 0.0).then_some((fm < 0.0) == neg_at_lo)
+            })
         }
     }
 }
@@ -220,19 +206,32 @@ pub fn locate(
         };
         return lerp(pa, pb, t);
     }
+    lerp(pa, pb, bisect(f, pa, pb, tol, |fm| Some((fm >= 0.0) == sa)))
+}
+
+/// Bisection on the segment a→b for the parameter of a crossing: `stays(f(mid))` says
+/// whether the crossing lies above mid (`Some(true)`), below (`Some(false)`), or at mid
+/// (`None`). Stops at width `tol` or when the midpoint is no longer representable.
+fn bisect(
+    f: &dyn Implicit,
+    a: [f64; 3],
+    b: [f64; 3],
+    tol: f64,
+    stays: impl Fn(f64) -> Option<bool>,
+) -> f64 {
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
     while hi - lo > tol {
-        let m = 0.5 * (lo + hi);
-        if m <= lo || m >= hi {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
             break;
         }
-        if (f.eval(lerp(pa, pb, m)) >= 0.0) == sa {
-            lo = m;
-        } else {
-            hi = m;
+        match stays(f.eval(lerp(a, b, mid))) {
+            None => return mid,
+            Some(true) => lo = mid,
+            Some(false) => hi = mid,
         }
     }
-    lerp(pa, pb, 0.5 * (lo + hi))
+    0.5 * (lo + hi)
 }
 
 /// Snyder's interval root isolation on an edge (§1.2.3): bisect until, on each piece,

@@ -191,75 +191,46 @@ pub(crate) fn parse_bound(s: &str) -> Result<AngleBound> {
     }
 }
 
-/// Plantinga–Vegter for surfaces (octree). Name `pv`, dim 3.
+/// Plantinga–Vegter in dimension `D` (2: curves, quadtree; 3: surfaces, octree): one
+/// type, name `pv`. [`PlantingaVegter`] and [`PlantingaVegter2`] name the two
+/// instances.
 #[derive(Clone, Debug)]
-pub struct PlantingaVegter {
+pub struct PlantingaVegterN<const D: usize> {
     pub params: PvParams,
 }
+/// Plantinga–Vegter for surfaces (dim 3).
+pub type PlantingaVegter = PlantingaVegterN<3>;
+/// Plantinga–Vegter for curves (dim 2).
+pub type PlantingaVegter2 = PlantingaVegterN<2>;
 
-/// Plantinga–Vegter for curves (quadtree). Name `pv`, dim 2.
-#[derive(Clone, Debug)]
-pub struct PlantingaVegter2 {
-    pub params: PvParams,
-}
-
-impl Default for PlantingaVegter {
+impl<const D: usize> Default for PlantingaVegterN<D> {
     fn default() -> Self {
-        PlantingaVegter {
-            params: PvParams::new(3),
-        }
-    }
-}
-impl Default for PlantingaVegter2 {
-    fn default() -> Self {
-        PlantingaVegter2 {
-            params: PvParams::new(2),
+        PlantingaVegterN {
+            params: PvParams::new(D),
         }
     }
 }
 
-impl PlantingaVegter {
+impl<const D: usize> PlantingaVegterN<D> {
     pub fn new(params: PvParams) -> Self {
-        PlantingaVegter { params }
+        PlantingaVegterN { params }
     }
     pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        Ok(PlantingaVegter {
-            params: PvParams::from_options(o, 3)?,
-        })
-    }
-}
-impl PlantingaVegter2 {
-    pub fn new(params: PvParams) -> Self {
-        PlantingaVegter2 { params }
-    }
-    pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        Ok(PlantingaVegter2 {
-            params: PvParams::from_options(o, 2)?,
+        Ok(PlantingaVegterN {
+            params: PvParams::from_options(o, D)?,
         })
     }
 }
 
-impl Mesher for PlantingaVegter {
+impl<const D: usize> Mesher for PlantingaVegterN<D> {
     fn name(&self) -> &'static str {
         "pv"
     }
     fn dim(&self) -> usize {
-        3
+        D
     }
     fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
-        Ok(run_pv(f, domain, &self.params, 3, progress)?.1)
-    }
-}
-
-impl Mesher for PlantingaVegter2 {
-    fn name(&self) -> &'static str {
-        "pv"
-    }
-    fn dim(&self) -> usize {
-        2
-    }
-    fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
-        Ok(run_pv(f, domain, &self.params, 2, progress)?.1)
+        Ok(run_pv(f, domain, &self.params, D, progress)?.1)
     }
 }
 

@@ -146,72 +146,45 @@ impl SnyderParams {
     }
 }
 
-/// Snyder for surfaces. Name `snyder`, dim 3.
+/// Snyder's mesher in dimension `D` (2: curves, quadtree; 3: surfaces, octree): one
+/// type, name `snyder`. [`Snyder`] and [`Snyder2`] name the two instances.
 #[derive(Clone, Debug)]
-pub struct Snyder {
+pub struct SnyderN<const D: usize> {
     pub params: SnyderParams,
 }
-/// Snyder for curves. Name `snyder`, dim 2.
-#[derive(Clone, Debug)]
-pub struct Snyder2 {
-    pub params: SnyderParams,
+/// Snyder for surfaces (dim 3).
+pub type Snyder = SnyderN<3>;
+/// Snyder for curves (dim 2).
+pub type Snyder2 = SnyderN<2>;
+
+impl<const D: usize> Default for SnyderN<D> {
+    fn default() -> Self {
+        SnyderN {
+            params: SnyderParams::new(D),
+        }
+    }
 }
 
-impl Default for Snyder {
-    fn default() -> Self {
-        Snyder {
-            params: SnyderParams::new(3),
-        }
-    }
-}
-impl Default for Snyder2 {
-    fn default() -> Self {
-        Snyder2 {
-            params: SnyderParams::new(2),
-        }
-    }
-}
-impl Snyder {
+impl<const D: usize> SnyderN<D> {
     pub fn new(params: SnyderParams) -> Self {
-        Snyder { params }
+        SnyderN { params }
     }
     pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        Ok(Snyder {
-            params: SnyderParams::from_options(o, 3)?,
-        })
-    }
-}
-impl Snyder2 {
-    pub fn new(params: SnyderParams) -> Self {
-        Snyder2 { params }
-    }
-    pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        Ok(Snyder2 {
-            params: SnyderParams::from_options(o, 2)?,
+        Ok(SnyderN {
+            params: SnyderParams::from_options(o, D)?,
         })
     }
 }
 
-impl Mesher for Snyder {
+impl<const D: usize> Mesher for SnyderN<D> {
     fn name(&self) -> &'static str {
         "snyder"
     }
     fn dim(&self) -> usize {
-        3
+        D
     }
     fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
-        Ok(run_snyder(f, domain, &self.params, 3, progress)?.1)
-    }
-}
-impl Mesher for Snyder2 {
-    fn name(&self) -> &'static str {
-        "snyder"
-    }
-    fn dim(&self) -> usize {
-        2
-    }
-    fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
-        Ok(run_snyder(f, domain, &self.params, 2, progress)?.1)
+        Ok(run_snyder(f, domain, &self.params, D, progress)?.1)
     }
 }
 
