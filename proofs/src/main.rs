@@ -2,8 +2,8 @@
 //! interval arithmetic (inari) and exact rational arithmetic, written as certificates
 //! that can be re-verified independently.
 use clap::{Parser, Subcommand};
-use proofs::cases::Ratio;
 use proofs::geometry::DiagonalRule;
+use proofs::gradnormal::cases::Ratio;
 use proofs::gradnormal::{self, Certificate, Config};
 use proofs::stuffing;
 use std::path::PathBuf;
@@ -79,7 +79,7 @@ enum Cmd {
         #[arg(long)]
         graded: bool,
         /// With `--graded`: number of sample octrees of the sampled-contexts model.
-        #[arg(long, default_value_t = proofs::stuffing_graded::DEFAULT_TREES)]
+        #[arg(long, default_value_t = proofs::stuffing::graded::DEFAULT_TREES)]
         trees: usize,
     },
     /// Figures of the worst configurations (like the paper's Fig 5) from stuffing
@@ -172,11 +172,11 @@ fn run() -> Result<(), String> {
             let ratio = Ratio::parse(&a)?;
             let rule: DiagonalRule = rule.parse().map_err(|e| format!("{e}"))?;
             if let Some(dir) = write_papers {
-                return proofs::report::write_papers(&dir, ratio);
+                return proofs::gradnormal::report::write_papers(&dir, ratio);
             }
             if let Some(n) = scan {
                 let dir = PathBuf::from("papers/gradnormal/figures");
-                let rows = proofs::report::scan(rule, n, &dir)?;
+                let rows = proofs::gradnormal::report::scan(rule, n, &dir)?;
                 for r in rows {
                     println!("{r}");
                 }
@@ -247,7 +247,7 @@ fn run() -> Result<(), String> {
                         continue;
                     }
                     let stem = out.join(format!("{name}-{bn}"));
-                    if proofs::stuffing_fig::witness_figure(&c, b, &stem)? {
+                    if proofs::stuffing::figures::witness_figure(&c, b, &stem)? {
                         println!("{}.svg", stem.display());
                     }
                 }
@@ -293,7 +293,10 @@ fn run() -> Result<(), String> {
             Ok(())
         }
         Cmd::Regions { a } => {
-            print!("{}", proofs::report::regions_markdown(Ratio::parse(&a)?)?);
+            print!(
+                "{}",
+                proofs::gradnormal::report::regions_markdown(Ratio::parse(&a)?)?
+            );
             Ok(())
         }
         Cmd::Merge { parts, out } => {
@@ -398,15 +401,15 @@ fn stuffing_cmd(
     if count {
         for n in names {
             let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
-            let a = proofs::stuffing_cases::Alphas::of(r);
-            let (_, c) = proofs::stuffing_cases::output_cases(&a);
-            let (_, s) = proofs::stuffing_cases::bcc_cases(&a);
+            let a = proofs::stuffing::cases::Alphas::of(r);
+            let (_, c) = proofs::stuffing::cases::output_cases(&a);
+            let (_, s) = proofs::stuffing::cases::bcc_cases(&a);
             // Output-tetrahedron cases whose volume can vanish (exact corner test).
-            let (cases, _) = proofs::stuffing_cases::output_cases(&a);
+            let (cases, _) = proofs::stuffing::cases::output_cases(&a);
             let flat = cases
                 .iter()
                 .filter(|c| {
-                    let (r, _) = proofs::stuffing_cases::volume_range(c, &a);
+                    let (r, _) = proofs::stuffing::cases::volume_range(c, &a);
                     r[0] <= 0 && r[1] >= 0
                 })
                 .count();
@@ -462,7 +465,7 @@ fn graded_cmd(
     tol_deg: f64,
     trees: usize,
 ) -> Result<(), String> {
-    use proofs::stuffing_graded as g;
+    use proofs::stuffing::graded as g;
     let names: Vec<&str> = if row == "all" {
         g::DAGGERS.iter().map(|d| d.0).collect()
     } else if g::DAGGERS.iter().any(|d| d.0 == row) {

@@ -5,8 +5,8 @@ use certmesh::bcc::NEIGHBORS;
 use certmesh::catalog;
 use certmesh::stuffing::stencils::TABLE;
 use certmesh::stuffing::{self, generate, prepare, Field};
-use proofs::stuffing_cases::{canonical, output_cases, Alphas, Case, Kind, Seg, Sym, DEN};
-use proofs::stuffing_eval::{problems, What};
+use proofs::stuffing::cases::{canonical, output_cases, Alphas, Case, Kind, Seg, Sym, DEN};
+use proofs::stuffing::eval::{problems, What};
 use proptest::prelude::*;
 use std::collections::HashSet;
 
@@ -200,9 +200,9 @@ fn warped_vertex_keeps_volume_positive_for_safe_rows() {
     let mut v = r.map(Seg::fixed);
     v[0] = Seg::warp(r[0], d);
     let c = Case { v, multiplicity: 1 };
-    let (range, _) = proofs::stuffing_cases::volume_range(&c, &a);
+    let (range, _) = proofs::stuffing::cases::volume_range(&c, &a);
     let whole =
-        proofs::stuffing_cases::orient_exact(&r.map(|p| p.map(|x| x as i128 * DEN as i128)));
+        proofs::stuffing::cases::orient_exact(&r.map(|p| p.map(|x| x as i128 * DEN as i128)));
     // e0 moves along the edge toward e1: its height over the face (e1, o0, o1) shrinks
     // linearly, so the volume is (1 − t)·V for t ∈ [0, α_long].
     let al = a.long as i128;

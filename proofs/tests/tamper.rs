@@ -1,6 +1,6 @@
 //! Certificates: a genuine one is accepted, tampered ones are rejected; shards merge.
-use proofs::cases::Ratio;
 use proofs::geometry::DiagonalRule;
+use proofs::gradnormal::cases::Ratio;
 use proofs::gradnormal::{check, merge, run, Config};
 
 fn coarse() -> Config {

@@ -1,5 +1,6 @@
 //! PROOF.md, figures, the derived regions and the a/e scan.
-use crate::cases::{Case, Derived, Ratio, Xi};
+use super::cases::{Case, Derived, Ratio};
+use super::sample::angles_at;
 use crate::exact::{deg_hi, deg_lo};
 use crate::geometry::{DiagonalRule, LABELS, MIDPOINT_EDGES, MIDPOINT_NAMES};
 use crate::gradnormal::{self, Certificate, Config};
@@ -74,32 +75,6 @@ pub fn regions_markdown(ratio: Ratio) -> Result<String, String> {
         let _ = writeln!(s);
     }
     Ok(s)
-}
-
-/// Sample the three projected angles (degrees, f64, display only) of a case at μ.
-pub fn angles_at(ratio: Ratio, case: &Case, mu: [f64; 3]) -> [f64; 3] {
-    let h = 3f64.sqrt() / 2.0;
-    let r = ratio.f64();
-    let pos = |x: Xi| [x[0] as f64, h * x[1] as f64, r * x[2] as f64];
-    let m = [mu[0], mu[1] / h, mu[2] / r];
-    let p = case.vertices.clone().map(|v| pos(v.xi));
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    [0, 1, 2].map(|k| {
-        let (a, b, c) = (p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
-        let (u, v) = (cross(m, sub(b, a)), cross(m, sub(c, a)));
-        (dot(u, v) / (dot(u, u) * dot(v, v)).sqrt())
-            .clamp(-1.0, 1.0)
-            .acos()
-            .to_degrees()
-    })
 }
 
 /// Angle functions along every boundary arc of a case's region pieces (the paper's
@@ -203,7 +178,7 @@ pub fn write_papers(dir: &Path, ratio: Ratio) -> Result<(), String> {
         &envelope,
     )
     .map_err(|e| e.to_string())?;
-    crate::maps::write_maps(&fig, ratio, &cases, &[0, 8, 10, 4])?;
+    super::maps::write_maps(&fig, ratio, &cases, &[0, 8, 10, 4])?;
 
     let mut s = String::new();
     let _ = writeln!(

@@ -1,10 +1,16 @@
 //! `proofs gradnormal`: the certified angle bounds of GradNormal over the full regions
 //! of plane normals (Hass & Trnkova 2020, Thm 1.1, Lemma 4.1, Appendix A).
+pub mod cases;
+pub mod eval;
+pub mod maps;
+pub mod report;
+pub mod sample;
+
 use crate::bnb::{self, CaseCert, Objective, Search, Witness};
-use crate::cases::{exact_cos, midnormal_triangles, Case, Derived, Ratio};
-use crate::eval::TriObj;
 use crate::exact::{angle_at_least, angle_at_most, cos_deg, decimal, deg_hi, deg_lo, rat, Verdict};
 use crate::geometry::{DiagonalRule, LABELS};
+use cases::{exact_cos, midnormal_triangles, Case, Derived, Ratio};
+use eval::TriObj;
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use rayon::prelude::*;
@@ -275,7 +281,8 @@ pub fn summarize(ratio: Ratio, rule: DiagonalRule, cases: &[CaseEntry]) -> (Summ
                 let m = witness_normal(ratio, &e.case, &ex.witness);
                 let h = 3f64.sqrt() / 2.0;
                 let mu = [m[0], m[1] * h, m[2] * ratio.f64()];
-                let levels = crate::cases::describe_f64(mu, &Derived::new(ratio).named_points());
+                let levels =
+                    crate::gradnormal::cases::describe_f64(mu, &Derived::new(ratio).named_points());
                 format!(
                     "triangle {} ({}), angle at {}, plane normal m = {} (unit, e = 1; heights along m: {}), projected angle in [{:.9}°, {:.9}°]",
                     e.case.name,

@@ -23,9 +23,9 @@
 //! A bound *proven* on the superset holds for the mesher; a superset maximum above the
 //! paper's value refutes nothing by itself, so the refutation uses a realised witness
 //! (the mesher test `graded_dagger_147_is_exceeded_on_a_half_pyramid`).
+use super::cases::{canonical, Alphas, Seg, Sym};
+use super::eval::{cos_plane, Geo, Problem, Role, What, V3};
 use crate::ival::pt;
-use crate::stuffing_cases::{canonical, Alphas, Seg, Sym};
-use crate::stuffing_eval::{cos_plane, Geo, Problem, Role, What, V3};
 use certmesh::stuffing::graded::{background_grid, Kind};
 use certmesh::stuffing::Row;
 use inari::Interval;
@@ -222,7 +222,7 @@ pub fn face_cases_in_context(trees: usize) -> (Vec<FaceCase>, usize, usize) {
             }
             for i in 0..4 {
                 for j in 0..4 {
-                    let d = crate::stuffing_cases::sub(t[j], t[i]);
+                    let d = crate::stuffing::cases::sub(t[j], t[i]);
                     if i != j && dirs.contains(&d) {
                         fine.insert((t[i], d));
                     }
@@ -285,7 +285,7 @@ pub fn face_cases_in_context(trees: usize) -> (Vec<FaceCase>, usize, usize) {
 /// fine (it is an edge of a fine BCC tetrahedron). A necessary condition only, so the
 /// filtered set is still a superset of what the mesher realises in that tree.
 pub fn continuation_ok(tree: &HashSet<(u32, [i64; 3])>, v: [i64; 3], d: [i64; 3]) -> bool {
-    let w = crate::stuffing_cases::add(v, d);
+    let w = crate::stuffing::cases::add(v, d);
     let leaf = |c: [i64; 3]| tree.contains(&(0, c));
     let odd = |p: [i64; 3]| p[0].rem_euclid(2) == 1;
     if d.iter().all(|&x| x.abs() == 1) {
@@ -320,7 +320,7 @@ pub fn continuation_ok(tree: &HashSet<(u32, [i64; 3])>, v: [i64; 3], d: [i64; 3]
 /// another vertex of the same tetrahedron (this contains the pair rules: never both
 /// toward each other; ordered, never toward a vertex that warps).
 fn pair_rules_ok(t: &[[i64; 3]; 4], p: &[[i64; 3]; 3], ch: &[Option<[i64; 3]>; 3]) -> bool {
-    !(0..3).any(|i| matches!(ch[i], Some(d) if t.contains(&crate::stuffing_cases::add(p[i], d))))
+    !(0..3).any(|i| matches!(ch[i], Some(d) if t.contains(&crate::stuffing::cases::add(p[i], d))))
 }
 
 fn problem(ci: usize, c: &FaceCase, a: &Alphas) -> Problem {
@@ -517,7 +517,7 @@ pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult
 pub fn half_pyramid_witness_cos(t: f64) -> Interval {
     let tt = pt(t);
     let v = |p: [f64; 3], d: [f64; 3]| -> V3 {
-        [0, 1, 2].map(|k| crate::stuffing_eval::Dn::cst(pt(p[k]) + tt * pt(d[k])))
+        [0, 1, 2].map(|k| crate::stuffing::eval::Dn::cst(pt(p[k]) + tt * pt(d[k])))
     };
     let c = v([1.0, 1.0, 1.0], [0.0; 3]);
     let r0 = v([2.0, 0.0, 0.0], [-1.0, -1.0, -1.0]);
