@@ -8,6 +8,7 @@
 //! data ([`geometry`]).
 pub mod bnb;
 pub mod exact;
+pub mod fields;
 pub mod geometry;
 pub mod gradnormal;
 pub mod ival;

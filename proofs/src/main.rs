@@ -2,6 +2,7 @@
 //! interval arithmetic (inari) and exact rational arithmetic, written as certificates
 //! that can be re-verified independently.
 use clap::{Parser, Subcommand};
+use proofs::bnb::Budget;
 use proofs::geometry::DiagonalRule;
 use proofs::gradnormal::cases::Ratio;
 use proofs::gradnormal::{self, Certificate, Config};
@@ -17,8 +18,114 @@ use std::process::ExitCode;
 #[derive(Parser)]
 #[command(name = "proofs", version, about, long_about)]
 struct Cli {
+    /// Machine-readable output: results as JSON on stdout, and an error as a JSON
+    /// object `{"error": ..., "kind": ..., "position": ...}` on stdout.
+    #[arg(long, global = true)]
+    json: bool,
     #[command(subcommand)]
     cmd: Cmd,
+}
+
+/// Exit codes: 0 success (the certificate was written or accepted, whatever its
+/// verdicts), 1 a certificate rejected by `check` or a run stopped by its budget
+/// (nothing proven, no certificate written), 2 a usage or input error (as clap).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    Usage,
+    Input,
+    Check,
+    Budget,
+}
+
+struct Fail {
+    kind: Kind,
+    msg: String,
+    /// Byte offset into the input file, when known.
+    position: Option<usize>,
+}
+
+impl Fail {
+    fn input(msg: impl Into<String>) -> Fail {
+        Fail {
+            kind: Kind::Input,
+            msg: msg.into(),
+            position: None,
+        }
+    }
+    fn check(msg: impl Into<String>) -> Fail {
+        Fail {
+            kind: Kind::Check,
+            msg: msg.into(),
+            position: None,
+        }
+    }
+    /// The error of a run: a budget stop, or an input the run refused.
+    fn run(msg: String, budget: &Budget) -> Fail {
+        Fail {
+            kind: if budget.is_exhausted() {
+                Kind::Budget
+            } else {
+                Kind::Input
+            },
+            msg,
+            position: None,
+        }
+    }
+    fn code(&self) -> u8 {
+        match self.kind {
+            Kind::Usage | Kind::Input => 2,
+            Kind::Check | Kind::Budget => 1,
+        }
+    }
+    fn kind_name(&self) -> &'static str {
+        match self.kind {
+            Kind::Usage => "usage",
+            Kind::Input => "input",
+            Kind::Check => "check",
+            Kind::Budget => "budget",
+        }
+    }
+}
+
+impl From<String> for Fail {
+    fn from(msg: String) -> Fail {
+        Fail::input(msg)
+    }
+}
+
+impl From<&str> for Fail {
+    fn from(msg: &str) -> Fail {
+        Fail::input(msg)
+    }
+}
+
+/// The work budget options of a run.
+#[derive(clap::Args, Clone, Copy, Debug)]
+struct BudgetArgs {
+    /// Work budget: the most boxes (interval evaluations) the run may use; a run that
+    /// reaches it stops, says so and writes no certificate.
+    #[arg(long, default_value_t = proofs::bnb::DEFAULT_MAX_BOXES)]
+    max_boxes: u64,
+    /// Wall-clock limit in seconds (default: none); a run that reaches it stops, says
+    /// so and writes no certificate.
+    #[arg(long, value_name = "SECONDS")]
+    time_limit: Option<f64>,
+}
+
+impl BudgetArgs {
+    fn budget(&self) -> Result<Budget, Fail> {
+        if let Some(t) = self.time_limit {
+            if !(t > 0.0 && t.is_finite()) {
+                return Err(Fail::input(format!(
+                    "--time-limit {t}: must be a positive number of seconds"
+                )));
+            }
+        }
+        if self.max_boxes == 0 {
+            return Err(Fail::input("--max-boxes must be at least 1"));
+        }
+        Ok(Budget::new(self.max_boxes, self.time_limit))
+    }
 }
 
 #[derive(Subcommand)]
@@ -39,9 +146,6 @@ enum Cmd {
         /// Run only the cases with index ≡ i (mod N): `--shard i/N`.
         #[arg(long)]
         shard: Option<String>,
-        /// Print the JSON summary (min_deg, max_deg, claims) on stdout.
-        #[arg(long)]
-        json: bool,
         /// Target enclosure width in degrees (default 1e-6).
         #[arg(long, default_value_t = 1e-6)]
         tol_deg: f64,
@@ -52,6 +156,8 @@ enum Cmd {
         /// Write PROOF.md and the figures into this directory (runs every rule).
         #[arg(long)]
         write_papers: Option<PathBuf>,
+        #[command(flatten)]
+        budget: BudgetArgs,
     },
     /// Certify the isosurface-stuffing Table 1 bounds (Labelle & Shewchuk 2007, Thm 1,
     /// §4.1) on the mesher's stencil table, and the safe property, per row.
@@ -59,9 +165,6 @@ enum Cmd {
         /// A Table 1 row (the mesher's `--params` name) or `all`.
         #[arg(long, default_value = "all")]
         row: String,
-        /// Print the JSON summary on stdout.
-        #[arg(long)]
-        json: bool,
         /// Run only the cases with index ≡ i (mod N): `--shard i/N`.
         #[arg(long)]
         shard: Option<String>,
@@ -81,6 +184,8 @@ enum Cmd {
         /// With `--graded`: number of sample octrees of the sampled-contexts model.
         #[arg(long, default_value_t = proofs::stuffing::graded::DEFAULT_TREES)]
         trees: usize,
+        #[command(flatten)]
+        budget: BudgetArgs,
     },
     /// Figures of the worst configurations (like the paper's Fig 5) from stuffing
     /// certificates DIR/ROW.json, into OUT/ROW-BOUND.svg/png.
@@ -108,24 +213,79 @@ enum Cmd {
     },
 }
 
-fn load(p: &PathBuf) -> Result<Certificate, String> {
-    let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-    serde_json::from_str(&text).map_err(|e| format!("{}: not a certificate: {e}", p.display()))
+/// Read a JSON file into `T`; a parse error carries its byte offset.
+fn read_json<T: serde::de::DeserializeOwned>(p: &PathBuf, what: &str) -> Result<T, Fail> {
+    let text =
+        std::fs::read_to_string(p).map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
+    serde_json::from_str(&text).map_err(|e| {
+        // Byte offset of (line, column), both 1-based.
+        let off = text
+            .split_inclusive('\n')
+            .take(e.line().saturating_sub(1))
+            .map(|l| l.len())
+            .sum::<usize>()
+            + e.column().saturating_sub(1);
+        Fail {
+            kind: Kind::Input,
+            msg: format!("{}: not a {what}: {e}", p.display()),
+            position: Some(off),
+        }
+    })
 }
 
-fn save(p: &PathBuf, c: &Certificate) -> Result<(), String> {
-    let text = serde_json::to_string(c).map_err(|e| e.to_string())?;
-    std::fs::write(p, text).map_err(|e| format!("{}: {e}", p.display()))
+fn load(p: &PathBuf) -> Result<Certificate, Fail> {
+    read_json(p, "GradNormal certificate")
 }
 
-fn parse_shard(s: &str) -> Result<(usize, usize), String> {
-    let (i, n) = s.split_once('/').ok_or("--shard expects i/N")?;
-    let i: usize = i.parse().map_err(|_| "--shard expects i/N")?;
-    let n: usize = n.parse().map_err(|_| "--shard expects i/N")?;
+fn load_stuffing(p: &PathBuf) -> Result<stuffing::Certificate, Fail> {
+    read_json(p, "stuffing certificate")
+}
+
+fn save_json<T: serde::Serialize>(p: &PathBuf, c: &T) -> Result<(), Fail> {
+    let f = std::fs::File::create(p).map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
+    serde_json::to_writer(std::io::BufWriter::new(f), c)
+        .map_err(|e| Fail::input(format!("{}: {e}", p.display())))
+}
+
+/// Check an output path before the work starts: its folder exists and it is not a
+/// folder itself.
+fn check_out_path(p: &std::path::Path) -> Result<(), Fail> {
+    if p.is_dir() {
+        return Err(Fail::input(format!(
+            "{}: is a directory (-o expects a file)",
+            p.display()
+        )));
+    }
+    let parent = p.parent().filter(|d| !d.as_os_str().is_empty());
+    if let Some(d) = parent {
+        if !d.is_dir() {
+            return Err(Fail::input(format!(
+                "{}: the folder {} does not exist",
+                p.display(),
+                d.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn parse_shard(s: &str) -> Result<(usize, usize), Fail> {
+    let bad = || Fail::input(format!("--shard {s}: expects i/N with 0 <= i < N"));
+    let (i, n) = s.split_once('/').ok_or_else(bad)?;
+    let i: usize = i.trim().parse().map_err(|_| bad())?;
+    let n: usize = n.trim().parse().map_err(|_| bad())?;
     if n == 0 || i >= n {
-        return Err(format!("--shard {i}/{n}: need 0 <= i < N"));
+        return Err(bad());
     }
     Ok((i, n))
+}
+
+/// The label of a shard's output.
+fn shard_line(shard: [usize; 2], of: &str) -> String {
+    format!(
+        "shard {}/{}: a partial result, not a proof of {of} (`proofs merge` the {} shards for one)",
+        shard[0], shard[1], shard[1]
+    )
 }
 
 fn print_human(c: &Certificate) {
@@ -137,6 +297,9 @@ fn print_human(c: &Certificate) {
         c.n_cases,
         c.seconds
     );
+    if let Some(s) = c.shard {
+        println!("  {}", shard_line(s, "the claims"));
+    }
     if let Some(s) = &c.summary {
         println!(
             "  smallest projected angle in [{:.9}°, {:.9}°]",
@@ -156,58 +319,81 @@ fn print_human(c: &Certificate) {
     }
 }
 
-fn run() -> Result<(), String> {
-    let cli = Cli::parse();
+fn gradnormal_json(cert: &Certificate, out: &std::path::Path) -> serde_json::Value {
+    serde_json::json!({
+        "ratio": cert.ratio,
+        "rule": cert.rule,
+        "seconds": cert.seconds,
+        "certificate": out.display().to_string(),
+        "partial": cert.partial,
+        "shard": cert.shard.map(|s| format!("{}/{}", s[0], s[1])),
+        "min_deg": cert.summary.as_ref().map(|s| s.min_deg),
+        "max_deg": cert.summary.as_ref().map(|s| s.max_deg),
+        "v4_min_deg": cert.summary.as_ref().map(|s| s.v4_min_deg),
+        "v4_max_deg": cert.summary.as_ref().map(|s| s.v4_max_deg),
+        "claims": cert.claims,
+        "cases": cert.summary.as_ref().map(|s| &s.cases),
+    })
+}
+
+fn print_json(v: &serde_json::Value) -> Result<(), Fail> {
+    println!(
+        "{}",
+        serde_json::to_string_pretty(v).map_err(|e| Fail::input(e.to_string()))?
+    );
+    Ok(())
+}
+
+fn run(cli: Cli) -> Result<(), Fail> {
+    let json = cli.json;
     match cli.cmd {
         Cmd::Gradnormal {
             a,
             rule,
             out,
             shard,
-            json,
             tol_deg,
             scan,
             write_papers,
+            budget,
         } => {
-            let ratio = Ratio::parse(&a)?;
-            let rule: DiagonalRule = rule.parse().map_err(|e| format!("{e}"))?;
+            let ratio = Ratio::parse(&a).map_err(|e| Fail::input(format!("--a: {e}")))?;
+            let rule: DiagonalRule = rule
+                .parse()
+                .map_err(|e| Fail::input(format!("--rule: {e}")))?;
+            let budget = budget.budget()?;
             if let Some(dir) = write_papers {
-                return proofs::gradnormal::report::write_papers(&dir, ratio);
+                gradnormal::check_theorem_range(ratio)?;
+                return proofs::gradnormal::report::write_papers(&dir, ratio, &budget)
+                    .map_err(|e| Fail::run(e, &budget));
             }
             if let Some(n) = scan {
                 let dir = PathBuf::from("papers/gradnormal/figures");
-                let rows = proofs::gradnormal::report::scan(rule, n, &dir)?;
+                let rows = proofs::gradnormal::report::scan(rule, n, &dir, &budget)
+                    .map_err(|e| Fail::run(e, &budget))?;
                 for r in rows {
                     println!("{r}");
                 }
                 return Ok(());
             }
-            let mut cfg = Config::new(ratio, rule);
-            if !(tol_deg > 0.0) {
-                return Err("--tol-deg must be positive".into());
+            if !(tol_deg >= gradnormal::MIN_TOL_DEG && tol_deg <= 90.0) {
+                return Err(Fail::input(format!(
+                    "--tol-deg {tol_deg}: must be in [{:e}, 90] (below {:e}° f64 interval arithmetic cannot reach the target)",
+                    gradnormal::MIN_TOL_DEG,
+                    gradnormal::MIN_TOL_DEG
+                )));
             }
+            gradnormal::check_theorem_range(ratio)?;
+            check_out_path(&out)?;
+            let mut cfg = Config::new(ratio, rule);
             cfg.tol_cos = 0.5 * tol_deg * std::f64::consts::PI / 180.0;
             cfg.shard = shard.as_deref().map(parse_shard).transpose()?;
             cfg.progress = !json;
-            let cert = gradnormal::run(&cfg)?;
-            save(&out, &cert)?;
+            cfg.budget = budget.clone();
+            let cert = gradnormal::run(&cfg).map_err(|e| Fail::run(e, &budget))?;
+            save_json(&out, &cert)?;
             if json {
-                let v = serde_json::json!({
-                    "ratio": cert.ratio,
-                    "rule": cert.rule,
-                    "seconds": cert.seconds,
-                    "certificate": out.display().to_string(),
-                    "min_deg": cert.summary.as_ref().map(|s| s.min_deg),
-                    "max_deg": cert.summary.as_ref().map(|s| s.max_deg),
-                    "v4_min_deg": cert.summary.as_ref().map(|s| s.v4_min_deg),
-                    "v4_max_deg": cert.summary.as_ref().map(|s| s.v4_max_deg),
-                    "claims": cert.claims,
-                    "cases": cert.summary.as_ref().map(|s| &s.cases),
-                });
-                println!(
-                    "{}",
-                    serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-                );
+                print_json(&gradnormal_json(&cert, &out))?;
             } else {
                 print_human(&cert);
                 println!("  certificate: {}", out.display());
@@ -216,31 +402,61 @@ fn run() -> Result<(), String> {
         }
         Cmd::Stuffing {
             row,
-            json,
             shard: _,
             out,
             tol_deg,
             count: _,
             graded: true,
             trees,
-        } => graded_cmd(&row, json, &out, tol_deg, trees),
+            budget,
+        } => graded_cmd(&row, json, &out, tol_deg, trees, budget.budget()?),
         Cmd::Stuffing {
             row,
-            json,
             shard,
             out,
             tol_deg,
             count,
             graded: false,
             trees: _,
-        } => stuffing_cmd(&row, json, shard.as_deref(), &out, tol_deg, count),
+            budget,
+        } => stuffing_cmd(
+            &row,
+            json,
+            shard.as_deref(),
+            &out,
+            tol_deg,
+            count,
+            budget.budget()?,
+        ),
         Cmd::StuffingFigures { certs, out, bounds } => {
-            std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-            for name in stuffing::row_names() {
-                let p = certs.join(format!("{name}.json"));
-                if !p.exists() {
-                    continue;
+            if !certs.is_dir() {
+                return Err(Fail::input(format!(
+                    "--certs {}: not a directory",
+                    certs.display()
+                )));
+            }
+            for bn in bounds.split(',') {
+                if !stuffing::BOUNDS.iter().any(|b| b.0 == bn) {
+                    return Err(Fail::input(format!(
+                        "--bounds: unknown bound `{bn}` (one of {})",
+                        stuffing::BOUNDS.map(|b| b.0).join(", ")
+                    )));
                 }
+            }
+            let found: Vec<(&str, PathBuf)> = stuffing::row_names()
+                .into_iter()
+                .map(|n| (n, certs.join(format!("{n}.json"))))
+                .filter(|(_, p)| p.exists())
+                .collect();
+            if found.is_empty() {
+                return Err(Fail::input(format!(
+                    "--certs {}: no stuffing certificate ROW.json in it",
+                    certs.display()
+                )));
+            }
+            std::fs::create_dir_all(&out)
+                .map_err(|e| Fail::input(format!("{}: {e}", out.display())))?;
+            for (name, p) in found {
                 let c = load_stuffing(&p)?;
                 for (b, (bn, _, _)) in stuffing::BOUNDS.iter().enumerate() {
                     if !bounds.split(',').any(|x| x == *bn) {
@@ -257,15 +473,33 @@ fn run() -> Result<(), String> {
         Cmd::Check { cert } if is_stuffing(&cert)? => {
             let c = load_stuffing(&cert)?;
             let t0 = std::time::Instant::now();
-            let r = stuffing::check(&c)?;
+            let r = stuffing::check(&c).map_err(Fail::check)?;
+            if json {
+                return print_json(&serde_json::json!({
+                    "ok": true,
+                    "kind": "stuffing",
+                    "row": c.row,
+                    "complete": r.complete,
+                    "partial": !r.complete,
+                    "shard": c.shard.map(|s| format!("{}/{}", s[0], s[1])),
+                    "problems": r.problems,
+                    "leaves": r.leaves,
+                    "bounds": r.bounds,
+                    "safe": r.safe,
+                    "seconds": t0.elapsed().as_secs_f64(),
+                }));
+            }
             print_check_ok(
                 &format!("row {}, {} problems", c.row, r.problems),
                 r.leaves,
                 r.complete,
                 t0,
             );
+            if let Some(s) = c.shard {
+                println!("  {}", shard_line(s, "the row"));
+            }
             for b in &r.bounds {
-                print_bound(b);
+                print_bound(b, c.partial);
             }
             println!(
                 "  safe: {} (min volume ratio {:.6})",
@@ -275,62 +509,73 @@ fn run() -> Result<(), String> {
             Ok(())
         }
         Cmd::Merge { parts, out } if parts.first().map(is_stuffing).transpose()? == Some(true) => {
-            let certs: Result<Vec<stuffing::Certificate>, String> =
+            check_out_path(&out)?;
+            let certs: Result<Vec<stuffing::Certificate>, Fail> =
                 parts.iter().map(load_stuffing).collect();
             let m = stuffing::merge(certs?)?;
             save_json(&out, &m)?;
+            if json {
+                return print_json(&stuffing::summary_json(&m, &out.display().to_string()));
+            }
             print_stuffing(&m);
             Ok(())
         }
         Cmd::Check { cert } => {
             let c = load(&cert)?;
             let t0 = std::time::Instant::now();
-            let r = gradnormal::check(&c)?;
+            let r = gradnormal::check(&c).map_err(Fail::check)?;
+            if json {
+                return print_json(&serde_json::json!({
+                    "ok": true,
+                    "kind": "gradnormal",
+                    "complete": r.complete,
+                    "partial": !r.complete,
+                    "shard": c.shard.map(|s| format!("{}/{}", s[0], s[1])),
+                    "cases": r.cases,
+                    "leaves": r.leaves,
+                    "claims": r.claims,
+                    "seconds": t0.elapsed().as_secs_f64(),
+                }));
+            }
             print_check_ok(&format!("{} cases", r.cases), r.leaves, r.complete, t0);
+            if let Some(s) = c.shard {
+                println!("  {}", shard_line(s, "the claims"));
+            }
             for cl in &r.claims {
                 println!("  {:9} {}", cl.verdict.name(), cl.claim);
             }
             Ok(())
         }
         Cmd::Regions { a } => {
-            print!(
-                "{}",
-                proofs::gradnormal::report::regions_markdown(Ratio::parse(&a)?)?
-            );
+            let ratio = Ratio::parse(&a).map_err(|e| Fail::input(format!("--a: {e}")))?;
+            print!("{}", proofs::gradnormal::report::regions_markdown(ratio)?);
             Ok(())
         }
         Cmd::Merge { parts, out } => {
-            let certs: Result<Vec<Certificate>, String> = parts.iter().map(load).collect();
+            check_out_path(&out)?;
+            let certs: Result<Vec<Certificate>, Fail> = parts.iter().map(load).collect();
             let m = gradnormal::merge(certs?)?;
-            save(&out, &m)?;
+            save_json(&out, &m)?;
+            if json {
+                return print_json(&gradnormal_json(&m, &out));
+            }
             print_human(&m);
             Ok(())
         }
     }
 }
 
-fn is_stuffing(p: &PathBuf) -> Result<bool, String> {
+fn is_stuffing(p: &PathBuf) -> Result<bool, Fail> {
     use std::io::Read;
-    let mut f = std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?;
+    let mut f = std::fs::File::open(p).map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
     let mut head = [0u8; 200];
     let n = f
         .read(&mut head)
-        .map_err(|e| format!("{}: {e}", p.display()))?;
+        .map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
     Ok(String::from_utf8_lossy(&head[..n]).contains(stuffing::FORMAT))
 }
 
-fn load_stuffing(p: &PathBuf) -> Result<stuffing::Certificate, String> {
-    let f = std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?;
-    serde_json::from_reader(std::io::BufReader::new(f))
-        .map_err(|e| format!("{}: not a stuffing certificate: {e}", p.display()))
-}
-
-fn save_json<T: serde::Serialize>(p: &PathBuf, c: &T) -> Result<(), String> {
-    let f = std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()))?;
-    serde_json::to_writer(std::io::BufWriter::new(f), c).map_err(|e| e.to_string())
-}
-
-fn print_bound(b: &stuffing::BoundResult) {
+fn print_bound(b: &stuffing::BoundResult, partial: bool) {
     let paper = b
         .paper
         .map(|x| format!("{x:.4}"))
@@ -340,9 +585,10 @@ fn print_bound(b: &stuffing::BoundResult) {
         .map(|d| format!("[{:.6}, {:.6}]", d[0], d[1]))
         .unwrap_or_else(|| "n/a".into());
     println!(
-        "  {:13} paper {:>9}  certified {:24}  {:9}  tight: {}",
+        "  {:13} paper {:>9}  {} {:24}  {:9}  tight: {}",
         b.bound,
         paper,
+        if partial { "this shard" } else { "certified " },
         deg,
         b.verdict.map(|v| v.name()).unwrap_or("-"),
         b.tight.as_deref().unwrap_or("-")
@@ -360,8 +606,11 @@ fn print_stuffing(c: &stuffing::Certificate) {
         c.unresolved,
         c.seconds
     );
+    if let Some(s) = c.shard {
+        println!("  {}", shard_line(s, "the row"));
+    }
     for b in &c.bounds {
-        print_bound(b);
+        print_bound(b, c.partial);
     }
     println!(
         "  safe: {} (min volume / unwarped volume = {:.6}; {} -> {} cases){}",
@@ -377,6 +626,17 @@ fn print_stuffing(c: &stuffing::Certificate) {
     );
 }
 
+fn check_tol_deg(tol_deg: f64) -> Result<(), Fail> {
+    if !(tol_deg >= stuffing::MIN_TOL_DEG && tol_deg <= 90.0) {
+        return Err(Fail::input(format!(
+            "--tol-deg {tol_deg}: must be in [{:e}, 90] (below {:e}° f64 interval arithmetic cannot reach the target)",
+            stuffing::MIN_TOL_DEG,
+            stuffing::MIN_TOL_DEG
+        )));
+    }
+    Ok(())
+}
+
 fn stuffing_cmd(
     row: &str,
     json: bool,
@@ -384,19 +644,18 @@ fn stuffing_cmd(
     out: &PathBuf,
     tol_deg: f64,
     count: bool,
-) -> Result<(), String> {
+    budget: Budget,
+) -> Result<(), Fail> {
     let names: Vec<&str> = if row == "all" {
         stuffing::row_names()
     } else {
         vec![
             certmesh::stuffing::row(row)
-                .map_err(|e| e.to_string())?
+                .map_err(|e| Fail::input(format!("--row: {e}")))?
                 .name,
         ]
     };
-    if !(tol_deg > 0.0) {
-        return Err("--tol-deg must be positive".into());
-    }
+    check_tol_deg(tol_deg)?;
     let shard = shard.map(parse_shard).transpose()?;
     if count {
         for n in names {
@@ -421,7 +680,15 @@ fn stuffing_cmd(
         return Ok(());
     }
     if names.len() > 1 {
-        std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+        if out.exists() && !out.is_dir() {
+            return Err(Fail::input(format!(
+                "{}: --row all writes one file per row into a directory",
+                out.display()
+            )));
+        }
+        std::fs::create_dir_all(out).map_err(|e| Fail::input(format!("{}: {e}", out.display())))?;
+    } else {
+        check_out_path(out)?;
     }
     let mut summaries = Vec::new();
     for n in names {
@@ -430,12 +697,15 @@ fn stuffing_cmd(
         cfg.tol_deg = tol_deg;
         cfg.shard = shard;
         cfg.progress = !json;
+        // One budget per row.
+        cfg.budget = budget.fresh();
         let path = if row == "all" {
             out.join(format!("{n}.json"))
         } else {
             out.clone()
         };
-        let cert = stuffing::run(&cfg)?;
+        let cert =
+            stuffing::run(&cfg).map_err(|e| Fail::run(format!("row {n}: {e}"), &cfg.budget))?;
         save_json(&path, &cert)?;
         if json {
             summaries.push(stuffing::summary_json(&cert, &path.display().to_string()));
@@ -450,13 +720,14 @@ fn stuffing_cmd(
         } else {
             serde_json::Value::Array(summaries)
         };
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-        );
+        print_json(&v)?;
     }
     Ok(())
 }
+
+/// The work estimate of one sample octree of the graded proof's sampled-context model
+/// (about 3.3 million face configurations for the 96 default trees).
+const GRADED_FACES_PER_TREE: u64 = 35_000;
 
 fn graded_cmd(
     row: &str,
@@ -464,7 +735,8 @@ fn graded_cmd(
     out: &PathBuf,
     tol_deg: f64,
     trees: usize,
-) -> Result<(), String> {
+    budget: Budget,
+) -> Result<(), Fail> {
     use proofs::stuffing::graded as g;
     let names: Vec<&str> = if row == "all" {
         g::DAGGERS.iter().map(|d| d.0).collect()
@@ -475,22 +747,35 @@ fn graded_cmd(
             .map(|d| d.0)
             .unwrap_or(row)]
     } else {
-        return Err(format!(
+        return Err(Fail::input(format!(
             "--graded: row '{row}' has no dagger bound; the dagger rows are {}",
             g::DAGGERS.map(|d| d.0).join(" ")
-        ));
+        )));
     };
-    if !(tol_deg > 0.0) {
-        return Err("--tol-deg must be positive".into());
-    }
+    check_tol_deg(tol_deg)?;
     if trees == 0 {
-        return Err("--trees must be at least 1".into());
+        return Err(Fail::input("--trees must be at least 1"));
     }
+    let estimate = trees as u64 * GRADED_FACES_PER_TREE;
+    if estimate > budget.max_boxes() {
+        return Err(Fail::input(format!(
+            "--trees {trees}: about {GRADED_FACES_PER_TREE} face configurations per sample octree, {estimate} in all, above the work budget of {} (--max-boxes N raises it; or lower --trees)",
+            budget.max_boxes()
+        )));
+    }
+    check_out_path(out)?;
     let mut all = Vec::new();
     for n in names {
         let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
         for context in [false, true] {
-            let res = g::run(r, tol_deg, context, trees);
+            let res = g::run_within(r, tol_deg, context, trees, &budget);
+            if res.verdict.starts_with("incomplete") {
+                return Err(Fail {
+                    kind: Kind::Budget,
+                    msg: format!("graded row {n}: {}", res.verdict),
+                    position: None,
+                });
+            }
             if !json {
                 println!(
                     "graded dagger, row {} ({} model): max plane angle, uniform {} -> paper {}",
@@ -522,7 +807,7 @@ fn graded_cmd(
     }
     let v = serde_json::to_value(&all).map_err(|e| e.to_string())?;
     let text = serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?;
-    std::fs::write(out, &text).map_err(|e| format!("{}: {e}", out.display()))?;
+    std::fs::write(out, &text).map_err(|e| Fail::input(format!("{}: {e}", out.display())))?;
     if json {
         println!("{text}");
     }
@@ -542,12 +827,45 @@ fn print_check_ok(what: &str, leaves: usize, complete: bool, t0: std::time::Inst
     );
 }
 
+fn report(f: &Fail, json: bool) -> ExitCode {
+    if json {
+        let v = serde_json::json!({
+            "error": f.msg,
+            "kind": f.kind_name(),
+            "position": f.position,
+        });
+        println!("{v}");
+    } else {
+        eprintln!("error: {}", f.msg);
+    }
+    ExitCode::from(f.code())
+}
+
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
+    let json = std::env::args_os().any(|a| a == "--json");
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
         Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
+            use clap::error::ErrorKind;
+            let info = matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            );
+            if json && !info {
+                let f = Fail {
+                    kind: Kind::Usage,
+                    msg: e.kind().to_string() + ": " + e.to_string().lines().next().unwrap_or(""),
+                    position: None,
+                };
+                return report(&f, true);
+            }
+            e.exit()
         }
+    };
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => report(&f, json),
     }
 }

@@ -59,5 +59,14 @@ fn right_angle_extremes_match_closed_form() {
     // for the min of cos.
     let w = &cert.max[0].witness;
     assert!((w.u - w.v).abs() > 0.999, "max witness at {w:?}");
-    check_case(&dyns, &cert).unwrap();
+    check_case(
+        &dyns,
+        &cert,
+        Search {
+            tol,
+            max_depth: 40,
+            seed: 5,
+        },
+    )
+    .unwrap();
 }

@@ -110,7 +110,7 @@ fn fmt2(x: [f64; 2]) -> String {
 }
 
 /// Run every rule at `ratio`, write the certificates, figures and PROOF.md into `dir`.
-pub fn write_papers(dir: &Path, ratio: Ratio) -> Result<(), String> {
+pub fn write_papers(dir: &Path, ratio: Ratio, budget: &crate::bnb::Budget) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let fig = dir.join("figures");
     std::fs::create_dir_all(&fig).map_err(|e| format!("{}: {e}", fig.display()))?;
@@ -124,6 +124,7 @@ pub fn write_papers(dir: &Path, ratio: Ratio) -> Result<(), String> {
     ] {
         let mut cfg = Config::new(ratio, rule);
         cfg.progress = true;
+        cfg.budget = budget.clone();
         let cert = gradnormal::run(&cfg)?;
         let path = cert_dir.join(format!("gradnormal-{}-{}.json", ratio.label(), rule.name()));
         std::fs::write(
@@ -325,9 +326,28 @@ fn envelope_series(all: &[certmesh::plot::Series]) -> Vec<certmesh::plot::Series
     ]
 }
 
-/// Certified bounds against a/e (coarser tolerance 1e-4°), plotted.
-pub fn scan(rule: DiagonalRule, n: usize, dir: &Path) -> Result<Vec<String>, String> {
-    let n = n.max(2);
+/// The work estimate of one value of a `--scan` (paper rule, 1e-4°: about 170,000
+/// boxes at a/e = √2/4; rounded up).
+pub const SCAN_BOXES_PER_VALUE: u64 = 250_000;
+
+/// Certified bounds against a/e (coarser tolerance 1e-4°), plotted; the runs share
+/// `budget`.
+pub fn scan(
+    rule: DiagonalRule,
+    n: usize,
+    dir: &Path,
+    budget: &crate::bnb::Budget,
+) -> Result<Vec<String>, String> {
+    if n < 2 {
+        return Err(format!("--scan {n}: at least 2 values of a/e"));
+    }
+    let estimate = n as u64 * SCAN_BOXES_PER_VALUE;
+    if estimate > budget.max_boxes() {
+        return Err(format!(
+            "--scan {n}: about {SCAN_BOXES_PER_VALUE} boxes per value of a/e, {estimate} in all, above the work budget of {} boxes (--max-boxes N raises it; or lower --scan)",
+            budget.max_boxes()
+        ));
+    }
     let mut rows = Vec::new();
     let mut smin = Vec::new();
     let mut smax = Vec::new();
@@ -336,6 +356,7 @@ pub fn scan(rule: DiagonalRule, n: usize, dir: &Path) -> Result<Vec<String>, Str
         let mut cfg = Config::new(Ratio::Value(r), rule);
         cfg.tol_cos = 0.5e-4 * std::f64::consts::PI / 180.0;
         cfg.max_depth = 30;
+        cfg.budget = budget.clone();
         let c = gradnormal::run(&cfg)?;
         if let Some(s) = &c.summary {
             rows.push(format!(

@@ -384,6 +384,18 @@ fn acos_deg(x: f64) -> f64 {
 /// instance of each shape, a superset over all octrees); true = the sampled-context model
 /// ([`face_cases_in_context`], exact directions but only the sampled octrees).
 pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult {
+    run_within(row, tol_deg, context, trees, &crate::bnb::Budget::default())
+}
+
+/// [`run`] within a work budget: a run that exhausts it returns the verdict
+/// `incomplete: ...` (no bound is claimed).
+pub fn run_within(
+    row: &Row,
+    tol_deg: f64,
+    context: bool,
+    trees: usize,
+    budget: &crate::bnb::Budget,
+) -> DaggerResult {
     let t0 = std::time::Instant::now();
     let (_, uniform, paper) = *DAGGERS
         .iter()
@@ -432,6 +444,9 @@ pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult
             let mut stack: Vec<(Vec<f64>, Vec<f64>, u32)> =
                 vec![(vec![0.0; dim], vec![1.0; dim], 0)];
             while let Some((lo, hi, d)) = stack.pop() {
+                if !budget.charge(1) {
+                    break;
+                }
                 let vals = pr.enclose(&lo, &hi);
                 let c: Vec<f64> = (0..dim).map(|k| 0.5 * (lo[k] + hi[k])).collect();
                 for x in std::iter::once(c.clone()).chain((0..1usize << dim).map(|m| {
@@ -471,12 +486,14 @@ pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult
         .collect();
     let lo = per.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
     let hi = f64::from_bits(best.load(Ordering::Relaxed));
-    let verdict = if lo >= thr_hi {
-        "proven"
+    let verdict = if budget.is_exhausted() {
+        format!("incomplete: {}", budget.message())
+    } else if lo >= thr_hi {
+        "proven".to_string()
     } else if hi < thr_lo {
-        "exceeded-on-superset"
+        "exceeded-on-superset".to_string()
     } else {
-        "undecided"
+        "undecided".to_string()
     };
     let witness = wit.into_inner().unwrap_or(None).map(|(pi, x, cos)| {
         let pr = &probs[pi];
@@ -502,7 +519,7 @@ pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult
         // acos is decreasing; widen by 1e-9° for the f64 acos.
         enclosure_deg: [acos_deg(hi) - 1e-9, acos_deg(lo) + 1e-9],
         cos_enclosure: [lo, hi],
-        verdict: verdict.to_string(),
+        verdict,
         witness,
         seconds: t0.elapsed().as_secs_f64(),
     }

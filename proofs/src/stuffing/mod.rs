@@ -59,6 +59,9 @@ pub const BOUNDS: [(&str, usize, bool); 6] = [
 /// The tightness margin of Theorem 1, in degrees (as a decimal string: exact).
 pub const MARGIN: &str = "0.0001";
 
+/// The smallest tolerance accepted (degrees), as for the GradNormal proof.
+pub const MIN_TOL_DEG: f64 = crate::gradnormal::MIN_TOL_DEG;
+
 #[derive(Clone, Debug)]
 pub struct Config {
     pub row: &'static Row,
@@ -67,6 +70,8 @@ pub struct Config {
     pub max_depth: u8,
     pub shard: Option<(usize, usize)>,
     pub progress: bool,
+    /// The work budget of the run (boxes, time).
+    pub budget: crate::bnb::Budget,
 }
 
 impl Config {
@@ -77,6 +82,7 @@ impl Config {
             max_depth: 40,
             shard: None,
             progress: false,
+            budget: crate::bnb::Budget::default(),
         }
     }
     /// The tolerance on cosines: d(cos θ) = sin θ dθ and every bound of Table 1 lies in
@@ -218,6 +224,12 @@ pub struct Certificate {
     pub max_depth: u8,
     pub counts: Counts,
     pub shard: Option<[usize; 2]>,
+    /// True for a shard: a partial result, not a proof of the row; its bounds then carry
+    /// no verdict (added field; read as `false` when absent; `check` requires it to
+    /// agree with `shard`).
+    #[serde(default)]
+    pub partial: bool,
+    /// Wall-clock seconds (informative only: the one field `check` cannot recompute).
     pub seconds: f64,
     /// Cases whose dihedrals were searched without the reduction (volume may vanish).
     pub unreduced: Vec<usize>,

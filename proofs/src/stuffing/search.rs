@@ -3,32 +3,17 @@
 use super::cases::{self, Alphas};
 use super::eval::Problem;
 use super::safe::safe_property;
-use super::summary::summarize;
+use super::summary::{depth_limit, finish, leaf_needs, thresholds};
 use super::{
-    all_problems, feeds, paper_values, Certificate, Config, Leaf, ProblemCert, Witness, BOUNDS,
-    FORMAT,
+    all_problems, feeds, Certificate, Config, Leaf, ProblemCert, Witness, BOUNDS, FORMAT,
+    MIN_TOL_DEG,
 };
+use crate::bnb::{Budget, BUDGET_ERROR};
 use certmesh::stuffing::params::Row;
 use inari::Interval;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
-
-/// Cosine thresholds per bound: the paper's value and the tightness margin.
-fn thresholds(row: &Row) -> Vec<Vec<f64>> {
-    let margin = 1e-4;
-    BOUNDS
-        .iter()
-        .zip(paper_values(row))
-        .map(|(&(_, _, is_min), p)| match p {
-            None => Vec::new(),
-            Some(b) => {
-                let m = if is_min { b + margin } else { b - margin };
-                vec![b.to_radians().cos(), m.to_radians().cos()]
-            }
-        })
-        .collect()
-}
 
 struct Shared {
     /// Per bound: best witness cosine (max for lower bounds, min for upper bounds).
@@ -79,20 +64,9 @@ impl Shared {
         }
     }
     /// Could this box still change a bound or a threshold decision?
-    fn needs(&self, pr: &Problem, vals: &[Interval]) -> bool {
-        vals.iter().any(|v| {
-            feeds(pr.what).iter().any(|&b| {
-                let is_min = BOUNDS[b].2;
-                let best = load(&self.best[b]);
-                if is_min {
-                    v.sup() > best + self.tol
-                        || self.thr[b].iter().any(|&c| best <= c && v.sup() > c)
-                } else {
-                    v.inf() < best - self.tol
-                        || self.thr[b].iter().any(|&c| best >= c && v.inf() < c)
-                }
-            })
-        })
+    fn needs(&self, pr: &Problem, vals: &[[f64; 2]]) -> bool {
+        let best: [f64; 6] = std::array::from_fn(|b| load(&self.best[b]));
+        leaf_needs(pr, vals, &best, &self.thr, self.tol)
     }
 }
 
@@ -106,15 +80,6 @@ fn cell_box(d: u8, idx: &[u64]) -> (Vec<f64>, Vec<f64>) {
     .bounds()
 }
 
-/// The depth limit of a problem (the partition check sums volumes in u128).
-fn depth_limit(dim: usize, max_depth: u8) -> u8 {
-    if dim == 0 {
-        0
-    } else {
-        max_depth.min((120 / dim) as u8)
-    }
-}
-
 fn corners(dim: usize, lo: &[f64], hi: &[f64]) -> Vec<Vec<f64>> {
     (0..1usize << dim)
         .map(|m| {
@@ -125,15 +90,27 @@ fn corners(dim: usize, lo: &[f64], hi: &[f64]) -> Vec<Vec<f64>> {
         .collect()
 }
 
-fn solve(pr: &Problem, pi: usize, sh: &Shared, max_depth: u8) -> ProblemCert {
+fn solve(
+    pr: &Problem,
+    pi: usize,
+    sh: &Shared,
+    max_depth: u8,
+    budget: &Budget,
+) -> Option<ProblemCert> {
     let dim = pr.dim;
     let lim = depth_limit(dim, max_depth);
     let mut leaves = Vec::new();
-    let mut unresolved = 0;
     let mut stack: Vec<(u8, Vec<u64>)> = vec![(0, vec![0; dim])];
     while let Some((d, idx)) = stack.pop() {
+        if !budget.charge(1) {
+            return None;
+        }
         let (lo, hi) = cell_box(d, &idx);
-        let vals = pr.enclose(&lo, &hi);
+        let vals: Vec<[f64; 2]> = pr
+            .enclose(&lo, &hi)
+            .iter()
+            .map(|v| [v.inf(), v.sup()])
+            .collect();
         let c: Vec<f64> = (0..dim).map(|k| 0.5 * (lo[k] + hi[k])).collect();
         if let Some(v) = pr.point(&c) {
             sh.offer(pr, pi, &c, &v);
@@ -153,25 +130,16 @@ fn solve(pr: &Problem, pi: usize, sh: &Shared, max_depth: u8) -> ProblemCert {
                 stack.push((d + 1, ch));
             }
         } else {
-            if need {
-                unresolved += 1;
-            }
-            leaves.push(
-                Leaf {
-                    d,
-                    idx,
-                    vals: vals.iter().map(|v| [v.inf(), v.sup()]).collect(),
-                }
-                .to_vec(),
-            );
+            leaves.push(Leaf { d, idx, vals }.to_vec());
         }
     }
-    ProblemCert {
+    // The unresolved count is derived from the final witnesses ([`finish`]).
+    Some(ProblemCert {
         case: pr.case,
         problem: pi,
         leaves,
-        unresolved,
-    }
+        unresolved: 0,
+    })
 }
 
 /// Run the proof of one row.
@@ -181,7 +149,18 @@ pub fn run(cfg: &Config) -> Result<Certificate, String> {
     let a = Alphas::of(row);
     let (cases, counts) = cases::output_cases(&a);
     let (probs, unreduced) = all_problems(row, &cases);
-    let in_shard = |ci: usize| cfg.shard.is_none_or(|(i, n)| ci % n == i);
+    if !(cfg.tol_deg.is_finite() && cfg.tol_deg >= MIN_TOL_DEG && cfg.tol_deg <= 90.0) {
+        return Err(format!(
+            "--tol-deg {}: must be in [{MIN_TOL_DEG:e}, 90] (below {MIN_TOL_DEG:e}° f64 interval arithmetic cannot reach the target)",
+            cfg.tol_deg
+        ));
+    }
+    let shard = match cfg.shard {
+        Some((_, 1)) => None,
+        s => s,
+    };
+    crate::gradnormal::check_shard(shard.map(|(i, n)| [i, n]))?;
+    let in_shard = |ci: usize| shard.is_none_or(|(i, n)| ci % n == i);
     let mine: Vec<(usize, &Problem)> = probs
         .iter()
         .enumerate()
@@ -202,10 +181,10 @@ pub fn run(cfg: &Config) -> Result<Certificate, String> {
     });
     let done = AtomicUsize::new(0);
     let total = mine.len();
-    let certs: Vec<ProblemCert> = mine
+    let certs: Vec<Option<ProblemCert>> = mine
         .par_iter()
         .map(|&(pi, pr)| {
-            let c = solve(pr, pi, &sh, cfg.max_depth);
+            let c = solve(pr, pi, &sh, cfg.max_depth, &cfg.budget);
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             if cfg.progress && n % 2000 == 0 {
                 eprintln!(
@@ -218,6 +197,10 @@ pub fn run(cfg: &Config) -> Result<Certificate, String> {
             c
         })
         .collect();
+    if cfg.budget.is_exhausted() {
+        return Err(format!("{}: {}", BUDGET_ERROR, cfg.budget.message()));
+    }
+    let certs: Vec<ProblemCert> = certs.into_iter().flatten().collect();
     let witnesses = sh.wit.into_inner().unwrap_or_else(|e| e.into_inner());
     let mut cert = Certificate {
         format: FORMAT.into(),
@@ -226,17 +209,18 @@ pub fn run(cfg: &Config) -> Result<Certificate, String> {
         tol_cos: cfg.tol_cos(),
         max_depth: cfg.max_depth,
         counts,
-        shard: cfg.shard.map(|(i, n)| [i, n]),
+        shard: shard.map(|(i, n)| [i, n]),
+        partial: shard.is_some(),
         seconds: 0.0,
         unreduced,
-        leaves: certs.iter().map(|c| c.leaves.len()).sum(),
-        unresolved: certs.iter().map(|c| c.unresolved).sum(),
+        leaves: 0,
+        unresolved: 0,
         problems: certs,
         witnesses,
         bounds: Vec::new(),
         safe: safe_property(row),
     };
-    cert.bounds = summarize(&cert, &cases, &probs)?;
+    finish(&mut cert, &cases, &probs)?;
     cert.seconds = t0.elapsed().as_secs_f64();
     Ok(cert)
 }

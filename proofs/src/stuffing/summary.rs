@@ -10,39 +10,121 @@ use crate::exact::{self, Verdict};
 use certmesh::stuffing::params::Row;
 use num_rational::BigRational;
 
-/// The bound results from the recorded leaves and witnesses.
-pub(super) fn summarize(
-    cert: &Certificate,
+/// Cosine thresholds per bound: the paper's value and the tightness margin.
+pub(super) fn thresholds(row: &Row) -> Vec<Vec<f64>> {
+    let margin = 1e-4;
+    BOUNDS
+        .iter()
+        .zip(paper_values(row))
+        .map(|(&(_, _, is_min), p)| match p {
+            None => Vec::new(),
+            Some(b) => {
+                let m = if is_min { b + margin } else { b - margin };
+                vec![b.to_radians().cos(), m.to_radians().cos()]
+            }
+        })
+        .collect()
+}
+
+/// The depth limit of a problem (the partition check sums volumes in u128).
+pub(super) fn depth_limit(dim: usize, max_depth: u8) -> u8 {
+    if dim == 0 {
+        0
+    } else {
+        max_depth.min((120 / dim) as u8)
+    }
+}
+
+/// Could a box with bounds `vals` (one [lo, hi] per output of `pr`) still change a
+/// bound by more than `tol` or a threshold decision, given the best witness cosines
+/// `best`? The search refines such boxes; the checker re-applies the test with the final
+/// witnesses (it is monotone in the witnesses, which only improve).
+pub(super) fn leaf_needs(
+    pr: &Problem,
+    vals: &[[f64; 2]],
+    best: &[f64; 6],
+    thr: &[Vec<f64>],
+    tol: f64,
+) -> bool {
+    vals.iter().any(|v| {
+        feeds(pr.what).iter().any(|&b| {
+            let best = best[b];
+            if BOUNDS[b].2 {
+                v[1] > best + tol || thr[b].iter().any(|&c| best <= c && v[1] > c)
+            } else {
+                v[0] < best - tol || thr[b].iter().any(|&c| best >= c && v[0] < c)
+            }
+        })
+    })
+}
+
+/// The best witness cosine per bound (the search's final state): the witness's lower
+/// end for a lower bound (largest cosine), its upper end for an upper bound; ∓2 without
+/// a witness.
+pub(super) fn final_best(witnesses: &[Option<Witness>]) -> [f64; 6] {
+    std::array::from_fn(|b| {
+        let is_min = BOUNDS[b].2;
+        match witnesses.get(b).cloned().flatten() {
+            Some(w) if is_min => w.cos[0],
+            Some(w) => w.cos[1],
+            None if is_min => -2.0,
+            None => 2.0,
+        }
+    })
+}
+
+/// Fill every derived field of a certificate from its leaves and witnesses: the
+/// unresolved count of every problem (leaves at the depth limit that could still change
+/// a bound or a threshold decision given the final witnesses), the totals, and the bound
+/// results. The search, `merge` and `check` all call this.
+pub(super) fn finish(
+    cert: &mut Certificate,
     cases: &[Case],
     probs: &[Vec<Problem>],
-) -> Result<Vec<BoundResult>, String> {
-    let row = certmesh::stuffing::row(&cert.row).map_err(|e| e.to_string())?;
+) -> Result<(), String> {
+    let row = certmesh::stuffing::row(&cert.row).map_err(|e| format!("row: {e}"))?;
+    let thr = thresholds(row);
+    let best = final_best(&cert.witnesses);
     let mut lo = [f64::INFINITY; 6];
     let mut hi = [f64::NEG_INFINITY; 6];
-    for pc in &cert.problems {
+    let (mut leaves, mut unresolved) = (0, 0);
+    for (i, pc) in cert.problems.iter_mut().enumerate() {
         let pr = probs
             .get(pc.case)
             .and_then(|p| p.get(pc.problem))
-            .ok_or("certificate names a problem that does not exist")?;
-        for l in &pc.leaves {
-            let leaf = Leaf::from_vec(l, pr.dim, pr.n_out())?;
+            .ok_or_else(|| format!("problems[{i}]: names a problem that does not exist"))?;
+        let lim = depth_limit(pr.dim, cert.max_depth);
+        pc.unresolved = 0;
+        for (j, l) in pc.leaves.iter().enumerate() {
+            let leaf = Leaf::from_vec(l, pr.dim, pr.n_out())
+                .map_err(|e| format!("problems[{i}].leaves[{j}]: {e}"))?;
             for v in &leaf.vals {
                 for &b in feeds(pr.what) {
                     lo[b] = lo[b].min(v[0]);
                     hi[b] = hi[b].max(v[1]);
                 }
             }
+            if leaf.d >= lim && leaf_needs(pr, &leaf.vals, &best, &thr, cert.tol_cos) {
+                pc.unresolved += 1;
+            }
+        }
+        leaves += pc.leaves.len();
+        unresolved += pc.unresolved;
+    }
+    cert.leaves = leaves;
+    cert.unresolved = unresolved;
+    cert.partial = cert.shard.is_some();
+    let mut bounds = results(row, &cert.alphas, lo, hi, &cert.witnesses, cases, probs);
+    if cert.partial {
+        // A shard proves nothing about the row: its enclosures cover its own cases only,
+        // so no verdict and no tightness is stated until `merge` has every shard.
+        for b in &mut bounds {
+            b.verdict = None;
+            b.tight = None;
         }
     }
-    Ok(results(
-        row,
-        &cert.alphas,
-        lo,
-        hi,
-        &cert.witnesses,
-        cases,
-        probs,
-    ))
+    cert.bounds = bounds;
+    Ok(())
 }
 
 pub(super) fn results(
