@@ -443,16 +443,28 @@ pub fn derive(
     n: usize,
     s: Search,
 ) -> CaseCert {
+    let (min, max, unresolved) = derive_parts(&leaves, &wmin, &wmax, n, s);
+    CaseCert {
+        leaves,
+        min,
+        max,
+        unresolved,
+    }
+}
+
+/// [`derive`] without taking the leaves: (min, max, unresolved).
+pub fn derive_parts(
+    leaves: &[Vec<Leaf>],
+    wmin: &[Witness],
+    wmax: &[Witness],
+    n: usize,
+    s: Search,
+) -> (Vec<Extreme>, Vec<Extreme>, usize) {
     let lim = s.depth_limit();
     // A region excluded everywhere by its extra constraint (e.g. a diagonal that is
     // never the shorter one) is an empty case: no extremes, every leaf outside.
     if leaves.iter().flatten().all(|l| l.vals.is_none()) {
-        return CaseCert {
-            leaves,
-            min: Vec::new(),
-            max: Vec::new(),
-            unresolved: 0,
-        };
+        return (Vec::new(), Vec::new(), 0);
     }
     let bmin: Vec<f64> = (0..n)
         .map(|k| wmin.get(k).map_or(f64::INFINITY, |w| witness_best(w, true)))
@@ -502,12 +514,7 @@ pub fn derive(
             witness: wmax[k].clone(),
         });
     }
-    CaseCert {
-        leaves,
-        min,
-        max,
-        unresolved,
-    }
+    (min, max, unresolved)
 }
 
 /// Check that the leaves partition the unit square: no leaf is (a descendant of) another,
@@ -645,19 +652,17 @@ pub fn check_case_derived(
             wmax.len()
         ));
     }
-    let expected = derive(cert.leaves.clone(), wmin, wmax, n, s);
+    let (emin, emax, eunres) = derive_parts(&cert.leaves, &wmin, &wmax, n, s);
     // The stopping rule: a leaf above the depth limit cannot improve an extreme.
-    let bmin: Vec<f64> = expected
-        .min
+    let bmin: Vec<f64> = emin
         .iter()
         .map(|e| witness_best(&e.witness, true))
         .collect();
-    let bmax: Vec<f64> = expected
-        .max
+    let bmax: Vec<f64> = emax
         .iter()
         .map(|e| witness_best(&e.witness, false))
         .collect();
-    if !expected.min.is_empty() {
+    if !emin.is_empty() {
         for (di, leaves) in cert.leaves.iter().enumerate() {
             for (li, l) in leaves.iter().enumerate() {
                 if let Some(v) = &l.vals {
@@ -671,8 +676,8 @@ pub fn check_case_derived(
             }
         }
     }
-    crate::fields::same("min", &cert.min, &expected.min)?;
-    crate::fields::same("max", &cert.max, &expected.max)?;
-    crate::fields::same("unresolved", &cert.unresolved, &expected.unresolved)?;
+    crate::fields::same("min", &cert.min, &emin)?;
+    crate::fields::same("max", &cert.max, &emax)?;
+    crate::fields::same("unresolved", &cert.unresolved, &eunres)?;
     Ok(())
 }

@@ -1,10 +1,7 @@
 //! `proofs check` and `proofs merge` for stuffing certificates.
-use super::cases::{self, Alphas};
-use super::safe::safe_property;
-use super::summary::{depth_limit, final_best, finish, leaf_needs, thresholds};
-use super::{
-    all_problems, feeds, BoundResult, Certificate, Leaf, SafeResult, Witness, BOUNDS, FORMAT,
-};
+use super::cases::Alphas;
+use super::summary::{depth_limit, derive, final_best, finish, leaf_needs, thresholds};
+use super::{feeds, BoundResult, Certificate, Leaf, SafeResult, Witness, BOUNDS, FORMAT};
 use rayon::prelude::*;
 use std::collections::HashSet;
 
@@ -96,10 +93,15 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
             cert.partial, cert.shard
         ));
     }
-    let (cases, counts) = cases::output_cases(&a);
-    crate::fields::same("counts", &cert.counts, &counts)?;
-    let (probs, unreduced) = all_problems(row, &cases);
-    crate::fields::same("unreduced", &cert.unreduced, &unreduced)?;
+    let tables = super::tables(row);
+    let (cases, counts, probs, unreduced) = (
+        &tables.cases,
+        &tables.counts,
+        &tables.probs,
+        &tables.unreduced,
+    );
+    crate::fields::same("counts", &cert.counts, counts)?;
+    crate::fields::same("unreduced", &cert.unreduced, unreduced)?;
     let in_shard = |ci: usize| cert.shard.is_none_or(|[i, n]| ci % n == i);
     let expected: Vec<(usize, usize)> = probs
         .iter()
@@ -210,19 +212,19 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
         all_leaves.push(r?);
     }
     // Every derived field, recomputed from the leaves and witnesses.
-    let mut re = cert.clone();
-    finish(&mut re, &cases, &probs)?;
-    for (i, (s, r)) in cert.problems.iter().zip(&re.problems).enumerate() {
-        crate::fields::same(
-            &format!("problems[{i}].unresolved"),
-            &s.unresolved,
-            &r.unresolved,
-        )?;
+    let re = derive(cert, cases, probs)?;
+    for (i, (s, r)) in cert
+        .problems
+        .iter()
+        .zip(&re.unresolved_per_problem)
+        .enumerate()
+    {
+        crate::fields::same(&format!("problems[{i}].unresolved"), &s.unresolved, r)?;
     }
     crate::fields::same("leaves", &cert.leaves, &re.leaves)?;
     crate::fields::same("unresolved", &cert.unresolved, &re.unresolved)?;
     crate::fields::same("bounds", &cert.bounds, &re.bounds)?;
-    let safe = safe_property(row);
+    let safe = tables.safe.clone();
     crate::fields::same("safe", &cert.safe, &safe)?;
     // Every leaf re-evaluated: the recorded bounds must be exactly the recomputed ones.
     let evals: Vec<Result<usize, String>> = cert
@@ -274,8 +276,11 @@ pub fn merge(parts: Vec<Certificate>) -> Result<Certificate, String> {
         _ => return Err("merge: the first certificate is not a shard".into()),
     };
     let row = certmesh::stuffing::row(&out.row).map_err(|e| e.to_string())?;
-    let (cases, _) = cases::output_cases(&out.alphas);
-    let (probs, _) = all_problems(row, &cases);
+    if Alphas::of(row) != out.alphas {
+        return Err("merge: the row's parameters differ from the certificate's".into());
+    }
+    let tables = super::tables(row);
+    let (cases, probs) = (&tables.cases, &tables.probs);
     let mut shards: Vec<usize> = Vec::new();
     let mut all = Vec::new();
     let mut witnesses: Vec<Option<Witness>> = vec![None; BOUNDS.len()];
@@ -354,6 +359,6 @@ pub fn merge(parts: Vec<Certificate>) -> Result<Certificate, String> {
     out.witnesses = witnesses;
     out.seconds = seconds;
     out.shard = None;
-    finish(&mut out, &cases, &probs)?;
+    finish(&mut out, cases, probs)?;
     Ok(out)
 }

@@ -299,6 +299,47 @@ pub fn summary_json(c: &Certificate, path: &str) -> serde_json::Value {
     })
 }
 
+/// Everything a row's proof derives from the stencil table: the output-tetrahedron
+/// cases and counts, their problems, the unreduced cases and the safe property.
+pub(crate) struct Tables {
+    pub cases: Vec<Case>,
+    pub counts: Counts,
+    pub probs: Vec<Vec<Problem>>,
+    pub unreduced: Vec<usize>,
+    pub safe: SafeResult,
+}
+
+/// The row's [`Tables`], computed once per process (a pure function of the row's
+/// parameters and the mesher's stencil table; `check` re-derives them the first time).
+pub(crate) fn tables(row: &'static Row) -> std::sync::Arc<Tables> {
+    use std::collections::HashMap;
+    use std::sync::{Arc, Mutex, OnceLock};
+    static CACHE: OnceLock<Mutex<HashMap<&'static str, Arc<Tables>>>> = OnceLock::new();
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    if let Some(t) = cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .get(row.name)
+    {
+        return t.clone();
+    }
+    let a = Alphas::of(row);
+    let (cases, counts) = cases::output_cases(&a);
+    let (probs, unreduced) = all_problems(row, &cases);
+    let t = Arc::new(Tables {
+        cases,
+        counts,
+        probs,
+        unreduced,
+        safe: safe_property(row),
+    });
+    cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(row.name, t.clone());
+    t
+}
+
 /// Every row name (for `--row all`).
 pub fn row_names() -> Vec<&'static str> {
     TABLE1.iter().map(|r| r.name).collect()

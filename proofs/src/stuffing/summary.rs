@@ -73,28 +73,39 @@ pub(super) fn final_best(witnesses: &[Option<Witness>]) -> [f64; 6] {
     })
 }
 
-/// Fill every derived field of a certificate from its leaves and witnesses: the
-/// unresolved count of every problem (leaves at the depth limit that could still change
-/// a bound or a threshold decision given the final witnesses), the totals, and the bound
-/// results. The search, `merge` and `check` all call this.
-pub(super) fn finish(
-    cert: &mut Certificate,
+/// The derived fields of a certificate (see [`derive`]).
+pub(super) struct Derived {
+    /// Per problem, in certificate order.
+    pub unresolved_per_problem: Vec<usize>,
+    pub leaves: usize,
+    pub unresolved: usize,
+    pub bounds: Vec<BoundResult>,
+}
+
+/// Every derived field of a certificate from its leaves and witnesses: the unresolved
+/// count of every problem (leaves at the depth limit that could still change a bound or
+/// a threshold decision given the final witnesses), the totals, and the bound results
+/// (without verdicts or tightness for a shard). The search, `merge` and `check` all use
+/// this.
+pub(super) fn derive(
+    cert: &Certificate,
     cases: &[Case],
     probs: &[Vec<Problem>],
-) -> Result<(), String> {
+) -> Result<Derived, String> {
     let row = certmesh::stuffing::row(&cert.row).map_err(|e| format!("row: {e}"))?;
     let thr = thresholds(row);
     let best = final_best(&cert.witnesses);
     let mut lo = [f64::INFINITY; 6];
     let mut hi = [f64::NEG_INFINITY; 6];
     let (mut leaves, mut unresolved) = (0, 0);
-    for (i, pc) in cert.problems.iter_mut().enumerate() {
+    let mut per = Vec::with_capacity(cert.problems.len());
+    for (i, pc) in cert.problems.iter().enumerate() {
         let pr = probs
             .get(pc.case)
             .and_then(|p| p.get(pc.problem))
             .ok_or_else(|| format!("problems[{i}]: names a problem that does not exist"))?;
         let lim = depth_limit(pr.dim, cert.max_depth);
-        pc.unresolved = 0;
+        let mut u = 0;
         for (j, l) in pc.leaves.iter().enumerate() {
             let leaf = Leaf::from_vec(l, pr.dim, pr.n_out())
                 .map_err(|e| format!("problems[{i}].leaves[{j}]: {e}"))?;
@@ -105,17 +116,15 @@ pub(super) fn finish(
                 }
             }
             if leaf.d >= lim && leaf_needs(pr, &leaf.vals, &best, &thr, cert.tol_cos) {
-                pc.unresolved += 1;
+                u += 1;
             }
         }
+        per.push(u);
         leaves += pc.leaves.len();
-        unresolved += pc.unresolved;
+        unresolved += u;
     }
-    cert.leaves = leaves;
-    cert.unresolved = unresolved;
-    cert.partial = cert.shard.is_some();
     let mut bounds = results(row, &cert.alphas, lo, hi, &cert.witnesses, cases, probs);
-    if cert.partial {
+    if cert.shard.is_some() {
         // A shard proves nothing about the row: its enclosures cover its own cases only,
         // so no verdict and no tightness is stated until `merge` has every shard.
         for b in &mut bounds {
@@ -123,7 +132,28 @@ pub(super) fn finish(
             b.tight = None;
         }
     }
-    cert.bounds = bounds;
+    Ok(Derived {
+        unresolved_per_problem: per,
+        leaves,
+        unresolved,
+        bounds,
+    })
+}
+
+/// Fill every derived field of a certificate ([`derive`]).
+pub(super) fn finish(
+    cert: &mut Certificate,
+    cases: &[Case],
+    probs: &[Vec<Problem>],
+) -> Result<(), String> {
+    let d = derive(cert, cases, probs)?;
+    for (pc, u) in cert.problems.iter_mut().zip(d.unresolved_per_problem) {
+        pc.unresolved = u;
+    }
+    cert.leaves = d.leaves;
+    cert.unresolved = d.unresolved;
+    cert.partial = cert.shard.is_some();
+    cert.bounds = d.bounds;
     Ok(())
 }
 
