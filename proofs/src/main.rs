@@ -378,7 +378,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
             }
             if !(tol_deg >= gradnormal::MIN_TOL_DEG && tol_deg <= 90.0) {
                 return Err(Fail::input(format!(
-                    "--tol-deg {tol_deg}: must be in [{:e}, 90] (below {:e}° f64 interval arithmetic cannot reach the target)",
+                    "--tol-deg {tol_deg:e}: must be in [{:e}, 90] (below {:e}° f64 interval arithmetic cannot reach the target)",
                     gradnormal::MIN_TOL_DEG,
                     gradnormal::MIN_TOL_DEG
                 )));
@@ -629,7 +629,7 @@ fn print_stuffing(c: &stuffing::Certificate) {
 fn check_tol_deg(tol_deg: f64) -> Result<(), Fail> {
     if !(tol_deg >= stuffing::MIN_TOL_DEG && tol_deg <= 90.0) {
         return Err(Fail::input(format!(
-            "--tol-deg {tol_deg}: must be in [{:e}, 90] (below {:e}° f64 interval arithmetic cannot reach the target)",
+            "--tol-deg {tol_deg:e}: must be in [{:e}, 90] (below {:e}° f64 interval arithmetic cannot reach the target)",
             stuffing::MIN_TOL_DEG,
             stuffing::MIN_TOL_DEG
         )));
@@ -856,7 +856,13 @@ fn main() -> ExitCode {
             if json && !info {
                 let f = Fail {
                     kind: Kind::Usage,
-                    msg: e.kind().to_string() + ": " + e.to_string().lines().next().unwrap_or(""),
+                    msg: e
+                        .to_string()
+                        .lines()
+                        .next()
+                        .unwrap_or("")
+                        .trim_start_matches("error: ")
+                        .to_string(),
                     position: None,
                 };
                 return report(&f, true);
