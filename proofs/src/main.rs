@@ -565,14 +565,19 @@ fn run(cli: Cli) -> Result<(), Fail> {
     }
 }
 
+/// Is the file a stuffing certificate (by its `format` field; any other file is read
+/// as a GradNormal certificate and refused with a position if it is none)?
 fn is_stuffing(p: &PathBuf) -> Result<bool, Fail> {
-    use std::io::Read;
-    let mut f = std::fs::File::open(p).map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
-    let mut head = [0u8; 200];
-    let n = f
-        .read(&mut head)
-        .map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
-    Ok(String::from_utf8_lossy(&head[..n]).contains(stuffing::FORMAT))
+    #[derive(serde::Deserialize)]
+    struct Head {
+        format: Option<String>,
+    }
+    let text =
+        std::fs::read_to_string(p).map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
+    Ok(serde_json::from_str::<Head>(&text)
+        .ok()
+        .and_then(|h| h.format)
+        .is_some_and(|f| f == stuffing::FORMAT))
 }
 
 fn print_bound(b: &stuffing::BoundResult, partial: bool) {
@@ -613,7 +618,12 @@ fn print_stuffing(c: &stuffing::Certificate) {
         print_bound(b, c.partial);
     }
     println!(
-        "  safe: {} (min volume / unwarped volume = {:.6}; {} -> {} cases){}",
+        "  safe{}: {} (min volume / unwarped volume = {:.6}; {} -> {} cases){}",
+        if c.partial {
+            " (decided on every BCC case, not sharded)"
+        } else {
+            ""
+        },
         c.safe.verdict.name(),
         c.safe.min_ratio,
         c.safe.counts.raw,

@@ -270,6 +270,8 @@ pub fn all_problems(row: &Row, cases: &[Case]) -> (Vec<Vec<Problem>>, Vec<usize>
 pub fn summary_json(c: &Certificate, path: &str) -> serde_json::Value {
     serde_json::json!({
         "row": c.row,
+        "partial": c.partial,
+        "shard": c.shard.map(|s| format!("{}/{}", s[0], s[1])),
         "alpha_long": c.alphas.long as f64 / DEN as f64,
         "alpha_short": c.alphas.short as f64 / DEN as f64,
         "ordered": c.alphas.ordered,
