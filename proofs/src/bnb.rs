@@ -312,9 +312,12 @@ impl Best {
 /// final witnesses (the test is monotone: a witness only ever improves, so a box final
 /// during the search is final at the end).
 pub fn leaf_needs(vals: &[[f64; 2]], bmin: &[f64], bmax: &[f64], tol: f64) -> bool {
-    vals.iter()
-        .enumerate()
-        .any(|(k, x)| !(x[0] >= bmin[k] - tol) || !(x[1] <= bmax[k] + tol))
+    vals.iter().enumerate().any(|(k, x)| {
+        // Written so that a NaN bound needs refinement.
+        let final_lo = x[0] >= bmin[k] - tol;
+        let final_hi = x[1] <= bmax[k] + tol;
+        !(final_lo && final_hi)
+    })
 }
 
 /// Run the branch and bound on one case (default budget).

@@ -3,6 +3,10 @@
 //! that can be re-verified independently.
 use clap::{Parser, Subcommand};
 use proofs::bnb::Budget;
+mod cli;
+use cli::fail::{report, Fail, Kind};
+use cli::files::*;
+use cli::print::*;
 use proofs::geometry::DiagonalRule;
 use proofs::gradnormal::cases::Ratio;
 use proofs::gradnormal::{self, Certificate, Config};
@@ -15,6 +19,15 @@ use std::process::ExitCode;
 /// The proofs verify the project's own data (the GradNormal tiling and diagonal rules,
 /// the isosurface-stuffing stencil table), read from the same code the meshers use, so
 /// a certificate speaks about the meshes certmesh actually produces.
+///
+/// Every run has a work budget (--max-boxes, --time-limit): a run that reaches it stops,
+/// says so and writes no certificate. A shard (--shard i/N) is a partial result with no
+/// verdict until `proofs merge` has all N shards.
+///
+/// Exit codes: 0 success (a certificate written or accepted, whatever its verdicts);
+/// 1 a certificate rejected by `check`, or a run stopped by its budget; 2 a usage or
+/// input error. With --json, an error is {"error": ..., "kind": ..., "position": ...}
+/// on stdout.
 #[derive(Parser)]
 #[command(name = "proofs", version, about, long_about)]
 struct Cli {
@@ -24,79 +37,6 @@ struct Cli {
     json: bool,
     #[command(subcommand)]
     cmd: Cmd,
-}
-
-/// Exit codes: 0 success (the certificate was written or accepted, whatever its
-/// verdicts), 1 a certificate rejected by `check` or a run stopped by its budget
-/// (nothing proven, no certificate written), 2 a usage or input error (as clap).
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Kind {
-    Usage,
-    Input,
-    Check,
-    Budget,
-}
-
-struct Fail {
-    kind: Kind,
-    msg: String,
-    /// Byte offset into the input file, when known.
-    position: Option<usize>,
-}
-
-impl Fail {
-    fn input(msg: impl Into<String>) -> Fail {
-        Fail {
-            kind: Kind::Input,
-            msg: msg.into(),
-            position: None,
-        }
-    }
-    fn check(msg: impl Into<String>) -> Fail {
-        Fail {
-            kind: Kind::Check,
-            msg: msg.into(),
-            position: None,
-        }
-    }
-    /// The error of a run: a budget stop, or an input the run refused.
-    fn run(msg: String, budget: &Budget) -> Fail {
-        Fail {
-            kind: if budget.is_exhausted() {
-                Kind::Budget
-            } else {
-                Kind::Input
-            },
-            msg,
-            position: None,
-        }
-    }
-    fn code(&self) -> u8 {
-        match self.kind {
-            Kind::Usage | Kind::Input => 2,
-            Kind::Check | Kind::Budget => 1,
-        }
-    }
-    fn kind_name(&self) -> &'static str {
-        match self.kind {
-            Kind::Usage => "usage",
-            Kind::Input => "input",
-            Kind::Check => "check",
-            Kind::Budget => "budget",
-        }
-    }
-}
-
-impl From<String> for Fail {
-    fn from(msg: String) -> Fail {
-        Fail::input(msg)
-    }
-}
-
-impl From<&str> for Fail {
-    fn from(msg: &str) -> Fail {
-        Fail::input(msg)
-    }
 }
 
 /// The work budget options of a run.
@@ -213,137 +153,6 @@ enum Cmd {
     },
 }
 
-/// Read a JSON file into `T`; a parse error carries its byte offset.
-fn read_json<T: serde::de::DeserializeOwned>(p: &PathBuf, what: &str) -> Result<T, Fail> {
-    let text =
-        std::fs::read_to_string(p).map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
-    serde_json::from_str(&text).map_err(|e| {
-        // Byte offset of (line, column), both 1-based.
-        let off = text
-            .split_inclusive('\n')
-            .take(e.line().saturating_sub(1))
-            .map(|l| l.len())
-            .sum::<usize>()
-            + e.column().saturating_sub(1);
-        Fail {
-            kind: Kind::Input,
-            msg: format!("{}: not a {what}: {e}", p.display()),
-            position: Some(off),
-        }
-    })
-}
-
-fn load(p: &PathBuf) -> Result<Certificate, Fail> {
-    read_json(p, "GradNormal certificate")
-}
-
-fn load_stuffing(p: &PathBuf) -> Result<stuffing::Certificate, Fail> {
-    read_json(p, "stuffing certificate")
-}
-
-fn save_json<T: serde::Serialize>(p: &PathBuf, c: &T) -> Result<(), Fail> {
-    let f = std::fs::File::create(p).map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
-    serde_json::to_writer(std::io::BufWriter::new(f), c)
-        .map_err(|e| Fail::input(format!("{}: {e}", p.display())))
-}
-
-/// Check an output path before the work starts: its folder exists and it is not a
-/// folder itself.
-fn check_out_path(p: &std::path::Path) -> Result<(), Fail> {
-    if p.is_dir() {
-        return Err(Fail::input(format!(
-            "{}: is a directory (-o expects a file)",
-            p.display()
-        )));
-    }
-    let parent = p.parent().filter(|d| !d.as_os_str().is_empty());
-    if let Some(d) = parent {
-        if !d.is_dir() {
-            return Err(Fail::input(format!(
-                "{}: the folder {} does not exist",
-                p.display(),
-                d.display()
-            )));
-        }
-    }
-    Ok(())
-}
-
-fn parse_shard(s: &str) -> Result<(usize, usize), Fail> {
-    let bad = || Fail::input(format!("--shard {s}: expects i/N with 0 <= i < N"));
-    let (i, n) = s.split_once('/').ok_or_else(bad)?;
-    let i: usize = i.trim().parse().map_err(|_| bad())?;
-    let n: usize = n.trim().parse().map_err(|_| bad())?;
-    if n == 0 || i >= n {
-        return Err(bad());
-    }
-    Ok((i, n))
-}
-
-/// The label of a shard's output.
-fn shard_line(shard: [usize; 2], of: &str) -> String {
-    format!(
-        "shard {}/{}: a partial result, not a proof of {of} (`proofs merge` the {} shards for one)",
-        shard[0], shard[1], shard[1]
-    )
-}
-
-fn print_human(c: &Certificate) {
-    println!(
-        "GradNormal angle proof: a/e = {}, rule = {}, {} of {} cases, {:.2} s",
-        c.ratio,
-        c.rule,
-        c.cases.len(),
-        c.n_cases,
-        c.seconds
-    );
-    if let Some(s) = c.shard {
-        println!("  {}", shard_line(s, "the claims"));
-    }
-    if let Some(s) = &c.summary {
-        println!(
-            "  smallest projected angle in [{:.9}°, {:.9}°]",
-            s.min_deg[0], s.min_deg[1]
-        );
-        println!(
-            "  largest projected angle  in [{:.9}°, {:.9}°]",
-            s.max_deg[0], s.max_deg[1]
-        );
-        println!(
-            "  valence-four triangles: [{:.7}°, {:.7}°] .. [{:.7}°, {:.7}°]",
-            s.v4_min_deg[0], s.v4_min_deg[1], s.v4_max_deg[0], s.v4_max_deg[1]
-        );
-        for cl in &c.claims {
-            println!("  {:9} {}", cl.verdict.name(), cl.claim);
-        }
-    }
-}
-
-fn gradnormal_json(cert: &Certificate, out: &std::path::Path) -> serde_json::Value {
-    serde_json::json!({
-        "ratio": cert.ratio,
-        "rule": cert.rule,
-        "seconds": cert.seconds,
-        "certificate": out.display().to_string(),
-        "partial": cert.partial,
-        "shard": cert.shard.map(|s| format!("{}/{}", s[0], s[1])),
-        "min_deg": cert.summary.as_ref().map(|s| s.min_deg),
-        "max_deg": cert.summary.as_ref().map(|s| s.max_deg),
-        "v4_min_deg": cert.summary.as_ref().map(|s| s.v4_min_deg),
-        "v4_max_deg": cert.summary.as_ref().map(|s| s.v4_max_deg),
-        "claims": cert.claims,
-        "cases": cert.summary.as_ref().map(|s| &s.cases),
-    })
-}
-
-fn print_json(v: &serde_json::Value) -> Result<(), Fail> {
-    println!(
-        "{}",
-        serde_json::to_string_pretty(v).map_err(|e| Fail::input(e.to_string()))?
-    );
-    Ok(())
-}
-
 fn run(cli: Cli) -> Result<(), Fail> {
     let json = cli.json;
     match cli.cmd {
@@ -376,13 +185,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
                 }
                 return Ok(());
             }
-            if !(tol_deg >= gradnormal::MIN_TOL_DEG && tol_deg <= 90.0) {
-                return Err(Fail::input(format!(
-                    "--tol-deg {tol_deg:e}: must be in [{:e}, 90] (below {:e}° f64 interval arithmetic cannot reach the target)",
-                    gradnormal::MIN_TOL_DEG,
-                    gradnormal::MIN_TOL_DEG
-                )));
-            }
+            check_tol_deg(tol_deg)?;
             gradnormal::check_theorem_range(ratio)?;
             check_out_path(&out)?;
             let mut cfg = Config::new(ratio, rule);
@@ -565,88 +368,6 @@ fn run(cli: Cli) -> Result<(), Fail> {
     }
 }
 
-/// Is the file a stuffing certificate (by its `format` field; any other file is read
-/// as a GradNormal certificate and refused with a position if it is none)?
-fn is_stuffing(p: &PathBuf) -> Result<bool, Fail> {
-    #[derive(serde::Deserialize)]
-    struct Head {
-        format: Option<String>,
-    }
-    let text =
-        std::fs::read_to_string(p).map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
-    Ok(serde_json::from_str::<Head>(&text)
-        .ok()
-        .and_then(|h| h.format)
-        .is_some_and(|f| f == stuffing::FORMAT))
-}
-
-fn print_bound(b: &stuffing::BoundResult, partial: bool) {
-    let paper = b
-        .paper
-        .map(|x| format!("{x:.4}"))
-        .unwrap_or_else(|| "n/a".into());
-    let deg = b
-        .deg
-        .map(|d| format!("[{:.6}, {:.6}]", d[0], d[1]))
-        .unwrap_or_else(|| "n/a".into());
-    println!(
-        "  {:13} paper {:>9}  {} {:24}  {:9}  tight: {}",
-        b.bound,
-        paper,
-        if partial { "this shard" } else { "certified " },
-        deg,
-        b.verdict.map(|v| v.name()).unwrap_or("-"),
-        b.tight.as_deref().unwrap_or("-")
-    );
-}
-
-fn print_stuffing(c: &stuffing::Certificate) {
-    println!(
-        "stuffing row {}: {} -> {} cases, {} problems, {} leaves ({} unresolved), {:.1} s",
-        c.row,
-        c.counts.raw,
-        c.counts.distinct,
-        c.problems.len(),
-        c.leaves,
-        c.unresolved,
-        c.seconds
-    );
-    if let Some(s) = c.shard {
-        println!("  {}", shard_line(s, "the row"));
-    }
-    for b in &c.bounds {
-        print_bound(b, c.partial);
-    }
-    println!(
-        "  safe{}: {} (min volume / unwarped volume = {:.6}; {} -> {} cases){}",
-        if c.partial {
-            " (decided on every BCC case, not sharded)"
-        } else {
-            ""
-        },
-        c.safe.verdict.name(),
-        c.safe.min_ratio,
-        c.safe.counts.raw,
-        c.safe.counts.distinct,
-        if c.safe.note.is_empty() {
-            String::new()
-        } else {
-            format!("; {}", c.safe.note)
-        }
-    );
-}
-
-fn check_tol_deg(tol_deg: f64) -> Result<(), Fail> {
-    if !(tol_deg >= stuffing::MIN_TOL_DEG && tol_deg <= 90.0) {
-        return Err(Fail::input(format!(
-            "--tol-deg {tol_deg:e}: must be in [{:e}, 90] (below {:e}° f64 interval arithmetic cannot reach the target)",
-            stuffing::MIN_TOL_DEG,
-            stuffing::MIN_TOL_DEG
-        )));
-    }
-    Ok(())
-}
-
 fn stuffing_cmd(
     row: &str,
     json: bool,
@@ -822,33 +543,6 @@ fn graded_cmd(
         println!("{text}");
     }
     Ok(())
-}
-
-/// The first line of `proofs check`, for either kind of certificate.
-fn print_check_ok(what: &str, leaves: usize, complete: bool, t0: std::time::Instant) {
-    println!(
-        "certificate OK: {what}, {leaves} leaves re-evaluated{} ({:.2} s)",
-        if complete {
-            ", complete"
-        } else {
-            " (partial: a shard)"
-        },
-        t0.elapsed().as_secs_f64()
-    );
-}
-
-fn report(f: &Fail, json: bool) -> ExitCode {
-    if json {
-        let v = serde_json::json!({
-            "error": f.msg,
-            "kind": f.kind_name(),
-            "position": f.position,
-        });
-        println!("{v}");
-    } else {
-        eprintln!("error: {}", f.msg);
-    }
-    ExitCode::from(f.code())
 }
 
 fn main() -> ExitCode {

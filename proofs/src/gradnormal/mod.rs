@@ -500,6 +500,9 @@ pub struct CheckReport {
     pub claims: Vec<Claim>,
 }
 
+/// One per-case part of `check`.
+type CaseCheck<'a> = dyn Fn(&[&dyn Objective], &CaseEntry) -> Result<(), String> + Sync + 'a;
+
 /// Re-verify a certificate independently of the search: every field is recomputed
 /// from the tiling and the leaves (the cases from the tiling data, every leaf and
 /// witness re-evaluated, the stopping rule re-applied, the extremes, unresolved counts,
@@ -560,7 +563,7 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
     let search = search_of(cert.tol_cos, cert.max_depth);
     // Cheap checks first (structure, witnesses, stopping rule, derived fields), then the
     // summary and claims, then the re-evaluation of every leaf.
-    let each = |f: &(dyn Fn(&[&dyn Objective], &CaseEntry) -> Result<(), String> + Sync)| {
+    let each = |f: &CaseCheck<'_>| {
         cert.cases
             .par_iter()
             .enumerate()
