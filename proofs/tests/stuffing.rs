@@ -311,3 +311,30 @@ fn safe_property_matches_the_closed_form() {
     assert_eq!(s.verdict, Verdict::Proven);
     assert!(!s.note.is_empty());
 }
+
+/// `merge` refuses incomplete or overlapping shard sets; two halves of a row merge into
+/// a certificate that checks and states verdicts, which the halves do not.
+#[test]
+fn stuffing_merge_requires_complete_disjoint_shards() {
+    let row = stuffing::row("min-exposed-unsafe").unwrap();
+    let halves: Vec<_> = (0..2)
+        .map(|i| {
+            let mut cfg = proofs::stuffing::Config::new(row);
+            cfg.tol_deg = 5.0;
+            cfg.shard = Some((i, 2));
+            let c = proofs::stuffing::run(&cfg).unwrap();
+            assert!(c.partial && c.bounds.iter().all(|b| b.verdict.is_none()));
+            c
+        })
+        .collect();
+    assert!(proofs::stuffing::merge(vec![halves[0].clone()]).is_err());
+    assert!(proofs::stuffing::merge(vec![
+        halves[0].clone(),
+        halves[0].clone(),
+        halves[1].clone()
+    ])
+    .is_err());
+    let m = proofs::stuffing::merge(halves).unwrap();
+    let r = proofs::stuffing::check(&m).unwrap();
+    assert!(r.complete && m.bounds.iter().any(|b| b.verdict.is_some()));
+}
