@@ -8,9 +8,11 @@
 //! The certificate ([`CaseCert`]) lists every leaf of every quadtree (its path and
 //! interval bounds, or "outside" when an extra constraint excludes it) and the witness
 //! points. [`check_case`] re-verifies a certificate without the search: the leaves must
-//! partition each square exactly (checked with integer arithmetic), every leaf is
-//! re-evaluated, every witness re-evaluated, and the stated enclosures must contain the
-//! recomputed ones.
+//! partition each square exactly (checked with integer arithmetic), every leaf and every
+//! witness is re-evaluated and must give exactly the recorded bounds, the stopping rule
+//! is re-applied with the final witnesses, and the extremes and the unresolved count
+//! must be exactly those derived from the leaves and witnesses ([`derive`]). Every loop
+//! of a search is charged to a [`Budget`].
 use inari::Interval;
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
@@ -167,7 +169,7 @@ pub struct CaseCert {
     pub min: Vec<Extreme>,
     pub max: Vec<Extreme>,
     /// Leaves kept at the depth limit although they could still improve an extreme by
-    /// more than `tol` (the enclosures stay valid, only wider).
+    /// more than `tol` given the final witnesses (the enclosures stay valid, only wider).
     pub unresolved: usize,
 }
 

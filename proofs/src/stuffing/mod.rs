@@ -180,6 +180,8 @@ pub struct ProblemCert {
     pub case: usize,
     pub problem: usize,
     pub leaves: Vec<Vec<f64>>,
+    /// Leaves at the depth limit that could still change a bound by more than the
+    /// tolerance, or a threshold decision, given the final witnesses (derived; checked).
     pub unresolved: usize,
 }
 
