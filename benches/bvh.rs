@@ -1,6 +1,6 @@
 //! BVH build and closest-point queries on the Stanford bunny (69,451 faces), and the
 //! topology/angle metrics on it. Run: `cargo bench --bench bvh`.
-use certmesh::bvh::TriBvh;
+use certmesh::kernel::bvh::TriBvh;
 use certmesh::mesh::TriMesh;
 use certmesh::metrics;
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
@@ -8,10 +8,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 /// Minimal OBJ reading for the bench only (`v` and `f` lines); the io module owns the
 /// real reader.
 fn bunny() -> Option<TriMesh> {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/data/stanford-bunny.obj"
-    );
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/stanford-bunny.obj");
     let text = std::fs::read_to_string(path).ok()?;
     let mut m = TriMesh::default();
     for line in text.lines() {

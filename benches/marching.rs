@@ -12,7 +12,7 @@
 //! (b) 2.05 s, of which sampling 17 M points is 2.0 s; (c) 0.63 s (0.09 M interval and
 //! 2.8 M point evaluations).
 use certmesh::catalog;
-use certmesh::grid::{Grid, Samples};
+use certmesh::lattice::grid::{Grid, Samples};
 use certmesh::marching::{marching_cubes, MarchingCubes};
 use certmesh::mesher::{Mesher, NoProgress};
 use criterion::{criterion_group, criterion_main, Criterion};

@@ -2,8 +2,8 @@
 //! (criterion's throughput = boxes of the run, leaves + internal).
 use certmesh::catalog;
 use certmesh::mesher::{Mesher, NoProgress};
-use certmesh::plantinga_vegter::PlantingaVegter;
-use certmesh::snyder::{Snyder, SnyderParams};
+use certmesh::subdivision::plantinga_vegter::PlantingaVegter;
+use certmesh::subdivision::snyder::{Snyder, SnyderParams};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
 fn bench(c: &mut Criterion) {

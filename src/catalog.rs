@@ -1,8 +1,8 @@
 //! Named test surfaces and curves with their known topology, so a run can be judged
 //! right or wrong (the topology verdict of the comparison harness).
 use crate::error::{Error, Result};
-use crate::geom::Aabb;
 use crate::implicit::Formula;
+use crate::kernel::geom::Aabb;
 use serde::Serialize;
 
 /// The expected topology of a catalog entry.

@@ -43,7 +43,9 @@ fn unknown_names_list_the_known_ones() {
 
 #[test]
 fn bad_domains_are_rejected() {
-    let (code, _, err) = certmesh(&["mesh", "--formula", "x", "--algo", "mc"]);
+    // A formula without --domain now has a default domain (issue 12), so the case that
+    // must name --domain is a --domain of the wrong length.
+    let (code, _, err) = certmesh(&["mesh", "--formula", "x", "--domain", "1,2,3", "--algo", "mc"]);
     assert_eq!(code, 2);
     assert!(err.contains("--domain"), "{err}");
     let (code, _, err) = certmesh(&[
@@ -189,7 +191,7 @@ fn stats_histogram_with_emphasis_and_bad_factor() {
 fn mesh_input_remeshes_a_mesh_with_a_hole() {
     let dir = std::env::temp_dir().join(format!("certmesh-cli-meshinput-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let m = certmesh::sdf::uv_sphere(16, 32, 2.0);
+    let m = certmesh::implicit::sdf::uv_sphere(16, 32, 2.0);
     // Cut a cap off: an open mesh, as a scan with a hole.
     let open = certmesh::mesh::TriMesh::new(
         m.vertices.clone(),
@@ -223,7 +225,7 @@ fn mesh_input_remeshes_a_mesh_with_a_hole() {
     let mesh = certmesh::io::read_tri(&out).unwrap();
     // Normalised into the unit cube with the default 5% margin: radius 0.45 about ½.
     for p in &mesh.vertices {
-        let r = certmesh::geom::dist(*p, [0.5; 3]);
+        let r = certmesh::kernel::geom::dist(*p, [0.5; 3]);
         assert!((r - 0.45).abs() < 0.03, "vertex at radius {r}");
     }
     let (code, _, err) = certmesh(&[
@@ -246,5 +248,632 @@ fn mesh_input_remeshes_a_mesh_with_a_hole() {
     ]);
     assert_eq!(code, 2);
     assert!(err.contains("margin"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+// ---------------------------------------------------------------------------------
+// Issue 13 "smaller defects" and issue 12 "what users expect".
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// A fresh, empty temporary folder for one test.
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("certmesh-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Run certmesh in `dir`.
+fn certmesh_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_certmesh"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+/// The repository (for data/ files).
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Run `line` with `sh -c` in `dir`, the certmesh binary first on PATH.
+fn sh_in(dir: &Path, line: &str) -> (i32, String, String, Duration) {
+    let bin = Path::new(env!("CARGO_BIN_EXE_certmesh")).parent().unwrap();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let t0 = Instant::now();
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(line)
+        .current_dir(dir)
+        .env("PATH", path)
+        .output()
+        .expect("sh runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+        t0.elapsed(),
+    )
+}
+
+/// A JSON error object: exactly the keys error, kind, position.
+fn json_error(out: &str) -> serde_json::Value {
+    let v: serde_json::Value =
+        serde_json::from_str(out).unwrap_or_else(|e| panic!("not JSON ({e}): {out}"));
+    let o = v.as_object().expect("an object");
+    let mut keys: Vec<&str> = o.keys().map(|k| k.as_str()).collect();
+    keys.sort();
+    assert_eq!(keys, ["error", "kind", "position"], "{out}");
+    assert!(v["error"].as_str().is_some_and(|s| !s.is_empty()), "{out}");
+    v
+}
+
+#[test]
+fn json_errors_are_objects_on_stdout_with_exit_2() {
+    let dir = tmp("jsonerr");
+    let bad = dir.join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").unwrap();
+    let bad = bad.to_str().unwrap();
+    // (arguments, expected kind, expected position)
+    let cases: Vec<(Vec<&str>, &str, serde_json::Value)> = vec![
+        (
+            vec!["mesh", "--formula", "x^2 + * y", "--algo", "mc", "--json"],
+            "formula",
+            serde_json::json!(7),
+        ),
+        (
+            vec!["curve", "--formula", "x^2 + y^2 - 1", "--domain", "1,1,0,0", "--algo", "ms", "--json"],
+            "domain",
+            serde_json::Value::Null,
+        ),
+        (vec!["mesh", "no-such-surface", "--algo", "mc", "--json"], "unknown-name", serde_json::Value::Null),
+        (vec!["mesh", "sphere", "--algo", "mc", "--resolution", "abc", "--json"], "usage", serde_json::Value::Null),
+        (vec!["mesh", "sphere", "--algo", "mc", "--crossing", "cubic", "--json"], "unknown-name", serde_json::Value::Null),
+        (vec!["stats", bad, "--json"], "file", serde_json::json!(4)),
+        (vec!["stats", "/nonexistent/m.obj", "--json"], "io", serde_json::Value::Null),
+        (vec!["stats", "data-not-here.obj", "--formula", "x +", "--json"], "formula", serde_json::json!(4)),
+        (vec!["compare", "--surfaces", "no-such", "--json"], "unknown-name", serde_json::Value::Null),
+        (vec!["compare", "--surfaces", "circle", "--json"], "parameter", serde_json::Value::Null),
+        (vec!["surfaces", "--json", "--bogus"], "usage", serde_json::Value::Null),
+        (vec!["algos", "--json", "extra"], "usage", serde_json::Value::Null),
+        (vec!["demo", "--out", bad, "--json"], "io", serde_json::Value::Null),
+    ];
+    for (args, kind, pos) in cases {
+        let (code, out, err) = certmesh_in(&dir, &args);
+        assert_eq!(code, 2, "{args:?}: {out} {err}");
+        let v = json_error(&out);
+        assert_eq!(v["kind"], kind, "{args:?}: {out}");
+        assert_eq!(v["position"], pos, "{args:?}: {out}");
+        assert!(!err.contains("error"), "{args:?}: the error goes to stdout as JSON, stderr: {err}");
+    }
+    // Without --json the same error is text on stderr, with the same exit code.
+    let (code, out, err) = certmesh_in(&dir, &["mesh", "--formula", "x^2 + * y", "--algo", "mc"]);
+    assert_eq!(code, 2);
+    assert!(out.is_empty() && err.contains("column 7"), "{out} {err}");
+    // `reproduce` has no --json: an unknown paper is an input error (2) naming the papers.
+    let (code, _, err) = certmesh_in(&dir, &["reproduce", "no-such-paper"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("meshing-of-surfaces"), "{err}");
+    // A failure while writing at the end is a runtime failure (exit 1): /dev/full
+    // passes the checks (it opens) and fails on the write.
+    if Path::new("/dev/full").exists() {
+        std::os::unix::fs::symlink("/dev/full", dir.join("full.obj")).unwrap();
+        let (code, out, err) =
+            certmesh_in(&dir, &["mesh", "sphere", "--algo", "mc", "-o", "full.obj", "--json"]);
+        assert_eq!(code, 1, "{out} {err}");
+        let v = json_error(&out);
+        assert_eq!(v["kind"], "io", "{out}");
+    }
+    // A reader that stops early (`| head`) is not a crash.
+    // (The report lists thousands of regions: far more than a pipe buffer holds.)
+    let (code, out, err, _) = sh_in(
+        &dir,
+        "certmesh mesh --formula 0 --domain -1,-1,-1,1,1,1 --algo pv --max-boxes 2000 --json | head -n 1",
+    );
+    assert_eq!(code, 0);
+    assert_eq!(out.trim(), "{");
+    assert!(!err.contains("panicked"), "{err}");
+    // Help and version are not errors.
+    assert_eq!(certmesh_in(&dir, &["--help"]).0, 0);
+    assert_eq!(certmesh_in(&dir, &["--version"]).0, 0);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn outputs_are_checked_before_the_work_starts() {
+    let dir = tmp("outcheck");
+    let file = dir.join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let in_file = format!("{}/y.obj", file.display());
+    std::fs::create_dir(dir.join("d.obj")).unwrap();
+    // Resolution 500 marching cubes on the sphere takes far longer than the limit below
+    // if the mesher ran: each of these must fail before it starts.
+    for (out, what) in [
+        ("y.xyz", "xyz"),
+        ("/nonexistent-dir/y.obj", "does not exist"),
+        (in_file.as_str(), "does not exist"),
+        ("d.obj", "is a directory"),
+        ("c.svg", "cannot hold"),
+    ] {
+        let t0 = Instant::now();
+        let (code, stdout, err) = certmesh_in(
+            &dir,
+            &["mesh", "sphere", "--algo", "mc", "--resolution", "500", "-o", out, "--json"],
+        );
+        let dt = t0.elapsed();
+        assert_eq!(code, 2, "{out}: {stdout} {err}");
+        let v = json_error(&stdout);
+        assert!(v["error"].as_str().unwrap().contains(what), "{out}: {stdout}");
+        assert!(dt < Duration::from_secs(3), "{out}: failed only after {dt:?}");
+    }
+    // A curve cannot go to a surface format; a volume boundary must be a triangle format.
+    let (code, _, err) = certmesh_in(&dir, &["curve", "circle", "--algo", "ms", "-o", "c.obj"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cannot hold a curve"), "{err}");
+    let (code, _, err) = certmesh_in(
+        &dir,
+        &["mesh", "sphere", "--algo", "stuffing", "-o", "t.vtk", "--boundary", "b.svg"],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("b.svg"), "{err}");
+    // Nothing was left behind by the checks.
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let mut left = left;
+    left.sort();
+    assert_eq!(left, ["a-file", "d.obj"].map(std::ffi::OsString::from), "{left:?}");
+    // The other commands' outputs are checked the same way.
+    let (code, _, err) = certmesh_in(&dir, &["compare", "--surfaces", "sphere", "--algos", "mc", "-o", "t.txt"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("table format 'txt'"), "{err}");
+    let (code, _, err) = certmesh_in(
+        &dir,
+        &["compare", "--surfaces", "sphere", "--algos", "mc", "-o", "/nonexistent-dir/t.md"],
+    );
+    assert_eq!(code, 2, "{err}");
+    let spot = repo().join("data/spot.obj");
+    let (code, _, err) = certmesh_in(
+        &dir,
+        &["stats", spot.to_str().unwrap(), "--histogram", "/nonexistent-dir/h"],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("does not exist"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A long polynomial: `terms` copies of 0.0002·(x² + y² + z² − 1) summed term by term,
+/// i.e. the unit sphere scaled, as one formula of about 48 bytes per copy.
+fn long_sphere(terms: usize) -> String {
+    vec!["0.0002*x^2 + 0.0002*y^2 + 0.0002*z^2 - 0.0002"; terms].join(" + ")
+}
+
+#[test]
+fn formulas_beyond_the_argument_limit_come_from_files() {
+    let dir = tmp("formulafile");
+    let text = long_sphere(5000);
+    assert!(text.len() > 200 * 1024, "{}", text.len());
+    std::fs::write(dir.join("long.txt"), format!("{text}\n")).unwrap();
+    for form in [vec!["--formula", "@long.txt"], vec!["--formula-file", "long.txt"]] {
+        let mut args = vec!["mesh"];
+        args.extend(form.iter().copied());
+        args.extend(["--algo", "mc", "--resolution", "12", "-o", "l.obj", "--json"]);
+        let (code, out, err) = certmesh_in(&dir, &args);
+        assert_eq!(code, 0, "{form:?}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["components"], 1, "{out}");
+        assert_eq!(v["genus"], serde_json::json!([0]), "{out}");
+        assert_eq!(v["domain_source"], "default", "{out}");
+        // The scaled sphere: the mesh is within a cell of the unit sphere.
+        let m = certmesh::io::read_tri(dir.join("l.obj")).unwrap();
+        for p in &m.vertices {
+            let r = certmesh::kernel::geom::norm(*p);
+            assert!((r - 1.0).abs() < 0.34, "vertex at radius {r}");
+        }
+    }
+    // stats reads a formula file too.
+    let (code, out, err) = certmesh_in(&dir, &["stats", "l.obj", "--formula", "@long.txt", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["hausdorff"].as_f64().unwrap() < 0.2, "{out}");
+    // The same formula as an argument is beyond what the OS lets a program receive
+    // (on Linux one argument is at most 128 KiB): this is why the file form exists.
+    let direct = Command::new(env!("CARGO_BIN_EXE_certmesh"))
+        .args(["mesh", "--formula", &text, "--algo", "mc", "-o"])
+        .arg(dir.join("d.obj"))
+        .output();
+    if cfg!(target_os = "linux") {
+        assert!(direct.is_err(), "the OS accepted a {} byte argument", text.len());
+    }
+    // Errors in a formula file name the file and the column; a missing file is an i/o
+    // error naming the path.
+    std::fs::write(dir.join("bad.txt"), "x^2 + * y\n").unwrap();
+    let (code, out, _) = certmesh_in(&dir, &["mesh", "--formula", "@bad.txt", "--algo", "mc", "--json"]);
+    assert_eq!(code, 2);
+    let v = json_error(&out);
+    assert_eq!(v["position"], 7, "{out}");
+    assert!(v["error"].as_str().unwrap().starts_with("bad.txt: "), "{out}");
+    let (code, out, _) = certmesh_in(&dir, &["mesh", "--formula-file", "nope.txt", "--algo", "mc", "--json"]);
+    assert_eq!(code, 2);
+    assert!(json_error(&out)["error"].as_str().unwrap().contains("nope.txt"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn formulas_have_a_documented_default_domain() {
+    let dir = tmp("defaultdomain");
+    // The README's first example.
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &["mesh", "--formula", "x^2 + y^2 + z^2 - 1", "--algo", "mc", "-o", "sphere.obj"],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("domain: [-2, 2] × [-2, 2] × [-2, 2] (the default domain"), "{out}");
+    assert!(dir.join("sphere.obj").exists());
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &["curve", "--formula", "x^2 + y^2 - 1", "--algo", "pv", "-o", "c.svg", "--json"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["domain_source"], "default");
+    assert_eq!(v["domain"]["min"], serde_json::json!([-2.0, -2.0, 0.0]));
+    assert_eq!(v["domain"]["max"], serde_json::json!([2.0, 2.0, 0.0]));
+    assert_eq!(v["certified"], true, "{out}");
+    assert_eq!(v["components"], 1, "{out}");
+    // A catalog entry keeps its own domain and says so.
+    let (_, out, _) = certmesh_in(&dir, &["mesh", "sphere", "--algo", "mc", "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["domain_source"], "catalog");
+    // The default is documented in --help.
+    let (_, help, _) = certmesh_in(&dir, &["mesh", "--help"]);
+    assert!(help.contains("[-2, 2]³"), "{help}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The ```sh blocks of README.md, line by line (comments after `  #` removed), and the
+/// inline `certmesh ...` code spans outside them.
+fn readme_commands() -> Vec<String> {
+    let text = std::fs::read_to_string(repo().join("README.md")).unwrap();
+    let mut cmds = Vec::new();
+    let mut in_sh = false;
+    let mut in_other = false;
+    for line in text.lines() {
+        let t = line.trim();
+        if t.starts_with("```") {
+            if in_sh || in_other {
+                in_sh = false;
+                in_other = false;
+            } else if t == "```sh" {
+                in_sh = true;
+            } else {
+                in_other = true;
+            }
+            continue;
+        }
+        if in_sh {
+            let cmd = match t.find("  #") {
+                Some(i) => t[..i].trim(),
+                None => t,
+            };
+            if !cmd.is_empty() && !cmd.starts_with('#') {
+                cmds.push(cmd.to_string());
+            }
+        } else if !in_other {
+            for (k, span) in t.split('`').enumerate() {
+                if k % 2 == 1 && span.starts_with("certmesh ") && !cmds.contains(&span.to_string()) {
+                    cmds.push(span.to_string());
+                }
+            }
+        }
+    }
+    cmds
+}
+
+/// Commands shown in the README that the test does not run as written, with what it
+/// runs instead (None: not run) and why.
+const README_ALLOWLIST: &[(&str, Option<&str>, &str)] = &[
+    (
+        "cargo run --release -- demo",
+        Some("certmesh demo --quick"),
+        "the full demo takes minutes in a test build; the quick demo runs the same code",
+    ),
+    (
+        "cargo test --workspace",
+        None,
+        "the test suite itself (it would run this test recursively)",
+    ),
+];
+
+/// The example lines of `certmesh SUB --help`: after "Example:"/"Examples:", every
+/// non-empty line up to the next blank line must be a whole command (a wrapped line
+/// would fail here, not silently go untested).
+fn help_examples(help: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut in_block = false;
+    for line in help.lines() {
+        let t = line.trim();
+        if let Some(rest) = t.strip_prefix("Example:") {
+            if rest.trim().is_empty() {
+                in_block = true;
+            } else {
+                out.push(rest.trim().to_string());
+            }
+            continue;
+        }
+        if t == "Examples:" {
+            in_block = true;
+            continue;
+        }
+        if in_block {
+            if t.is_empty() {
+                in_block = false;
+            } else {
+                out.push(t.to_string());
+            }
+        }
+    }
+    for c in &out {
+        assert!(c.starts_with("certmesh "), "a help example that is not a command (wrapped?): {c}");
+    }
+    out
+}
+
+/// Every command README.md shows (its ```sh blocks and inline `certmesh ...` spans) and
+/// every example of the `--help` texts runs and exits 0, in one temporary folder with
+/// the repository's data/ linked in, README first (in order: later commands read what
+/// earlier ones wrote), then the help examples. A command shown in both places runs
+/// once. The only commands not run as shown are in README_ALLOWLIST, with the reason.
+#[test]
+fn every_documented_command_runs() {
+    let dir = tmp("documented");
+    std::os::unix::fs::symlink(repo().join("data"), dir.join("data")).unwrap();
+    let cmds = readme_commands();
+    assert!(
+        cmds.iter().filter(|c| c.starts_with("certmesh ")).count() >= 10,
+        "{cmds:?}"
+    );
+    assert!(cmds.contains(&"certmesh mesh --formula \"x^2 + y^2 + z^2 - 1\" --algo mc -o sphere.obj".to_string()), "{cmds:?}");
+    let mut todo: Vec<String> = Vec::new();
+    for c in &cmds {
+        match README_ALLOWLIST.iter().find(|(shown, _, _)| shown == c) {
+            Some((_, instead, why)) => {
+                eprintln!("README: `{c}` runs as {instead:?} ({why})");
+                if let Some(i) = instead {
+                    todo.push(i.to_string());
+                }
+            }
+            None => {
+                assert!(
+                    !c.starts_with("cargo "),
+                    "`{c}`: a cargo command in the README must be in README_ALLOWLIST"
+                );
+                todo.push(c.clone());
+            }
+        }
+    }
+    // The help examples, in this order (stats' example reads the mesh example's torus).
+    let mut from_help = 0;
+    for sub in ["surfaces", "algos", "mesh", "curve", "stats", "compare", "demo", "reproduce"] {
+        let (code, help, err) = certmesh_in(&dir, &[sub, "--help"]);
+        assert_eq!(code, 0, "{err}");
+        let ex = help_examples(&help);
+        assert!(!ex.is_empty(), "`certmesh {sub} --help` shows no example");
+        from_help += ex.len();
+        todo.extend(ex);
+    }
+    assert!(from_help >= 12, "{from_help} help examples");
+    let mut done: Vec<&str> = Vec::new();
+    for c in &todo {
+        if done.contains(&c.as_str()) {
+            continue;
+        }
+        let (code, out, err, dt) = sh_in(&dir, c);
+        eprintln!("`{c}`: exit {code} in {dt:.1?}");
+        assert_eq!(code, 0, "documented command `{c}` failed:\n{out}\n{err}");
+        done.push(c);
+    }
+    // The files the README says its commands write.
+    for f in ["sphere.obj", "torus.obj", "torus-angles.svg", "torus-angles.png", "cassini.svg", "ellipse.csv", "x.obj", "quartic.ply", "cmp.csv", "spot-remesh.obj", "out/demo/compare.json"] {
+        assert!(dir.join(f).exists(), "{f} was not written");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn progress_is_shown_on_a_terminal_only_and_not_with_quiet() {
+    let dir = tmp("progress");
+    let bunny = repo().join("data/stanford-bunny.obj");
+    let args = format!(
+        "stats {} --formula 'x^2 + y^2 + z^2 - 0.01'",
+        bunny.display()
+    );
+    // stderr not a terminal (as here): nothing but the report.
+    let (code, _, err, _) = sh_in(&dir, &format!("certmesh {args}"));
+    assert_eq!(code, 0, "{err}");
+    assert!(err.is_empty(), "progress drawn on a pipe: {err}");
+    // On a terminal (util-linux `script` gives one), a run of over a second shows its
+    // phases; with --quiet it does not.
+    let has_script = Command::new("script").arg("--version").output().is_ok();
+    if !has_script {
+        eprintln!("no `script` program: the terminal half of this test is skipped");
+        return;
+    }
+    let bin = env!("CARGO_BIN_EXE_certmesh");
+    let tty = |extra: &str| {
+        let out = Command::new("script")
+            .args(["-qec", &format!("{bin} {extra} {args}"), "/dev/null"])
+            .output()
+            .unwrap();
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let shown = tty("");
+    assert!(shown.contains("fidelity") && shown.contains("(0s)"), "{shown}");
+    let quiet = tty("--quiet");
+    assert!(quiet.contains("vertices"), "{quiet}");
+    assert!(!quiet.contains("fidelity ("), "{quiet}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn compare_checks_dimensions_and_writes_the_format_of_its_extension() {
+    let dir = tmp("compare");
+    let (code, out, err) = certmesh_in(&dir, &["compare", "--surfaces", "sphere", "--algos", "ms"]);
+    assert_eq!(code, 2, "{out}");
+    assert!(err.contains("'ms' meshes curves (2D) only"), "{err}");
+    let (code, _, err) = certmesh_in(&dir, &["compare", "--surfaces", "circle"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("'circle' is a curve: give it with --curves"), "{err}");
+    let (code, _, err) = certmesh_in(&dir, &["compare", "--curves", "sphere"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("'sphere' is a surface: give it with --surfaces"), "{err}");
+    let base = ["compare", "--surfaces", "sphere", "--curves", "circle", "--algos", "mc,ms", "--resolution", "16"];
+    for (file, check) in [
+        ("cmp.json", "json"),
+        ("cmp.md", "md"),
+        ("cmp.csv", "csv"),
+    ] {
+        let mut args = base.to_vec();
+        args.extend(["-o", file]);
+        let (code, out, err) = certmesh_in(&dir, &args);
+        assert_eq!(code, 0, "{err}");
+        assert!(out.contains("| sphere | mc |") && out.contains("| circle | ms |"), "{out}");
+        assert!(out.contains("not run") && out.contains("ms on sphere"), "{out}");
+        let text = std::fs::read_to_string(dir.join(file)).unwrap();
+        match check {
+            "json" => {
+                let v: serde_json::Value = serde_json::from_str(&text).expect("JSON in cmp.json");
+                let rows = v.as_array().unwrap();
+                assert_eq!(rows.len(), 2, "{text}");
+                assert!(rows.iter().any(|r| r["surface"] == "circle" && r["algo"] == "ms"));
+            }
+            "md" => assert!(text.starts_with("| surface | algo |"), "{text}"),
+            _ => {
+                let lines: Vec<&str> = text.lines().collect();
+                assert_eq!(lines.len(), 3, "{text}");
+                assert!(lines[0].starts_with("surface,algo,dim,"), "{text}");
+                assert!(lines[1].starts_with("sphere,mc,3,true,"), "{text}");
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn stats_histogram_with_an_image_extension_writes_that_file() {
+    let dir = tmp("hist");
+    let spot = repo().join("data/spot.obj");
+    let (code, out, err) = certmesh_in(&dir, &["stats", spot.to_str().unwrap(), "--histogram", "h.png"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(dir.join("h.png").exists() && dir.join("h.svg").exists(), "{out}");
+    assert!(!dir.join("h.png.png").exists() && !dir.join("h.png.svg").exists());
+    let (code, _, err) = certmesh_in(&dir, &["stats", spot.to_str().unwrap(), "--histogram", "g.svg"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(dir.join("g.png").exists() && dir.join("g.svg").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn undefined_and_infinite_figures_are_reported_as_such() {
+    let dir = tmp("honest");
+    // mc on 1/x meshes the pole x = 0: no point of that mesh is on f = 0.
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &["mesh", "--formula", "1/x", "--domain", "-1.1,-1,-1,1,1,1", "--algo", "mc", "-o", "p.obj", "--json"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["faces"].as_u64().unwrap() > 0, "{out}");
+    assert_eq!(v["hausdorff"], serde_json::Value::Null, "{out}");
+    let note = v["hausdorff_note"].as_str().expect("a reason");
+    assert!(note.starts_with("undefined") && note.contains("no mesh point"), "{note}");
+    assert!(v["hausdorff_kind"].as_str().unwrap().contains("estimate"), "{out}");
+    let (_, text, _) = certmesh_in(
+        &dir,
+        &["mesh", "--formula", "1/x", "--domain", "-1.1,-1,-1,1,1,1", "--algo", "mc", "-o", "p.obj"],
+    );
+    assert!(text.contains("Hausdorff (est.)") && text.contains("| undefined |"), "{text}");
+    // stats: null in JSON with the reason, "undefined" in text; the field names stay.
+    let (code, out, err) = certmesh_in(&dir, &["stats", "p.obj", "--formula", "1/x", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for k in ["hausdorff", "hausdorff_mesh_to_surface", "hausdorff_surface_to_mesh"] {
+        assert_eq!(v[k], serde_json::Value::Null, "{k}: {out}");
+        assert!(v["fidelity_undefined"][k].as_str().is_some(), "{k}: {out}");
+    }
+    // The normals cannot be compared with ∇f on f = 0 either (no centre projects).
+    assert_eq!(v["normal_dev_max_deg"], serde_json::Value::Null, "{out}");
+    assert!(v["fidelity_undefined"]["normal_dev_max_deg"].as_str().is_some(), "{out}");
+    let (_, text, _) = certmesh_in(&dir, &["stats", "p.obj", "--formula", "1/x"]);
+    assert!(text.contains("Hausdorff (est.) ≈ undefined"), "{text}");
+    assert!(text.contains("normal deviation max undefined"), "{text}");
+    // f ≡ 0: every point is on f = 0 (distance 0 is measured, not assumed), but there is
+    // no normal to compare with: undefined, not 0.
+    let (_, out, _) = certmesh_in(&dir, &["stats", "p.obj", "--formula", "0", "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["hausdorff_mesh_to_surface"], 0.0, "{out}");
+    assert!(v["hausdorff_surface_to_mesh"].as_f64().unwrap() > 0.1, "{out}");
+    assert_eq!(v["normal_dev_max_deg"], serde_json::Value::Null, "{out}");
+    assert!(v["fidelity_undefined"]["normal_dev_max_deg"].as_str().unwrap().contains("∇f"), "{out}");
+    // A regular case has every figure, and no reasons.
+    let (_, out, _) = certmesh_in(&dir, &["mesh", "sphere", "--algo", "mc", "--resolution", "24", "-o", "s.obj"]);
+    assert!(out.contains("wrote s.obj"), "{out}");
+    let (_, out, _) = certmesh_in(&dir, &["stats", "s.obj", "--surface", "sphere", "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["hausdorff"].as_f64().unwrap() < 0.05, "{out}");
+    assert_eq!(v["fidelity_undefined"], serde_json::json!({}), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_run_stopped_by_its_box_budget_says_so() {
+    let dir = tmp("budget");
+    let t0 = Instant::now();
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &["mesh", "--formula", "0", "--domain", "-1,-1,-1,1,1,1", "--algo", "pv", "--max-boxes", "2000", "-o", "x.obj", "--json"],
+    );
+    let dt = t0.elapsed();
+    assert_eq!(code, 0, "{err}");
+    assert!(dt < Duration::from_secs(20), "took {dt:?}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["certified"], false, "{out}");
+    assert_eq!(v["certificate"]["status"], "uncertified");
+    assert_eq!(v["stats"]["refinement_complete"], false);
+    assert_eq!(v["refinement_complete"], false);
+    assert_eq!(v["stopped"], "box budget exhausted (raise --max-boxes)");
+    let (code, text, _) = certmesh_in(
+        &dir,
+        &["mesh", "--formula", "0", "--domain", "-1,-1,-1,1,1,1", "--algo", "pv", "--max-boxes", "2000", "-o", "x.obj"],
+    );
+    assert_eq!(code, 0);
+    assert!(
+        text.contains("stopped before the refinement was complete: box budget exhausted (raise --max-boxes)"),
+        "{text}"
+    );
+    assert!(!text.contains("proven:"), "{text}");
+    // A complete run has no `stopped`.
+    let (_, out, _) = certmesh_in(&dir, &["mesh", "sphere", "--algo", "pv", "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["stopped"], serde_json::Value::Null, "{out}");
+    assert_eq!(v["refinement_complete"], true, "{out}");
+    // The options are documented and checked.
+    let (_, help, _) = certmesh_in(&dir, &["mesh", "--help"]);
+    assert!(help.contains("--max-boxes") && help.contains("refinement_complete: false"), "{help}");
+    assert!(help.contains("--time-limit"), "{help}");
+    let (code, _, err) = certmesh_in(&dir, &["mesh", "sphere", "--algo", "pv", "--time-limit", "-1"]);
+    assert_eq!(code, 2, "{err}");
+    let (code, _, err) = certmesh_in(&dir, &["mesh", "sphere", "--algo", "pv", "--max-boxes", "0"]);
+    assert_eq!(code, 2, "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -1,9 +1,9 @@
 //! The comparison harness judges outputs against the catalog: the uncertified baseline
 //! merges the two spheres at a coarse odd resolution, the certified mesher does not.
 use certmesh::catalog;
-use certmesh::compare::compare;
+use certmesh::harness::compare::compare;
+use certmesh::mesher::options::MesherOptions;
 use certmesh::mesher::NoProgress;
-use certmesh::options::MesherOptions;
 
 #[test]
 fn harness_flags_the_baselines_wrong_topology_and_certifies_pv() {

@@ -1,7 +1,6 @@
 //! MidNormal / GradNormal (Hass & Trnkova 2020): tiling, Lemma 4.1, manifoldness and
 //! topology, the valence-four step, the planar version, options.
 use certmesh::catalog;
-use certmesh::geom::{add, scale, sub, Aabb};
 use certmesh::gradnormal::check::{angle_range, topology};
 use certmesh::gradnormal::midnormal::extract;
 use certmesh::gradnormal::planar::{GradNormal2, MidNormal2};
@@ -9,11 +8,11 @@ use certmesh::gradnormal::tiling::{
     colour, edge_endpoints, Goldberg, TetType, PAPER_RATIOS, SOMMERVILLE_RATIO,
 };
 use certmesh::gradnormal::valence4::remove_valence4;
-use certmesh::gradnormal::{
-    reproduce::is_sommerville, DiagonalRule, GradNormal, GradNormalParams, MidNormal,
-};
+use certmesh::gradnormal::{DiagonalRule, GradNormal, GradNormalParams, MidNormal};
+use certmesh::kernel::geom::{add, scale, sub, Aabb};
 use certmesh::mesh::TriMesh;
 use certmesh::mesher::{Mesh, Mesher, NoProgress};
+use certmesh::reproduce::gradnormal::is_sommerville;
 use certmesh::{Formula, MesherOptions};
 use proptest::prelude::*;
 
@@ -134,8 +133,8 @@ proptest! {
         // Oriented towards f > 0.
         for t in 0..m.triangles.len() {
             let [a, bb, cc] = m.corners(t);
-            let nn = certmesh::geom::cross(sub(bb, a), sub(cc, a));
-            prop_assert!(certmesh::geom::dot(nn, n) > 0.0);
+            let nn = certmesh::kernel::geom::cross(sub(bb, a), sub(cc, a));
+            prop_assert!(certmesh::kernel::geom::dot(nn, n) > 0.0);
         }
     }
 }
@@ -442,7 +441,7 @@ fn planar_circle_and_cassini() {
 
 #[test]
 fn goldberg_markdown_names_the_appendix_value() {
-    let md = certmesh::gradnormal::reproduce::goldberg_markdown();
+    let md = certmesh::reproduce::gradnormal::goldberg_markdown();
     assert_eq!(md.matches("**yes**").count(), 1);
     let yes_line = md.lines().find(|l| l.contains("**yes**")).unwrap();
     assert!(yes_line.contains("Appendix A"), "{yes_line}");
@@ -454,7 +453,7 @@ fn goldberg_markdown_names_the_appendix_value() {
 #[ignore = "reproduction: run with --ignored (about a minute)"]
 fn reproduce_quick() {
     let dir = std::env::temp_dir().join("certmesh-gradnormal-quick");
-    certmesh::gradnormal::reproduce(&dir, true).unwrap();
+    certmesh::reproduce::gradnormal::reproduce(&dir, true).unwrap();
     let md = std::fs::read_to_string(dir.join("README.md")).unwrap();
     assert!(md.contains("## Table 1") && md.contains("Random planes"));
     assert!(dir.join("angles.svg").exists() && dir.join("angles.png").exists());
@@ -465,13 +464,13 @@ fn reproduce_quick() {
 #[ignore = "full reproduction: writes papers/gradnormal (several minutes)"]
 fn reproduce_full() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/gradnormal");
-    certmesh::gradnormal::reproduce(&dir, false).unwrap();
+    certmesh::reproduce::gradnormal::reproduce(&dir, false).unwrap();
 }
 
 #[test]
 #[ignore = "diagnostic"]
 fn diagnose_extremes() {
-    use certmesh::gradnormal::reproduce::{explain_plane_extreme, plane_angles};
+    use certmesh::reproduce::gradnormal::{explain_plane_extreme, plane_angles};
     let p = GradNormalParams::new().with_scale(0.2);
     for (n, c) in [
         ([-0.16272, 0.87218, 0.46134], -0.11084),
@@ -486,7 +485,7 @@ fn diagnose_extremes() {
 #[test]
 #[ignore = "diagnostic"]
 fn refine_max() {
-    use certmesh::gradnormal::reproduce::{plane_angles, Rng};
+    use certmesh::reproduce::gradnormal::{plane_angles, Rng};
     let p = GradNormalParams::new().with_scale(0.2);
     let mut best = (([-0.16272f64, 0.87218, 0.46134], -0.11084f64), 0.0f64);
     best.1 = plane_angles(best.0 .0, best.0 .1, &p, false).unwrap().1;
@@ -517,7 +516,7 @@ fn refine_max() {
 /// giving more is a witness against it.
 #[test]
 fn valence4_square_exceeds_paper_bound() {
-    use certmesh::geom::{angle_deg, cross, dot, normalize};
+    use certmesh::kernel::geom::{angle_deg, cross, dot, normalize};
     let t = Goldberg::sommerville(1.0).tetrahedron();
     let [a, b, c, d] = t;
     let b2 = sub(add(a, d), b);
@@ -584,7 +583,7 @@ fn valence4_square_exceeds_paper_bound() {
 
 #[test]
 fn appendix_arcs_table() {
-    let rows = certmesh::gradnormal::reproduce::valence4_square_arcs(2000);
+    let rows = certmesh::reproduce::gradnormal::valence4_square_arcs(2000);
     assert_eq!(rows.len(), 10);
     let paper_max = rows
         .iter()

@@ -2,11 +2,11 @@
 //! adequate resolution; watertight on random functions; pruning changes nothing; and
 //! the wrong topology at coarse resolution on the catalog's hard entries.
 use certmesh::catalog;
-use certmesh::grid::{Grid, Samples};
+use certmesh::lattice::grid::{Grid, Samples};
 use certmesh::marching::{marching_cubes, MarchingCubes, MarchingSquares, MarchingTetrahedra};
 use certmesh::mesh::{Curve2, TriMesh};
+use certmesh::mesher::options::{Crossing, MesherOptions};
 use certmesh::mesher::{Mesh, MeshOutput, Mesher, NoProgress};
-use certmesh::options::{Crossing, MesherOptions};
 use certmesh::{Aabb, Error, Formula, Implicit};
 use proptest::prelude::*;
 use std::collections::HashMap;
@@ -172,7 +172,7 @@ fn bisection_puts_vertices_on_the_surface() {
         let w = m
             .vertices
             .iter()
-            .map(|&p| f.eval(p).abs() / certmesh::geom::norm(f.grad(p).g))
+            .map(|&p| f.eval(p).abs() / certmesh::kernel::geom::norm(f.grad(p).g))
             .fold(0.0, f64::max);
         (w, out.stats["crossing_evaluations"].as_u64().unwrap(), m)
     };

@@ -1,9 +1,9 @@
 //! Metrics on hand-built meshes whose answers are known exactly, property tests of the
 //! geometric primitives, BVH against brute force, fidelity on refined icospheres, and
 //! the Stanford bunny scan (holes and isolated vertices).
-use certmesh::bvh::{closest_on_triangle, Bvh, Feature, SegBvh, TriBvh};
 use certmesh::catalog::{self, Topology};
-use certmesh::geom::{self, Aabb};
+use certmesh::kernel::bvh::{closest_on_triangle, Bvh, Feature, SegBvh, TriBvh};
+use certmesh::kernel::geom::{self, Aabb};
 use certmesh::mesh::{Curve2, TetMesh, TriMesh};
 use certmesh::metrics::{self, angles, fidelity, FidelityParams};
 use certmesh::{Formula, Implicit};
@@ -760,7 +760,8 @@ fn segment_bvh_matches_brute_force() {
             .iter()
             .map(|&[a, b]| {
                 let l = |i: u32| [c.vertices[i as usize][0], c.vertices[i as usize][1], 0.0];
-                let (q, _) = certmesh::bvh::closest_on_segment([p[0], p[1], 0.0], l(a), l(b));
+                let (q, _) =
+                    certmesh::kernel::bvh::closest_on_segment([p[0], p[1], 0.0], l(a), l(b));
                 let d = geom::sub([p[0], p[1], 0.0], q);
                 geom::dot(d, d)
             })
@@ -982,10 +983,7 @@ fn read_obj_for_test(text: &str) -> TriMesh {
 
 #[test]
 fn stanford_bunny_stats() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/data/stanford-bunny.obj"
-    );
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/stanford-bunny.obj");
     let Ok(text) = std::fs::read_to_string(path) else {
         eprintln!("skipping: {path} not found");
         return;

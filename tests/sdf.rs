@@ -1,10 +1,10 @@
-//! Signed distance to a triangle mesh (`certmesh::sdf`): distance, winding-number sign
+//! Signed distance to a triangle mesh (`certmesh::implicit::sdf`): distance, winding-number sign
 //! with and without holes, gradient, enclosures, normalisation and bad input.
-use certmesh::bvh::TriBvh;
-use certmesh::geom::{dot, norm, scale, sub};
+use certmesh::implicit::sdf::{fill_holes, normalize_to_unit_cube, uv_sphere, MeshSdf};
 use certmesh::implicit::Implicit;
+use certmesh::kernel::bvh::TriBvh;
+use certmesh::kernel::geom::{dot, norm, scale, sub};
 use certmesh::mesh::TriMesh;
-use certmesh::sdf::{fill_holes, normalize_to_unit_cube, uv_sphere, MeshSdf};
 use inari::Interval;
 use proptest::prelude::*;
 
@@ -205,10 +205,11 @@ fn bad_input_is_an_error_naming_the_problem() {
     let m = uv_sphere(4, 8, 1.0);
     let e = normalize_to_unit_cube(&m, 0.5).unwrap_err().to_string();
     assert!(e.contains("margin"), "{e}");
-    let e = certmesh::sdf::from_file(std::path::Path::new("/nonexistent/x.obj"), 0.05, true)
-        .err()
-        .unwrap()
-        .to_string();
+    let e =
+        certmesh::implicit::sdf::from_file(std::path::Path::new("/nonexistent/x.obj"), 0.05, true)
+            .err()
+            .unwrap()
+            .to_string();
     assert!(e.contains("/nonexistent/x.obj"), "{e}");
 }
 

@@ -3,8 +3,8 @@
 use certmesh::catalog;
 use certmesh::implicit::Implicit;
 use certmesh::mesh::{TetMesh, TriMesh};
+use certmesh::mesher::options::{Crossing, MesherOptions};
 use certmesh::mesher::{Mesh, Mesher, NoProgress};
-use certmesh::options::{Crossing, MesherOptions};
 use certmesh::stuffing::{
     check_conforming, quality, stuff, stuff_double_sided, Order, QuadZero, Seeding, Side, Stuffing,
     StuffingParams, TABLE1,
@@ -504,10 +504,10 @@ fn outside_side_meshes_the_exterior() {
     let vol: f64 = (0..s.mesh.tets.len())
         .map(|t| {
             let c = s.mesh.corners(t);
-            let u = certmesh::geom::sub(c[1], c[0]);
-            let v = certmesh::geom::sub(c[2], c[0]);
-            let w = certmesh::geom::sub(c[3], c[0]);
-            certmesh::geom::dot(certmesh::geom::cross(u, v), w) / 6.0
+            let u = certmesh::kernel::geom::sub(c[1], c[0]);
+            let v = certmesh::kernel::geom::sub(c[2], c[0]);
+            let w = certmesh::kernel::geom::sub(c[3], c[0]);
+            certmesh::kernel::geom::dot(certmesh::kernel::geom::cross(u, v), w) / 6.0
         })
         .sum();
     assert!(vol > 10.0, "exterior volume {vol}");
@@ -602,7 +602,7 @@ fn mesher_interface_and_options() {
 #[test]
 fn reproduce_quick_writes_tables_and_histograms() {
     let dir = std::env::temp_dir().join(format!("certmesh-stuffing-{}", std::process::id()));
-    certmesh::stuffing::reproduce(&dir, true).unwrap();
+    certmesh::reproduce::stuffing_report::reproduce(&dir, true).unwrap();
     let md = std::fs::read_to_string(dir.join("README.md")).unwrap();
     for r in TABLE1.iter() {
         assert!(md.contains(r.name), "{}", r.name);
@@ -622,12 +622,14 @@ fn reproduce_quick_writes_tables_and_histograms() {
 #[ignore]
 fn reproduce_papers_stuffing() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/stuffing");
-    certmesh::stuffing::reproduce(&dir, false).unwrap();
+    certmesh::reproduce::stuffing_report::reproduce(&dir, false).unwrap();
 }
 
 #[test]
 fn histogram_bins_are_two_degrees() {
-    let b = certmesh::stuffing::report_bins(&[0.5, 1.9, 2.0, 59.99, 60.0, 179.9, 180.0]);
+    let b = certmesh::reproduce::stuffing_report::bins_2deg(&[
+        0.5, 1.9, 2.0, 59.99, 60.0, 179.9, 180.0,
+    ]);
     assert_eq!(b[0], 2);
     assert_eq!(b[1], 1);
     assert_eq!(b[29], 1);
@@ -793,7 +795,7 @@ fn graded_scan_all_rows() {
 /// the unwarped apex opens beyond 147.0470°. Witness: genus5 at 21 cubes, offset below.
 #[test]
 fn graded_dagger_147_is_exceeded_on_a_half_pyramid() {
-    use certmesh::geom::angle_deg;
+    use certmesh::kernel::geom::angle_deg;
     use certmesh::stuffing::graded::stuff_graded;
     let e = catalog::get("genus5").unwrap();
     let f = e.function();

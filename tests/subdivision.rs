@@ -2,7 +2,7 @@
 use certmesh::catalog;
 use certmesh::mesh::{Curve2, TriMesh};
 use certmesh::mesher::{Mesh, MeshOutput, Mesher, NoProgress};
-use certmesh::plantinga_vegter::{PlantingaVegter, PlantingaVegter2};
+use certmesh::subdivision::plantinga_vegter::{PlantingaVegter, PlantingaVegter2};
 use certmesh::Implicit;
 use std::collections::HashMap;
 
@@ -111,9 +111,12 @@ fn outward_fraction(f: &dyn Implicit, m: &TriMesh) -> f64 {
     let mut good = 0;
     for t in 0..m.triangles.len() {
         let [a, b, c] = m.corners(t);
-        let n = certmesh::geom::cross(certmesh::geom::sub(b, a), certmesh::geom::sub(c, a));
+        let n = certmesh::kernel::geom::cross(
+            certmesh::kernel::geom::sub(b, a),
+            certmesh::kernel::geom::sub(c, a),
+        );
         let cen = [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0);
-        if certmesh::geom::dot(n, f.grad(cen).g) > 0.0 {
+        if certmesh::kernel::geom::dot(n, f.grad(cen).g) > 0.0 {
             good += 1;
         }
     }
@@ -180,7 +183,7 @@ fn pv_surfaces_certified_with_catalog_topology() {
     }
 }
 
-use certmesh::snyder::{Snyder, Snyder2, SnyderParams};
+use certmesh::subdivision::snyder::{Snyder, Snyder2, SnyderParams};
 
 #[test]
 fn snyder_curves_certified_with_catalog_topology() {
@@ -270,7 +273,7 @@ fn singular_entries_reported_near_the_singular_point() {
         (
             "double-cone",
             Box::new(PlantingaVegter::new(
-                certmesh::plantinga_vegter::PvParams::new(3).with_max_depth(8),
+                certmesh::subdivision::plantinga_vegter::PvParams::new(3).with_max_depth(8),
             )) as Box<dyn Mesher>,
         ),
         (
@@ -298,7 +301,7 @@ fn singular_entries_reported_near_the_singular_point() {
         );
         for r in singular {
             // Every box suspected of a singular point lies near the node at the origin.
-            let d = certmesh::geom::norm(r.region.center());
+            let d = certmesh::kernel::geom::norm(r.region.center());
             assert!(
                 d < 0.1,
                 "{name}: singular box at distance {d} from the node"
@@ -367,7 +370,7 @@ mod props {
                                cx in -0.2f64..0.2, o in -0.2f64..0.2) {
             let f = Formula::surface(&format!("(x - ({cx}))^2/{a}^2 + y^2/{b}^2 + z^2/{c}^2 - 1")).unwrap();
             let dom = certmesh::Aabb { min: [-1.3 + o, -1.25, -1.2 - o], max: [1.3 + o, 1.2, 1.25] };
-            let out = PlantingaVegter::new(certmesh::plantinga_vegter::PvParams::new(3).with_min_depth(1))
+            let out = PlantingaVegter::new(certmesh::subdivision::plantinga_vegter::PvParams::new(3).with_min_depth(1))
                 .mesh(&f, &dom, &NoProgress).unwrap();
             prop_assert!(out.certificate.is_certified());
             if let Mesh::Surface(m) = &out.mesh {
@@ -396,7 +399,7 @@ mod props {
 /// tables say what the paper folder claims.
 #[test]
 fn reproduce_quick_mode() {
-    use certmesh::subdivision::reproduce::reproduce_report;
+    use certmesh::reproduce::meshing_of_surfaces::reproduce_report;
     let dir = std::env::temp_dir().join(format!("certmesh-mos-{}", std::process::id()));
     let rep = reproduce_report(&dir, true).unwrap();
     for f in [
@@ -516,10 +519,10 @@ mod primitives {
             let g = [0, 1, 2].map(|k| iv(lo[k], lo[k] + wid[k]));
             let u = [0, 1, 2].map(|k| lo[k] + s[k] * wid[k]);
             let v = [0, 1, 2].map(|k| lo[k] + t[k] * wid[k]);
-            let nu = certmesh::geom::norm(u);
-            let nv = certmesh::geom::norm(v);
+            let nu = certmesh::kernel::geom::norm(u);
+            let nv = certmesh::kernel::geom::norm(v);
             prop_assume!(nu > 1e-9 && nv > 1e-9);
-            let cos = certmesh::geom::dot(u, v) / (nu * nv);
+            let cos = certmesh::kernel::geom::dot(u, v) / (nu * nv);
             let crude = cos_lower_bound(&g, 3, AngleBound::Crude);
             let sharp = cos_lower_bound(&g, 3, AngleBound::Sharp);
             if let Some(c) = crude {
@@ -596,8 +599,8 @@ mod primitives {
             assert!(back.min[k] <= d.min[k] && back.max[k] >= d.max[k]);
         }
         let (p, q) = ([0.1, 0.2, 0.3], [-0.4, 0.5, 0.9]);
-        let d0 = certmesh::geom::dist(p, q);
-        let d1 = certmesh::geom::dist(m.map(p), m.map(q));
+        let d0 = certmesh::kernel::geom::dist(p, q);
+        let d1 = certmesh::kernel::geom::dist(m.map(p), m.map(q));
         assert!((d0 - d1).abs() < 1e-12);
         // The domain centre is not a grid point of any level up to 20 of the moved box.
         let c = [0, 1, 2].map(|k| {
@@ -632,7 +635,7 @@ fn curve_orientation_is_ccw_around_the_solid() {
             let (a, b) = (c.vertices[s[0] as usize], c.vertices[s[1] as usize]);
             let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0, 0.0];
             let left = [-(b[1] - a[1]), b[0] - a[0], 0.0];
-            if certmesh::geom::dot(left, f.grad(mid).g) < 0.0 {
+            if certmesh::kernel::geom::dot(left, f.grad(mid).g) < 0.0 {
                 good += 1;
             }
         }
@@ -646,7 +649,7 @@ fn curve_orientation_is_ccw_around_the_solid() {
 #[test]
 fn slices_of_meshes() {
     use certmesh::marching::MarchingCubes;
-    use certmesh::subdivision::reproduce::slice;
+    use certmesh::reproduce::meshing_of_surfaces::slice;
     let e = catalog::get("sphere").unwrap();
     let f = e.function();
     let out = PlantingaVegter::default()

@@ -232,44 +232,63 @@ fn run(cli: Cli) -> Result<(), Fail> {
             budget.budget()?,
         ),
         Cmd::StuffingFigures { certs, out, bounds } => {
-            if !certs.is_dir() {
+            // Everything is checked before anything is written: unknown bound names, a
+            // missing folder, a file that is not a certificate, no certificate at all.
+            let known: Vec<&str> = stuffing::BOUNDS.iter().map(|(n, _, _)| *n).collect();
+            let wanted: Vec<&str> = bounds.split(',').map(str::trim).collect();
+            if let Some(bad) = wanted.iter().find(|w| !known.contains(w)) {
                 return Err(Fail::input(format!(
-                    "--certs {}: not a directory",
-                    certs.display()
+                    "unknown bound '{bad}' in --bounds; known: {}",
+                    known.join(" ")
                 )));
             }
-            for bn in bounds.split(',') {
-                if !stuffing::BOUNDS.iter().any(|b| b.0 == bn) {
+            // --certs is a folder of ROW.json certificates, or one certificate file.
+            let certs_found: Vec<(String, stuffing::Certificate)> = if certs.is_file() {
+                let c = load_stuffing(&certs)?;
+                vec![(c.row.clone(), c)]
+            } else if certs.is_dir() {
+                let mut v = Vec::new();
+                for name in stuffing::row_names() {
+                    let p = certs.join(format!("{name}.json"));
+                    if p.exists() {
+                        v.push((name.to_string(), load_stuffing(&p)?));
+                    }
+                }
+                if v.is_empty() {
                     return Err(Fail::input(format!(
-                        "--bounds: unknown bound `{bn}` (one of {})",
-                        stuffing::BOUNDS.map(|b| b.0).join(", ")
+                        "{}: no stuffing certificate ROW.json in this folder (rows: {})",
+                        certs.display(),
+                        stuffing::row_names().join(" ")
                     )));
                 }
-            }
-            let found: Vec<(&str, PathBuf)> = stuffing::row_names()
-                .into_iter()
-                .map(|n| (n, certs.join(format!("{n}.json"))))
-                .filter(|(_, p)| p.exists())
-                .collect();
-            if found.is_empty() {
+                v
+            } else {
                 return Err(Fail::input(format!(
-                    "--certs {}: no stuffing certificate ROW.json in it",
+                    "{}: no such certificate file or folder",
                     certs.display()
                 )));
-            }
+            };
             std::fs::create_dir_all(&out)
                 .map_err(|e| Fail::input(format!("{}: {e}", out.display())))?;
-            for (name, p) in found {
-                let c = load_stuffing(&p)?;
+            let mut written = 0;
+            for (name, c) in &certs_found {
                 for (b, (bn, _, _)) in stuffing::BOUNDS.iter().enumerate() {
-                    if !bounds.split(',').any(|x| x == *bn) {
+                    if !wanted.contains(bn) {
                         continue;
                     }
                     let stem = out.join(format!("{name}-{bn}"));
-                    if proofs::stuffing::figures::witness_figure(&c, b, &stem)? {
+                    if proofs::stuffing::figures::witness_figure(c, b, &stem)? {
                         println!("{}.svg", stem.display());
+                        written += 1;
                     }
                 }
+            }
+            if written == 0 {
+                return Err(Fail::input(format!(
+                    "no figure written: the {} certificate(s) read have no witness for {}",
+                    certs_found.len(),
+                    wanted.join(", ")
+                )));
             }
             Ok(())
         }

@@ -1,8 +1,8 @@
 //! Tests of the isosurface-stuffing proof: the case enumeration against the meshes the
 //! mesher actually produces, a hand-checkable sub-case (the undisturbed BCC
 //! tetrahedron), enclosure properties of the angle functions, and certificate checking.
-use certmesh::bcc::NEIGHBORS;
 use certmesh::catalog;
+use certmesh::lattice::bcc::NEIGHBORS;
 use certmesh::stuffing::stencils::TABLE;
 use certmesh::stuffing::{self, generate, prepare, Field};
 use proofs::stuffing::cases::{canonical, output_cases, Alphas, Case, Kind, Seg, Sym, DEN};

@@ -1,7 +1,7 @@
 //! Small mesh checks used by the GradNormal report and reproduction: angles and the
 //! topology of a closed triangle mesh. (The shared `metrics` module supersedes these
 //! when merged; they are kept minimal on purpose.)
-use crate::geom::angle_deg;
+use crate::kernel::geom::angle_deg;
 use crate::mesh::TriMesh;
 use rayon::prelude::*;
 use std::collections::HashMap;

@@ -16,8 +16,8 @@ use super::tiling::{
 };
 use super::DiagonalRule;
 use crate::error::{Error, Result};
-use crate::geom::{add, cross, dot, scale, sub, Aabb};
 use crate::implicit::Implicit;
+use crate::kernel::geom::{add, cross, dot, scale, sub, Aabb};
 use crate::mesher::Progress;
 use rayon::prelude::*;
 
@@ -219,6 +219,39 @@ pub fn extract(
     prune: bool,
     progress: &dyn Progress,
 ) -> Result<NormalSurface> {
+    extract_bounded(
+        f,
+        domain,
+        g,
+        rule,
+        keep_quads,
+        leaf,
+        prune,
+        DEFAULT_MAX_TRIANGLES,
+        progress,
+    )
+}
+
+/// Default bound on the triangles a normal-surface extraction may produce (about
+/// 100 bytes each while the surface is assembled: 5 GB).
+pub const DEFAULT_MAX_TRIANGLES: u64 = 50_000_000;
+
+/// [`extract`] with a bound on the output: the pruned blocks near the surface are
+/// counted before any of them is processed, and a run that would produce more than
+/// about `max_triangles` triangles is refused (measured on the sphere: one triangle
+/// per ~8 tetrahedra visited; the estimate uses 1 per 10 so it errs on allowing).
+#[allow(clippy::too_many_arguments)]
+pub fn extract_bounded(
+    f: &dyn Implicit,
+    domain: &Aabb,
+    g: &Goldberg,
+    rule: DiagonalRule,
+    keep_quads: bool,
+    leaf: usize,
+    prune: bool,
+    max_triangles: u64,
+    progress: &dyn Progress,
+) -> Result<NormalSurface> {
     if !(g.e.is_finite() && g.e > 0.0 && g.a.is_finite() && g.a > 0.0) {
         return Err(Error::Param(format!(
             "Goldberg tetrahedron needs e > 0 and a > 0 (got e = {}, a = {})",
@@ -258,6 +291,7 @@ pub fn extract(
     let interval_evals = std::sync::atomic::AtomicU64::new(0);
     // Phase 1: prune the octree over blocks.
     let limits = [leaf, leaf, 3 * leaf];
+    #[allow(clippy::too_many_arguments)]
     fn descend(
         b: Block,
         f: &dyn Implicit,
@@ -266,7 +300,11 @@ pub fn extract(
         limits: [i64; 3],
         prune: bool,
         count: &std::sync::atomic::AtomicU64,
+        budget: &std::sync::atomic::AtomicI64,
     ) -> Vec<Block> {
+        if budget.load(std::sync::atomic::Ordering::Relaxed) < 0 {
+            return Vec::new();
+        }
         let bb = b.bbox(g);
         if !boxes_meet(&bb, dom) {
             return Vec::new();
@@ -286,6 +324,7 @@ pub fn extract(
             .map(|k| (k, ext[k] as f64 / limits[k] as f64))
             .fold((0, 0.0), |acc, x| if x.1 > acc.1 { x } else { acc });
         if r <= 1.0 {
+            budget.fetch_sub(b.tets() as i64, std::sync::atomic::Ordering::Relaxed);
             return vec![b];
         }
         let mid = b.lo[k] + ext[k] / 2;
@@ -293,13 +332,24 @@ pub fn extract(
         lo.hi[k] = mid;
         hi.lo[k] = mid;
         let (mut x, y) = rayon::join(
-            || descend(lo, f, g, dom, limits, prune, count),
-            || descend(hi, f, g, dom, limits, prune, count),
+            || descend(lo, f, g, dom, limits, prune, count, budget),
+            || descend(hi, f, g, dom, limits, prune, count, budget),
         );
         x.extend(y);
         x
     }
-    let leaves = descend(root, f, g, &dom, limits, prune, &interval_evals);
+    let tets_allowed = max_triangles.saturating_mul(10).min(i64::MAX as u64) as i64;
+    let budget = std::sync::atomic::AtomicI64::new(tets_allowed);
+    let leaves = descend(root, f, g, &dom, limits, prune, &interval_evals, &budget);
+    if budget.load(std::sync::atomic::Ordering::Relaxed) < 0 {
+        return Err(Error::TooLarge(format!(
+            "at e = {} the lattice has more than {tets_allowed} tetrahedra near the surface: \
+             about {} triangles or more, above the limit {max_triangles} (about 100 bytes \
+             each); use a larger --scale or raise the limit with --set max_triangles=N",
+            g.e,
+            tets_allowed / 10
+        )));
+    }
     let table = Table::new(g, rule);
     progress.start("midnormal: leaf blocks", leaves.len() as u64);
     let outs: Vec<Result<LeafOut>> = leaves

@@ -7,7 +7,7 @@
 //! * [`midnormal`]: Algorithm 1 with interval pruning of empty space;
 //! * [`valence4`]: the valence-four removal of Algorithm 2;
 //! * [`planar`]: the planar version of Sec. 3 (curves on the triangle tiling);
-//! * [`reproduce`]: regenerates `papers/gradnormal/`.
+//! (`crate::reproduce::gradnormal` regenerates `papers/gradnormal/`.)
 //!
 //! Meshers: [`MidNormal`] (`"midnormal"`) and [`GradNormal`] (`"gradnormal"`), both
 //! built from [`MesherOptions`] through [`GradNormalParams::from_options`]; the planar
@@ -17,25 +17,22 @@
 //! e → 0 and its topology claim (Theorem 1.1(1)) only at a scale the paper does not
 //! quantify, so both meshers report `Uncertified` with the *measured* angle range in
 //! the statistics.
-pub mod bunny;
 pub mod check;
 pub mod midnormal;
 pub mod planar;
-pub mod reproduce;
 pub mod tiling;
 pub mod valence4;
 pub mod witness;
 
-pub use midnormal::{extract, NormalSurface};
-pub use reproduce::reproduce;
+pub use midnormal::{extract, extract_bounded, NormalSurface};
 pub use tiling::Goldberg;
 
 use crate::error::{Error, Result};
-use crate::geom::{dist, dot, scale, sub, Aabb};
 use crate::implicit::Implicit;
+use crate::kernel::geom::{dist, Aabb};
 use crate::mesh::TriMesh;
+use crate::mesher::options::MesherOptions;
 use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
-use crate::options::MesherOptions;
 use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 
@@ -102,6 +99,9 @@ pub struct GradNormalParams {
     pub newton_steps: usize,
     /// Octree leaf size in lattice steps. Default 8.
     pub leaf: usize,
+    /// Refuse runs expected to produce more triangles than this (default
+    /// [`midnormal::DEFAULT_MAX_TRIANGLES`]; `--set max_triangles=N`).
+    pub max_triangles: u64,
     /// Prune empty blocks with interval arithmetic. Default true.
     pub prune: bool,
 }
@@ -117,13 +117,14 @@ impl Default for GradNormalParams {
             remove_valence4: true,
             newton_steps: 1,
             leaf: 8,
+            max_triangles: midnormal::DEFAULT_MAX_TRIANGLES,
             prune: true,
         }
     }
 }
 
 /// The `--set` keys MidNormal understands.
-pub const MIDNORMAL_KEYS: &[&str] = &["a_ratio", "quad_rule", "leaf", "prune"];
+pub const MIDNORMAL_KEYS: &[&str] = &["a_ratio", "quad_rule", "leaf", "prune", "max_triangles"];
 /// The `--set` keys GradNormal understands:
 /// * `a_ratio` (f64, default √2/4): a/e of the Goldberg tetrahedron;
 /// * `quad_rule` (`paper` | `alternate` | `shorter`): diagonals of the quadrilaterals;
@@ -217,6 +218,9 @@ impl GradNormalParams {
         }
         if let Some(v) = o.get::<bool>("prune")? {
             p.prune = v;
+        }
+        if let Some(v) = o.get::<u64>("max_triangles")? {
+            p.max_triangles = v;
         }
         p.validate()?;
         Ok(p)
@@ -314,7 +318,7 @@ impl MidNormal {
             DiagonalRule::Shorter => DiagonalRule::Paper,
             r => r,
         };
-        extract(
+        extract_bounded(
             f,
             domain,
             &g,
@@ -322,6 +326,7 @@ impl MidNormal {
             false,
             self.params.leaf,
             self.params.prune,
+            self.params.max_triangles,
             progress,
         )
     }
@@ -389,22 +394,9 @@ pub struct GradNormal {
     pub params: GradNormalParams,
 }
 
-/// One projection: `steps` iterations of v ← v − f(v)∇f/|∇f|² (Algorithm 2, line 6).
-/// Returns the point and whether every step had a usable gradient.
-pub fn project(f: &dyn Implicit, mut p: [f64; 3], steps: usize) -> ([f64; 3], bool) {
-    for _ in 0..steps {
-        let d = f.grad(p);
-        let g2 = dot(d.g, d.g);
-        if d.v == 0.0 {
-            break;
-        }
-        if !(g2 > 0.0 && g2.is_finite() && d.v.is_finite()) {
-            return (p, false);
-        }
-        p = sub(p, scale(d.g, d.v / g2));
-    }
-    (p, true)
-}
+/// One projection: `steps` iterations of v ← v − f(v)∇f/|∇f|² (Algorithm 2, line 6),
+/// the oracle's [`project_steps`](crate::implicit::ops::project_steps).
+pub use crate::implicit::ops::project_steps as project;
 
 /// What GradNormal did, besides the mesh.
 #[derive(Clone, Debug, Default)]
@@ -442,7 +434,7 @@ impl GradNormal {
         let p = &self.params;
         let g = p.goldberg(domain);
         let keep_quads = p.quad_rule == DiagonalRule::Shorter;
-        let ns = extract(
+        let ns = extract_bounded(
             f,
             domain,
             &g,
@@ -450,6 +442,7 @@ impl GradNormal {
             keep_quads,
             p.leaf,
             p.prune,
+            p.max_triangles,
             progress,
         )?;
         // Step 2 (line 6): gradient projection. Positions do not depend on connectivity,

@@ -9,11 +9,11 @@
 //! arithmetic over a quadtree of lattice blocks.
 use super::GradNormalParams;
 use crate::error::{Error, Result};
-use crate::geom::{dist, Aabb};
 use crate::implicit::Implicit;
+use crate::kernel::geom::{dist, Aabb};
 use crate::mesh::Curve2;
+use crate::mesher::options::MesherOptions;
 use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
-use crate::options::MesherOptions;
 use rayon::prelude::*;
 use serde_json::{json, Map};
 

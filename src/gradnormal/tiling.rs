@@ -16,7 +16,7 @@
 //! triangles KLM, KNQ have edge lengths (b/2, b/2, c/2) and LNP, MPQ (3a/2, b/2, c/2)
 //! as the Appendix states (b = |AC| = |CD| = |BD| rises a, c = |AD| = |BC| rises 2a).
 //! The computation in `papers/gradnormal/GOLDBERG.md` checks these claims for each a.
-use crate::geom::{cross, dot, norm, scale, sub};
+use crate::kernel::geom::{cross, dot, norm, scale, sub};
 use std::f64::consts::SQRT_2;
 
 /// Vertex labels of the tetrahedron.

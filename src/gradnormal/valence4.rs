@@ -12,7 +12,7 @@
 use super::midnormal::split_quad;
 use super::tiling::EDGE_DIRS;
 use super::DiagonalRule;
-use crate::geom::dist;
+use crate::kernel::geom::dist;
 use std::collections::HashMap;
 
 /// What the valence-four step did.

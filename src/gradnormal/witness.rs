@@ -17,8 +17,8 @@
 //! triangle is matched, bit for bit, to a replayed one.
 use super::{GradNormal, GradNormalParams};
 use crate::error::{Error, Result};
-use crate::geom::{angle_deg, dot, Aabb};
 use crate::implicit::Formula;
+use crate::kernel::geom::{angle_deg, dot, Aabb};
 use crate::mesh::TriMesh;
 use crate::mesher::NoProgress;
 use std::collections::HashSet;
@@ -147,7 +147,7 @@ impl RefutedClaim {
 }
 
 fn tangent_basis(m: [f64; 3]) -> ([f64; 3], [f64; 3]) {
-    use crate::geom::{cross, normalize};
+    use crate::kernel::geom::{cross, normalize};
     let a = if m[0].abs() < 0.9 {
         [1.0, 0.0, 0.0]
     } else {

@@ -56,6 +56,7 @@ pub fn parse(text: &str, dim: usize) -> Result<Expr> {
         chars: text.chars().collect(),
         pos: 0,
         dim,
+        nesting: 0,
     };
     p.skip_ws();
     if p.pos >= p.chars.len() {
@@ -64,7 +65,7 @@ pub fn parse(text: &str, dim: usize) -> Result<Expr> {
             column: 1,
         });
     }
-    let e = p.expr()?;
+    let (e, _) = p.expr()?;
     p.skip_ws();
     if p.pos < p.chars.len() {
         return Err(p.unexpected());
@@ -72,10 +73,74 @@ pub fn parse(text: &str, dim: usize) -> Result<Expr> {
     Ok(e)
 }
 
+/// The deepest expression tree a formula may have (nested parentheses, function calls
+/// and powers count). Every pass over the tree (compilation, printing, dropping)
+/// recurses, so an unbounded depth would overflow the stack; 10,000 nested parentheses
+/// are rejected with this limit instead of crashing. Long chains `a + b + c + ...` and
+/// `a * b / c ...` (a large polynomial read with `--formula @file`) do not count against
+/// it: a chain of more than [`BALANCE_CHAIN`] operands is built as a balanced tree
+/// (Σ positive terms − Σ negative terms, Π numerators / Π denominators), whose depth is
+/// logarithmic; shorter chains keep the left-to-right tree of the text.
+pub const MAX_DEPTH: u32 = 256;
+
+/// Chains longer than this are built balanced (see [`MAX_DEPTH`]).
+pub const BALANCE_CHAIN: usize = 32;
+
+/// An expression with the depth of its tree.
+type Node = (Expr, u32);
+
+/// A balanced tree of `op` over `terms` (non-empty), with its depth.
+fn balanced(op: BinOp, mut terms: Vec<Node>) -> Node {
+    while terms.len() > 1 {
+        let mut next = Vec::with_capacity(terms.len().div_ceil(2));
+        let mut it = terms.into_iter();
+        while let Some((a, da)) = it.next() {
+            match it.next() {
+                Some((b, db)) => {
+                    next.push((Expr::Bin(op, Box::new(a), Box::new(b)), da.max(db) + 1))
+                }
+                None => next.push((a, da)),
+            }
+        }
+        terms = next;
+    }
+    terms.pop().expect("non-empty")
+}
+
+/// A chain `t0 op1 t1 op2 t2 ...` where `pos`/`neg` are the two operators (Add/Sub or
+/// Mul/Div): left to right when short, balanced when long.
+fn chain(first: Node, rest: Vec<(BinOp, Node)>, pos: BinOp, neg: BinOp) -> Node {
+    if rest.len() < BALANCE_CHAIN {
+        let (mut e, mut d) = first;
+        for (op, (r, dr)) in rest {
+            d = d.max(dr) + 1;
+            e = Expr::Bin(op, Box::new(e), Box::new(r));
+        }
+        return (e, d);
+    }
+    let mut p = vec![first];
+    let mut n = Vec::new();
+    for (op, t) in rest {
+        if op == pos {
+            p.push(t)
+        } else {
+            n.push(t)
+        }
+    }
+    let (a, da) = balanced(pos, p);
+    if n.is_empty() {
+        return (a, da);
+    }
+    let (b, db) = balanced(pos, n);
+    (Expr::Bin(neg, Box::new(a), Box::new(b)), da.max(db) + 1)
+}
+
 struct Parser {
     chars: Vec<char>,
     pos: usize,
     dim: usize,
+    /// Current depth of the recursive descent (bounded by [`MAX_DEPTH`]).
+    nesting: u32,
 }
 
 impl Parser {
@@ -111,56 +176,95 @@ impl Parser {
             }
         }
     }
-    fn expr(&mut self) -> Result<Expr> {
-        let mut e = self.term()?;
+    /// A node one level above children of depth `d`, or the depth-limit error at the
+    /// current position. Checked before the recursive descent goes deeper too (see
+    /// [`Parser::enter`]), so neither the parser nor any later pass can overflow.
+    fn up(&self, d: u32) -> Result<u32> {
+        if d + 1 > MAX_DEPTH {
+            return Err(self.err(
+                format!("formula nested too deeply (expression depth above {MAX_DEPTH})"),
+                self.pos.min(self.chars.len().saturating_sub(1)),
+            ));
+        }
+        Ok(d + 1)
+    }
+    /// Count one level of recursive descent (parentheses, unary signs, arguments).
+    fn enter(&mut self) -> Result<()> {
+        self.nesting += 1;
+        if self.nesting > MAX_DEPTH {
+            return Err(self.err(
+                format!("formula nested too deeply (more than {MAX_DEPTH} levels)"),
+                self.pos,
+            ));
+        }
+        Ok(())
+    }
+    fn expr(&mut self) -> Result<Node> {
+        self.enter()?;
+        let first = self.term()?;
+        let mut rest = Vec::new();
         loop {
             let op = match self.peek() {
                 Some('+') => BinOp::Add,
                 Some('-') => BinOp::Sub,
-                _ => return Ok(e),
+                _ => break,
             };
             self.pos += 1;
-            let r = self.term()?;
-            e = Expr::Bin(op, Box::new(e), Box::new(r));
+            rest.push((op, self.term()?));
         }
+        self.nesting -= 1;
+        let (e, d) = chain(first, rest, BinOp::Add, BinOp::Sub);
+        self.up(d.saturating_sub(1))?;
+        Ok((e, d))
     }
-    fn term(&mut self) -> Result<Expr> {
-        let mut e = self.unary()?;
+    fn term(&mut self) -> Result<Node> {
+        let first = self.unary()?;
+        let mut rest = Vec::new();
         loop {
             let op = match self.peek() {
                 Some('*') => BinOp::Mul,
                 Some('/') => BinOp::Div,
-                _ => return Ok(e),
+                _ => break,
             };
             self.pos += 1;
-            let r = self.unary()?;
-            e = Expr::Bin(op, Box::new(e), Box::new(r));
+            rest.push((op, self.unary()?));
         }
+        let (e, d) = chain(first, rest, BinOp::Mul, BinOp::Div);
+        self.up(d.saturating_sub(1))?;
+        Ok((e, d))
     }
-    fn unary(&mut self) -> Result<Expr> {
+    fn unary(&mut self) -> Result<Node> {
         match self.peek() {
             Some('-') => {
                 self.pos += 1;
-                Ok(Expr::Un(UnOp::Neg, Box::new(self.unary()?)))
+                self.enter()?;
+                let (a, d) = self.unary()?;
+                self.nesting -= 1;
+                let d = self.up(d)?;
+                Ok((Expr::Un(UnOp::Neg, Box::new(a)), d))
             }
             Some('+') => {
                 self.pos += 1;
-                self.unary()
+                self.enter()?;
+                let r = self.unary();
+                self.nesting -= 1;
+                r
             }
             _ => self.power(),
         }
     }
-    fn power(&mut self) -> Result<Expr> {
-        let base = self.atom()?;
+    fn power(&mut self) -> Result<Node> {
+        let (base, d) = self.atom()?;
         if self.peek() != Some('^') {
-            return Ok(base);
+            return Ok((base, d));
         }
         self.pos += 1;
         let n = self.exponent()?;
         if self.peek() == Some('^') {
             return Err(self.err("chained '^' is ambiguous; use parentheses", self.pos));
         }
-        Ok(Expr::Pow(Box::new(base), n))
+        let d = self.up(d)?;
+        Ok((Expr::Pow(Box::new(base), n), d))
     }
     fn exponent(&mut self) -> Result<i32> {
         let paren = self.peek() == Some('(');
@@ -206,7 +310,7 @@ impl Parser {
         }
         Ok(if neg { -n } else { n })
     }
-    fn atom(&mut self) -> Result<Expr> {
+    fn atom(&mut self) -> Result<Node> {
         let c = match self.peek() {
             Some(c) => c,
             None => return Err(self.err("unexpected end of formula", self.pos)),
@@ -218,7 +322,7 @@ impl Parser {
             return Ok(e);
         }
         if c.is_ascii_digit() || c == '.' {
-            return self.number();
+            return Ok((self.number()?, 0));
         }
         if c.is_alphabetic() || c == '_' {
             let start = self.pos;
@@ -235,10 +339,10 @@ impl Parser {
                         start,
                     ));
                 }
-                return Ok(Expr::Var(k));
+                return Ok((Expr::Var(k), 0));
             }
             if name == "pi" {
-                return Ok(Expr::Const(Const::pi(), "pi".into()));
+                return Ok((Expr::Const(Const::pi(), "pi".into()), 0));
             }
             let un = match name.as_str() {
                 "sqrt" => Some(UnOp::Sqrt),
@@ -270,18 +374,20 @@ impl Parser {
                 return Err(self.err(format!("function '{name}' needs '(' after it"), self.pos));
             }
             self.pos += 1;
-            let a = self.expr()?;
+            let (a, da) = self.expr()?;
             if let Some(op) = bin {
                 self.expect(',')?;
-                let b = self.expr()?;
+                let (b, db) = self.expr()?;
                 self.expect(')')?;
-                return Ok(Expr::Bin(op, Box::new(a), Box::new(b)));
+                let d = self.up(da.max(db))?;
+                return Ok((Expr::Bin(op, Box::new(a), Box::new(b)), d));
             }
             if self.peek() == Some(',') {
                 return Err(self.err(format!("'{name}' takes one argument"), self.pos));
             }
             self.expect(')')?;
-            return Ok(Expr::Un(un.unwrap(), Box::new(a)));
+            let d = self.up(da)?;
+            return Ok((Expr::Un(un.unwrap(), Box::new(a)), d));
         }
         Err(self.unexpected())
     }

@@ -10,11 +10,15 @@
 pub mod directed;
 pub mod expr;
 pub mod number;
+pub mod ops;
+pub mod regularity;
+pub mod sdf;
 pub mod tape;
 
 pub use directed::Iv;
 pub use expr::{parse, Expr};
 pub use number::{Const, Dual, Hyper, Num};
+pub use regularity::{Dec, Regularity};
 pub use tape::Tape;
 
 use crate::error::Result;
@@ -47,6 +51,12 @@ pub trait Implicit: Send + Sync {
     /// Are the interval methods proven enclosures? Meshers certify nothing otherwise.
     fn is_rigorous(&self) -> bool {
         true
+    }
+    /// Is f proven defined, continuous, smooth on the box (see [`Regularity`])? Every
+    /// criterion that invokes a theorem about C¹ functions asks this before it
+    /// certifies a box. The default proves nothing.
+    fn regularity(&self, _b: &IBox) -> Regularity {
+        Regularity::Undefined
     }
     /// A human-readable description (the formula, or a name).
     fn describe(&self) -> String {
@@ -104,6 +114,9 @@ impl<G: GenericFn> Implicit for FromGeneric<G> {
     fn hessian_interval(&self, b: &IBox) -> Hyper<Interval> {
         self.0.eval([0, 1, 2].map(|k| Hyper::var(b[k], k)))
     }
+    fn regularity(&self, b: &IBox) -> Regularity {
+        regularity::finish(self.0.eval(b.map(|x| Dec::var(Iv::from_interval(x)))))
+    }
 }
 
 /// A parsed and compiled formula.
@@ -125,6 +138,7 @@ thread_local! {
     static S_DI: RefCell<Vec<Dual<Iv>>> = const { RefCell::new(Vec::new()) };
     static S_HF: RefCell<Vec<Hyper<f64>>> = const { RefCell::new(Vec::new()) };
     static S_HI: RefCell<Vec<Hyper<Iv>>> = const { RefCell::new(Vec::new()) };
+    static S_DEC: RefCell<Vec<Dec>> = const { RefCell::new(Vec::new()) };
 }
 
 impl Formula {
@@ -208,6 +222,10 @@ impl Implicit for Formula {
             h: h.h.map(Iv::to_interval),
         }
     }
+    fn regularity(&self, b: &IBox) -> Regularity {
+        let v = b.map(|x| Dec::var(Iv::from_interval(x)));
+        regularity::finish(S_DEC.with(|s| self.tape.eval(&v, &mut s.borrow_mut())))
+    }
     fn describe(&self) -> String {
         self.text.clone()
     }
@@ -276,6 +294,10 @@ where
     fn is_rigorous(&self) -> bool {
         false
     }
+    /// Lipschitz, hence continuous; nothing is known about derivatives.
+    fn regularity(&self, _b: &IBox) -> Regularity {
+        Regularity::Continuous
+    }
     fn describe(&self) -> String {
         self.name.clone()
     }
@@ -289,12 +311,22 @@ pub struct EvalCounts {
     pub gradients: u64,
     pub interval_gradients: u64,
     pub hessians: u64,
+    /// Regularity checks ([`Implicit::regularity`]: one decorated interval evaluation
+    /// each), counted apart so the interval counts stay comparable with runs before
+    /// the checks existed.
+    #[serde(default)]
+    pub regularity: u64,
 }
 
 impl EvalCounts {
     /// All evaluations of any kind.
     pub fn total(&self) -> u64 {
-        self.points + self.intervals + self.gradients + self.interval_gradients + self.hessians
+        self.points
+            + self.intervals
+            + self.gradients
+            + self.interval_gradients
+            + self.hessians
+            + self.regularity
     }
 }
 
@@ -302,7 +334,7 @@ impl EvalCounts {
 /// way for every mesher (a mesher cannot under-report).
 pub struct Counted<'a> {
     inner: &'a dyn Implicit,
-    c: [AtomicU64; 5],
+    c: [AtomicU64; 6],
 }
 
 impl<'a> Counted<'a> {
@@ -319,6 +351,7 @@ impl<'a> Counted<'a> {
             gradients: self.c[2].load(Relaxed),
             interval_gradients: self.c[3].load(Relaxed),
             hessians: self.c[4].load(Relaxed),
+            regularity: self.c[5].load(Relaxed),
         }
     }
 }
@@ -354,6 +387,10 @@ impl Implicit for Counted<'_> {
     }
     fn is_rigorous(&self) -> bool {
         self.inner.is_rigorous()
+    }
+    fn regularity(&self, b: &IBox) -> Regularity {
+        self.c[5].fetch_add(1, Relaxed);
+        self.inner.regularity(b)
     }
     fn describe(&self) -> String {
         self.inner.describe()
@@ -457,6 +494,9 @@ impl Implicit for Transformed<'_> {
     }
     fn is_rigorous(&self) -> bool {
         self.inner.is_rigorous()
+    }
+    fn regularity(&self, b: &IBox) -> Regularity {
+        self.inner.regularity(&self.map_i(b))
     }
     fn describe(&self) -> String {
         format!("{} (moved to generic position)", self.inner.describe())

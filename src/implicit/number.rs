@@ -230,11 +230,21 @@ impl Num for f64 {
     }
     #[inline]
     fn min(&self, o: &Self) -> Self {
-        f64::min(*self, *o)
+        // f64::min ignores a NaN argument; an undefined argument (√ of a negative
+        // number) must make min undefined too, as in interval evaluation.
+        if self.is_nan() || o.is_nan() {
+            f64::NAN
+        } else {
+            f64::min(*self, *o)
+        }
     }
     #[inline]
     fn max(&self, o: &Self) -> Self {
-        f64::max(*self, *o)
+        if self.is_nan() || o.is_nan() {
+            f64::NAN
+        } else {
+            f64::max(*self, *o)
+        }
     }
     fn sin(&self) -> Self {
         f64::sin(*self)

@@ -13,7 +13,7 @@
 //! vertices that no triangle uses.
 use super::text::{self, fmt_err, io_err, Lines};
 use crate::error::{Error, Result};
-use crate::geom::{cross, norm, scale, sub};
+use crate::kernel::geom::{cross, norm, scale, sub};
 use crate::mesh::TriMesh;
 use std::collections::HashMap;
 use std::io::{BufRead, Write};

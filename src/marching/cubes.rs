@@ -16,12 +16,12 @@
 //! edge with four triangles).
 use super::{extract, mesh_3d, GridParams, Place, Scheme};
 use crate::error::Result;
-use crate::geom::Aabb;
-use crate::grid::Field;
 use crate::implicit::Implicit;
+use crate::kernel::geom::Aabb;
+use crate::lattice::grid::Field;
 use crate::mesh::TriMesh;
+use crate::mesher::options::{Crossing, MesherOptions};
 use crate::mesher::{MeshOutput, Mesher, Progress};
-use crate::options::{Crossing, MesherOptions};
 use std::sync::OnceLock;
 
 /// Marching cubes, `"mc"`. Defaults ([`GridParams::default`]): 64 cells along the

@@ -4,7 +4,7 @@
 //!
 //! All three sample f once per vertex of a regular [`Grid`] (or, with `prune`, only at
 //! the vertices of the cells interval arithmetic could not prove empty, see
-//! [`crate::octree`]) and read nothing but the signs of those samples, plus the
+//! [`crate::lattice::octree`]) and read nothing but the signs of those samples, plus the
 //! values (or bisection) to place the crossings. So they prove nothing: features
 //! between grid vertices (a thin tube, a narrow gap) are missed or merged.
 //!
@@ -44,14 +44,14 @@ pub use squares::{marching_squares, MarchingSquares};
 pub use tets::{marching_tetrahedra, MarchingTetrahedra};
 
 use crate::error::{Error, Result};
-use crate::geom::{lerp, Aabb};
-use crate::grid::{Field, Grid, Samples, SignBits};
+use crate::implicit::ops::crossing_t;
 use crate::implicit::{Counted, Implicit};
+use crate::kernel::geom::{lerp, Aabb};
+use crate::lattice::grid::{Field, Grid, Samples, SignBits};
+use crate::lattice::octree;
 use crate::mesh::TriMesh;
+use crate::mesher::options::{Crossing, MesherOptions};
 use crate::mesher::{Certificate, Mesh, MeshOutput, Progress};
-use crate::octree;
-use crate::options::{Crossing, MesherOptions};
-use crate::roots::crossing_t;
 use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 

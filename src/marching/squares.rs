@@ -7,14 +7,14 @@
 //! counter-clockwise around the region it encloses when that region is negative.
 use super::{base_stats, check_curve, crosses, crossing_t_linear, GridParams};
 use crate::error::{Error, Result};
-use crate::geom::{lerp, Aabb};
-use crate::grid::{Field, Grid, Samples};
+use crate::implicit::ops::crossing_t;
 use crate::implicit::{Counted, Implicit};
+use crate::kernel::geom::{lerp, Aabb};
+use crate::lattice::grid::{Field, Grid, Samples};
+use crate::lattice::octree;
 use crate::mesh::Curve2;
+use crate::mesher::options::{Crossing, MesherOptions};
 use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
-use crate::octree;
-use crate::options::{Crossing, MesherOptions};
-use crate::roots::crossing_t;
 use serde_json::json;
 use std::collections::HashMap;
 

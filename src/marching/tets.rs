@@ -11,12 +11,12 @@
 //! main diagonal); crossings are shared through them like marching cubes' edges.
 use super::{extract, mesh_3d, GridParams, Place, Scheme};
 use crate::error::Result;
-use crate::geom::{cross, dot, Aabb};
-use crate::grid::Field;
 use crate::implicit::Implicit;
+use crate::kernel::geom::{cross, dot, Aabb};
+use crate::lattice::grid::Field;
 use crate::mesh::TriMesh;
+use crate::mesher::options::{Crossing, MesherOptions};
 use crate::mesher::{MeshOutput, Mesher, Progress};
-use crate::options::{Crossing, MesherOptions};
 use std::sync::OnceLock;
 
 /// Marching tetrahedra, `"mt"`. Defaults ([`GridParams::default`]): 64 cells along the

@@ -5,7 +5,7 @@
 //! 180° where acos loses half the digits.
 use super::min_max;
 use crate::error::Result;
-use crate::geom::{self, cross, dot, norm, sub};
+use crate::kernel::geom::{self, cross, dot, norm, sub};
 use crate::mesh::{TetMesh, TriMesh};
 use rayon::prelude::*;
 use serde::Serialize;

@@ -2,17 +2,27 @@
 //! estimates at the vertices, a sampled two-sided Hausdorff estimate, and the deviation
 //! of the triangle normals from ∇f.
 //!
+//! A quantity that could not be measured is not reported as 0: it is NaN (`null` in
+//! JSON) with the reason in [`Fidelity::fidelity_undefined`] (e.g. no mesh point could
+//! be projected onto f = 0 because f has a pole there, or f = 0 was never found); an
+//! infinite one (|f|/|∇f| where ∇f = 0 ≠ f, the distance to an empty mesh) is `inf`
+//! (`null` in JSON) with its reason there too.
+//!
 //! These are *measurements*, not certificates: sampling can miss the worst point (an
 //! underestimate), and a mesh point's distance is taken to its Newton projection, a
 //! point of the surface but not always the nearest one (an overestimate per sample).
 //! Each field says what it measures.
-use crate::bvh::{SegBvh, TriBvh};
 use crate::error::{Error, Result};
-use crate::geom::{self, Aabb};
 use crate::implicit::Implicit;
+use crate::kernel::bvh::{SegBvh, TriBvh};
+use crate::kernel::geom::{self, Aabb};
 use crate::mesh::{Curve2, TriMesh};
 use rayon::prelude::*;
 use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// What the Hausdorff fields are: maxima over finite samples, so estimates, not bounds.
+pub const HAUSDORFF_KIND: &str = "estimate (maximum over samples; not a bound)";
 
 /// How much sampling to do. Defaults: 50 000 mesh samples, a 48³ (curves: 256²) seed
 /// grid, 16 Newton steps, domain = mesh bounding box grown by 10% of its diagonal.
@@ -88,30 +98,115 @@ pub struct Fidelity {
     /// Elements whose normal points against ∇f (θ > 90°): against the convention that
     /// normals point towards f > 0. Always 0 for curves (which carry no orientation).
     pub flipped_normals: usize,
+    /// What the `hausdorff*` numbers are: [`HAUSDORFF_KIND`] (sampled estimates).
+    pub hausdorff_kind: &'static str,
+    /// For each field above that is undefined (NaN, `null` in JSON) or infinite: why.
+    /// Empty when every number was measured.
+    pub fidelity_undefined: BTreeMap<String, String>,
 }
 
-/// Project `p` onto f = 0 by Newton steps p ← p − f ∇f / |∇f|². `None` when ∇f
-/// vanishes, a value is not finite, or the last step is still above `tol`.
-pub fn project(f: &dyn Implicit, p: [f64; 3], steps: usize, tol: f64) -> Option<[f64; 3]> {
-    let planar = f.dim() == 2;
-    let mut q = p;
-    for _ in 0..steps.max(1) {
-        let d = f.grad(q);
-        let mut g = d.g;
-        if planar {
-            g[2] = 0.0;
+/// Max and mean of measured values, or why there are none: NaN with a reason when
+/// `attempted` points gave no value (`none_reason`), or when a value is NaN.
+fn measured(
+    values: &[f64],
+    attempted: usize,
+    fields: [&str; 2],
+    none_reason: impl FnOnce() -> String,
+    undefined: &mut BTreeMap<String, String>,
+) -> (f64, f64) {
+    if values.is_empty() && attempted > 0 {
+        let why = none_reason();
+        for f in fields {
+            undefined.insert(f.into(), why.clone());
         }
-        let g2 = geom::dot(g, g);
-        if !(g2 > 0.0) || !d.v.is_finite() || !g2.is_finite() {
-            return None;
+        return (f64::NAN, f64::NAN);
+    }
+    let nan = values.iter().filter(|v| v.is_nan()).count();
+    if nan > 0 {
+        let why = format!(
+            "undefined (NaN) at {nan} of {} points: f or ∇f is not defined there",
+            values.len()
+        );
+        for f in fields {
+            undefined.insert(f.into(), why.clone());
         }
-        let t = d.v / g2;
-        q = geom::sub(q, geom::scale(g, t));
-        if (t.abs() * g2.sqrt()) <= tol {
-            return Some(q);
+        return (f64::NAN, f64::NAN);
+    }
+    let inf = values.iter().filter(|v| v.is_infinite()).count();
+    if inf > 0 {
+        undefined.insert(
+            fields[0].into(),
+            format!("infinite at {inf} of {} points", values.len()),
+        );
+    }
+    max_mean(values)
+}
+
+/// The larger of the two directions, NaN (with the reason) when either is undefined.
+fn two_sided(h_ms: f64, h_sm: f64, undefined: &mut BTreeMap<String, String>) -> f64 {
+    let mut why = Vec::new();
+    for (name, h) in [
+        ("hausdorff_mesh_to_surface", h_ms),
+        ("hausdorff_surface_to_mesh", h_sm),
+    ] {
+        if !h.is_finite() {
+            if let Some(r) = undefined.get(name) {
+                why.push(format!("{name}: {r}"));
+            }
         }
     }
-    None
+    let h = if h_ms.is_nan() || h_sm.is_nan() {
+        f64::NAN
+    } else {
+        h_ms.max(h_sm)
+    };
+    if !h.is_finite() {
+        undefined.insert("hausdorff".into(), why.join("; "));
+    }
+    h
+}
+
+/// Surface → mesh distances, or why there are none: `candidates` seeds were near
+/// f = 0 and `found` of them projected onto it; `dists` are the found points'
+/// distances to the mesh (empty when the mesh has no element).
+fn surface_to_mesh(
+    dists: &[f64],
+    candidates: usize,
+    found: usize,
+    undefined: &mut BTreeMap<String, String>,
+) -> (f64, f64) {
+    if found > 0 && dists.is_empty() {
+        let why = format!("f = 0 was found at {found} points but the mesh is empty");
+        undefined.insert("hausdorff_surface_to_mesh".into(), why.clone());
+        undefined.insert("mean_surface_to_mesh".into(), why);
+        return (f64::INFINITY, f64::INFINITY);
+    }
+    measured(
+        dists,
+        candidates,
+        ["hausdorff_surface_to_mesh", "mean_surface_to_mesh"],
+        || {
+            format!(
+                "no point of f = 0 could be located: Newton did not converge from any of the \
+                 {candidates} seeds near it (f may have a pole there, or ∇f vanish)"
+            )
+        },
+        undefined,
+    )
+}
+
+/// Project `p` onto f = 0 by Newton steps (the oracle's
+/// [`project`](crate::implicit::ops::project)).
+pub use crate::implicit::ops::project;
+
+/// [`project`] for the distance samples: a point where f is exactly 0 is on f = 0
+/// already, also where ∇f vanishes there (e.g. f ≡ 0), where `project` gives up; its
+/// distance is then measured (0), not left out.
+fn project_sample(f: &dyn Implicit, p: [f64; 3], steps: usize, tol: f64) -> Option<[f64; 3]> {
+    if f.eval(p) == 0.0 {
+        return Some(p);
+    }
+    project(f, p, steps, tol)
 }
 
 /// The first-order distance estimate |f|/|∇f| at `p`.
@@ -158,6 +253,18 @@ pub fn surface_points(
     steps: usize,
     tol: f64,
 ) -> Vec<[f64; 3]> {
+    surface_points_counted(f, domain, n, steps, tol).0
+}
+
+/// [`surface_points`], with the number of seeds that were near f = 0 (by the first-order
+/// estimate) before projection: more seeds than points means Newton failed on some.
+pub fn surface_points_counted(
+    f: &dyn Implicit,
+    domain: &Aabb,
+    n: usize,
+    steps: usize,
+    tol: f64,
+) -> (Vec<[f64; 3]>, usize) {
     let planar = f.dim() == 2;
     let n = n.max(2);
     let size = domain.size();
@@ -165,7 +272,8 @@ pub fn surface_points(
     let reach = geom::norm(if planar { [h[0], h[1], 0.0] } else { h });
     let nz = if planar { 1 } else { n };
     let grown = domain.inflate(reach);
-    (0..n * n * nz)
+    let candidates = std::sync::atomic::AtomicUsize::new(0);
+    let pts = (0..n * n * nz)
         .into_par_iter()
         .filter_map(|idx| {
             let (i, j, k) = (idx % n, (idx / n) % n, idx / (n * n));
@@ -181,10 +289,85 @@ pub fn surface_points(
             if !(distance_estimate(f, p) < reach) {
                 return None;
             }
-            let q = project(f, p, steps, tol)?;
+            candidates.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let q = project_sample(f, p, steps, tol)?;
             grown.contains(q).then_some(q)
         })
-        .collect()
+        .collect();
+    (pts, candidates.into_inner())
+}
+
+/// |f|/|∇f| over the vertices (NaN where f is undefined, inf where ∇f = 0 ≠ f).
+fn distance_estimates(est: &[f64], undefined: &mut BTreeMap<String, String>) -> (f64, f64) {
+    let (max, mean) = measured(
+        est,
+        0,
+        ["max_distance_estimate", "mean_distance_estimate"],
+        String::new,
+        undefined,
+    );
+    if max.is_infinite() {
+        undefined.insert(
+            "max_distance_estimate".into(),
+            format!(
+                "|f|/|∇f| is infinite at {} of {} vertices (∇f = 0 where f ≠ 0, or f infinite)",
+                est.iter().filter(|v| v.is_infinite()).count(),
+                est.len()
+            ),
+        );
+    }
+    (max, mean)
+}
+
+/// Mesh → surface distances of the points that projected onto f = 0.
+fn mesh_to_surface(
+    d: &[f64],
+    attempted: usize,
+    undefined: &mut BTreeMap<String, String>,
+) -> (f64, f64) {
+    measured(
+        d,
+        attempted,
+        ["hausdorff_mesh_to_surface", "mean_mesh_to_surface"],
+        || {
+            format!(
+                "no mesh point could be projected onto f = 0: Newton did not converge from any \
+                 of the {attempted} points (f may have a pole there, or no zero nearby)"
+            )
+        },
+        undefined,
+    )
+}
+
+/// Normal deviation over the elements where ∇f could be evaluated; undefined when no
+/// element's centre could be projected onto f = 0 (it would be measured off f = 0).
+fn normal_deviation(
+    dev: &[f64],
+    elements: usize,
+    projected: usize,
+    undefined: &mut BTreeMap<String, String>,
+) -> (f64, f64) {
+    if elements > 0 && projected == 0 {
+        let why = format!(
+            "no element centre of the {elements} could be projected onto f = 0: ∇f there \
+             says nothing about f = 0"
+        );
+        undefined.insert("normal_dev_max_deg".into(), why.clone());
+        undefined.insert("normal_dev_mean_deg".into(), why);
+        return (f64::NAN, f64::NAN);
+    }
+    measured(
+        dev,
+        elements,
+        ["normal_dev_max_deg", "normal_dev_mean_deg"],
+        || {
+            format!(
+                "∇f vanishes or is undefined at the projection of all {elements} elements \
+                 (or every element is degenerate)"
+            )
+        },
+        undefined,
+    )
 }
 
 fn default_domain(pts: &[[f64; 3]], planar: bool) -> Result<Aabb> {
@@ -227,8 +410,9 @@ pub fn surface_fidelity(
     let tol = 1e-10 * domain.diagonal().max(f64::MIN_POSITIVE);
     let steps = params.newton_steps;
 
+    let mut undefined = BTreeMap::new();
     let est: Vec<f64> = verts.par_iter().map(|&p| distance_estimate(f, p)).collect();
-    let (max_est, mean_est) = max_mean(&est);
+    let (max_est, mean_est) = distance_estimates(&est, &mut undefined);
 
     // Area-proportional deterministic samples: stratified along the cumulative area.
     let areas: Vec<f64> = (0..mesh.triangles.len())
@@ -260,26 +444,29 @@ pub fn surface_fidelity(
     let m2s: Vec<Option<f64>> = verts
         .par_iter()
         .chain(samples.par_iter())
-        .map(|&p| project(f, p, steps, tol).map(|q| geom::dist(p, q)))
+        .map(|&p| project_sample(f, p, steps, tol).map(|q| geom::dist(p, q)))
         .collect();
+    let attempted = m2s.len();
     let unconverged = m2s.iter().filter(|d| d.is_none()).count();
     let m2s: Vec<f64> = m2s.into_iter().flatten().collect();
-    let (h_ms, mean_ms) = max_mean(&m2s);
+    let (h_ms, mean_ms) = mesh_to_surface(&m2s, attempted, &mut undefined);
 
     let n = if params.seed_grid == 0 {
         48
     } else {
         params.seed_grid
     };
-    let spts = surface_points(f, &domain, n, steps, tol);
+    let (spts, candidates) = surface_points_counted(f, &domain, n, steps, tol);
     let bvh = TriBvh::new(mesh)?;
     let s2m: Vec<f64> = spts
         .par_iter()
         .filter_map(|&p| bvh.closest(p).map(|c| c.dist2.sqrt()))
         .collect();
-    let (h_sm, mean_sm) = max_mean(&s2m);
+    let (h_sm, mean_sm) = surface_to_mesh(&s2m, candidates, spts.len(), &mut undefined);
 
-    // Normal deviation at the centroids' projections.
+    // Normal deviation at the centroids' projections (at the centroid itself where
+    // Newton fails; if it fails everywhere, the deviation is undefined).
+    let projected = std::sync::atomic::AtomicUsize::new(0);
     let dev: Vec<Option<f64>> = (0..mesh.triangles.len())
         .into_par_iter()
         .map(|t| {
@@ -289,7 +476,13 @@ pub fn surface_fidelity(
                 return None;
             }
             let cen = geom::scale(geom::add(geom::add(a, b), c), 1.0 / 3.0);
-            let q = project(f, cen, steps, tol).unwrap_or(cen);
+            let q = match project_sample(f, cen, steps, tol) {
+                Some(q) => {
+                    projected.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    q
+                }
+                None => cen,
+            };
             let g = f.grad(q).g;
             if !(geom::norm(g) > 0.0) {
                 return None;
@@ -304,7 +497,12 @@ pub fn surface_fidelity(
     let dev: Vec<f64> = dev.into_iter().flatten().collect();
     let flipped = dev.iter().filter(|&&a| a > 90.0).count();
     let unsigned: Vec<f64> = dev.iter().map(|&a| a.min(180.0 - a)).collect();
-    let (dmax, dmean) = max_mean(&unsigned);
+    let (dmax, dmean) = normal_deviation(
+        &unsigned,
+        mesh.triangles.len(),
+        projected.into_inner(),
+        &mut undefined,
+    );
 
     Ok(Fidelity {
         max_distance_estimate: max_est,
@@ -313,13 +511,15 @@ pub fn surface_fidelity(
         mean_mesh_to_surface: mean_ms,
         hausdorff_surface_to_mesh: h_sm,
         mean_surface_to_mesh: mean_sm,
-        hausdorff: h_ms.max(h_sm),
+        hausdorff: two_sided(h_ms, h_sm, &mut undefined),
         fidelity_mesh_samples: m2s.len(),
         fidelity_surface_samples: s2m.len(),
         fidelity_unconverged: unconverged,
         normal_dev_max_deg: dmax,
         normal_dev_mean_deg: dmean,
         flipped_normals: flipped,
+        hausdorff_kind: HAUSDORFF_KIND,
+        fidelity_undefined: undefined,
     })
 }
 
@@ -357,8 +557,9 @@ pub fn curve_fidelity(
     };
     let tol = 1e-10 * domain.diagonal().max(f64::MIN_POSITIVE);
     let steps = params.newton_steps;
+    let mut undefined = BTreeMap::new();
     let est: Vec<f64> = verts.par_iter().map(|&p| distance_estimate(f, p)).collect();
-    let (max_est, mean_est) = max_mean(&est);
+    let (max_est, mean_est) = distance_estimates(&est, &mut undefined);
 
     let lens: Vec<f64> = curve
         .segments
@@ -384,25 +585,27 @@ pub fn curve_fidelity(
     let m2s: Vec<Option<f64>> = verts
         .par_iter()
         .chain(samples.par_iter())
-        .map(|&p| project(f, p, steps, tol).map(|q| geom::dist(p, q)))
+        .map(|&p| project_sample(f, p, steps, tol).map(|q| geom::dist(p, q)))
         .collect();
+    let attempted = m2s.len();
     let unconverged = m2s.iter().filter(|d| d.is_none()).count();
     let m2s: Vec<f64> = m2s.into_iter().flatten().collect();
-    let (h_ms, mean_ms) = max_mean(&m2s);
+    let (h_ms, mean_ms) = mesh_to_surface(&m2s, attempted, &mut undefined);
 
     let n = if params.seed_grid == 0 {
         256
     } else {
         params.seed_grid
     };
-    let spts = surface_points(f, &domain, n, steps, tol);
+    let (spts, candidates) = surface_points_counted(f, &domain, n, steps, tol);
     let bvh = SegBvh::new(curve)?;
     let s2m: Vec<f64> = spts
         .par_iter()
         .filter_map(|&p| bvh.closest([p[0], p[1]]).map(|c| c.dist2.sqrt()))
         .collect();
-    let (h_sm, mean_sm) = max_mean(&s2m);
+    let (h_sm, mean_sm) = surface_to_mesh(&s2m, candidates, spts.len(), &mut undefined);
 
+    let projected = std::sync::atomic::AtomicUsize::new(0);
     let dev: Vec<f64> = curve
         .segments
         .par_iter()
@@ -414,7 +617,13 @@ pub fn curve_fidelity(
                 return None;
             }
             let mid = geom::lerp(a, b, 0.5);
-            let q = project(f, mid, steps, tol).unwrap_or(mid);
+            let q = match project_sample(f, mid, steps, tol) {
+                Some(q) => {
+                    projected.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    q
+                }
+                None => mid,
+            };
             let mut g = f.grad(q).g;
             g[2] = 0.0;
             if !(geom::norm(g) > 0.0) {
@@ -426,7 +635,12 @@ pub fn curve_fidelity(
             Some(th.min(180.0 - th))
         })
         .collect();
-    let (dmax, dmean) = max_mean(&dev);
+    let (dmax, dmean) = normal_deviation(
+        &dev,
+        curve.segments.len(),
+        projected.into_inner(),
+        &mut undefined,
+    );
     Ok(Fidelity {
         max_distance_estimate: max_est,
         mean_distance_estimate: mean_est,
@@ -434,12 +648,14 @@ pub fn curve_fidelity(
         mean_mesh_to_surface: mean_ms,
         hausdorff_surface_to_mesh: h_sm,
         mean_surface_to_mesh: mean_sm,
-        hausdorff: h_ms.max(h_sm),
+        hausdorff: two_sided(h_ms, h_sm, &mut undefined),
         fidelity_mesh_samples: m2s.len(),
         fidelity_surface_samples: s2m.len(),
         fidelity_unconverged: unconverged,
         normal_dev_max_deg: dmax,
         normal_dev_mean_deg: dmean,
         flipped_normals: 0,
+        hausdorff_kind: HAUSDORFF_KIND,
+        fidelity_undefined: undefined,
     })
 }

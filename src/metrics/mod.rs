@@ -264,7 +264,7 @@ pub fn curve_stats(
         curve
             .segments
             .iter()
-            .map(|&[a, b]| crate::geom::dist(p(a), p(b))),
+            .map(|&[a, b]| crate::kernel::geom::dist(p(a), p(b))),
     );
     let mut nbrs: Vec<Vec<u32>> = vec![Vec::new(); curve.vertices.len()];
     for &[a, b] in &curve.segments {
@@ -277,7 +277,7 @@ pub fn curve_stats(
         nbrs.iter()
             .enumerate()
             .filter(|(_, n)| n.len() == 2)
-            .map(|(v, n)| crate::geom::angle_deg(p(n[0]), p(v as u32), p(n[1]))),
+            .map(|(v, n)| crate::kernel::geom::angle_deg(p(n[0]), p(v as u32), p(n[1]))),
     );
     let fidelity = match f {
         Some(f) => Some(fidelity::curve_fidelity(curve, f, params)?),

@@ -2,7 +2,7 @@
 //! stencil table, and apply the quadruple-zero policy.
 use super::field::{Field, NONE, OUT};
 use super::stencils::{pattern_index, EDGES, TABLE};
-use crate::bcc::{dir_of, TET_TEMPLATES};
+use crate::lattice::bcc::{dir_of, TET_TEMPLATES};
 use crate::mesh::TetMesh;
 use rayon::prelude::*;
 

@@ -6,11 +6,11 @@
 //! lattice point is *positive* (inside, "+") when `f < 0`, *negative* ("−") when
 //! `f > 0`, and *zero* when `f == 0` exactly. Meshing the exterior (§3.3, double
 //! sided) uses `sign(f)` instead.
-use crate::bcc::{self, Lattice, NEIGHBORS};
 use crate::error::{Error, Result};
-use crate::geom::{lerp, Aabb};
 use crate::implicit::Implicit;
-use crate::options::Crossing;
+use crate::kernel::geom::{lerp, Aabb};
+use crate::lattice::bcc::{self, Lattice, NEIGHBORS};
+use crate::mesher::options::Crossing;
 use inari::Interval;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -301,8 +301,15 @@ impl Field {
                 if let Some(q) = lat.id([c[0] + o[0], c[1] + o[1], c[2] + o[2]]) {
                     if sign[q as usize] == -1 {
                         let (a, b) = (lat.position(p as u32), lat.position(q));
-                        rec.t[d] =
-                            crate::roots::crossing_t(f, a, fv[p], b, fv[q as usize], how, tol);
+                        rec.t[d] = crate::implicit::ops::crossing_t(
+                            f,
+                            a,
+                            fv[p],
+                            b,
+                            fv[q as usize],
+                            how,
+                            tol,
+                        );
                         any = true;
                     }
                 }

@@ -12,7 +12,7 @@
 //! tetrahedra; every other background tetrahedron becomes an output tetrahedron when it
 //! has a positive vertex.
 //!
-//! Coordinates are doubled finest-lattice coordinates (see [`crate::bcc`]); an octant
+//! Coordinates are doubled finest-lattice coordinates (see [`crate::lattice::bcc`]); an octant
 //! of level `L` has corners at multiples of `2^(L+1)` and half-width `2^L`.
 //!
 //! Limitation of this implementation: the lattice values come from the uniform
@@ -22,10 +22,10 @@ use super::field::{Field, OUT};
 use super::stencils::{pattern_index, EDGES, TABLE};
 use super::warp::violates;
 use super::{QuadZero, Stuffed, StuffingParams};
-use crate::bcc::{orient, Coord, TET_TEMPLATES};
 use crate::error::{Error, Result};
-use crate::geom::{lerp, Aabb};
 use crate::implicit::Implicit;
+use crate::kernel::geom::{lerp, Aabb};
+use crate::lattice::bcc::{orient, Coord, TET_TEMPLATES};
 use crate::mesh::TetMesh;
 use std::collections::{HashMap, HashSet};
 
@@ -316,10 +316,11 @@ pub fn stuff_graded(
                 if s[i] == 1 && s[j] == -1 {
                     let (pi, pj) = (t[i], t[j]);
                     let id = fl.lat.id(pi).expect("in window");
-                    let d = crate::bcc::dir_of([pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]])
-                        .ok_or_else(|| {
-                            Error::Param("graded stuffing: a cut edge is not a BCC edge".into())
-                        })?;
+                    let d =
+                        crate::lattice::bcc::dir_of([pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]])
+                            .ok_or_else(|| {
+                                Error::Param("graded stuffing: a cut edge is not a BCC edge".into())
+                            })?;
                     let (tt, _) = fl
                         .cut_at(id, d)
                         .ok_or_else(|| Error::Param("graded stuffing: missing cut point".into()))?;
@@ -347,7 +348,7 @@ pub fn stuff_graded(
     let viol = |q: Coord, (a, b): (Coord, Coord)| -> Option<(f64, Coord)> {
         let t = cuts[&(a, b)];
         let (tq, other) = if a == q { (t, b) } else { (1.0 - t, a) };
-        let d = crate::bcc::dir_of([other[0] - q[0], other[1] - q[1], other[2] - q[2]])?;
+        let d = crate::lattice::bcc::dir_of([other[0] - q[0], other[1] - q[1], other[2] - q[2]])?;
         let odd = q[0] & 1 != 0;
         violates(odd, d, tq, al, as_).then_some((tq * fl.lat.edge_length(d), other))
     };

@@ -10,7 +10,7 @@
 //! (sparse octree, Fig 10) and reuses the same cut points, warping rule and stencils.
 //!
 //! For the `proofs` crate: the stencil of a BCC tetrahedron with signs `s` (in the
-//! canonical naming of [`crate::bcc`]) is `stencils::TABLE.stencils[pattern_index(s)]`;
+//! canonical naming of [`crate::lattice::bcc`]) is `stencils::TABLE.stencils[pattern_index(s)]`;
 //! its local ids 0..4 are the tetrahedron's vertices and `4 + k` the cut point on
 //! `stencils::EDGES[k]`; `stencils::reference_point` gives reference coordinates.
 //!
@@ -33,8 +33,6 @@ pub mod field;
 pub mod graded;
 pub mod params;
 pub mod quality;
-mod report;
-mod repro;
 pub mod stencils;
 pub mod warp;
 
@@ -42,15 +40,14 @@ pub use emit::Side;
 pub use field::{Field, Seeding};
 pub use params::{row, Row, TABLE1};
 pub use quality::AngleSummary;
-pub use report::{bins_2deg as report_bins, histogram_svg, reproduce};
 pub use warp::Order;
 
 use crate::error::{Error, Result};
-use crate::geom::Aabb;
 use crate::implicit::Implicit;
+use crate::kernel::geom::Aabb;
 use crate::mesh::{TetMesh, TriMesh};
-use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
-use crate::options::{Crossing, MesherOptions};
+use crate::mesher::options::{Crossing, MesherOptions};
+use crate::mesher::{Certificate, Claim, Mesh, MeshOutput, Mesher, Progress};
 use serde_json::json;
 
 /// What to do with quadruple-zero BCC tetrahedra (all four vertices on the surface),
@@ -677,18 +674,10 @@ impl Mesher for Stuffing {
                 )))
             }
         };
-        claims.push(format!(
-            "conforming: every interior triangle in exactly two tetrahedra, boundary watertight and consistently oriented{} (exact combinatorial check)",
-            if nonmanifold == 0 {
-                ", a closed 2-manifold".to_string()
-            } else {
-                format!(", with {nonmanifold} non-manifold edges where the solid pinches")
-            }
-        ));
-        claims.push(format!(
-            "{} inverted tetrahedra (exact orient3d)",
-            q.inverted
-        ));
+        claims.push(Claim::Conforming {
+            nonmanifold_edges: nonmanifold,
+        });
+        claims.push(Claim::InvertedTetrahedra { count: q.inverted });
         let mut reason = String::new();
         // Uniform rows: Table 1, re-verified by `proofs stuffing`. Graded (§5): the
         // daggered bounds weaken; those are the paper's claim only, and the 147.0470°
@@ -728,36 +717,32 @@ impl Mesher for Stuffing {
         }
         let mut regions = Vec::new();
         if nonmanifold > 0 {
-            regions.push(crate::mesher::Uncertified {
-                region: *domain,
-                reason: format!("{nonmanifold} non-manifold boundary edges: the lattice does not resolve the surface"),
-            });
+            regions.push(crate::mesher::Uncertified::new(
+                *domain,
+                format!("{nonmanifold} non-manifold boundary edges: the lattice does not resolve the surface"),
+            ));
         }
         if s.clipped {
-            regions.push(crate::mesher::Uncertified {
-                region: *domain,
-                reason: "the solid reaches the lattice window: the mesh is cut off there".into(),
-            });
+            regions.push(crate::mesher::Uncertified::new(
+                *domain,
+                "the solid reaches the lattice window: the mesh is cut off there",
+            ));
         }
         if p.quadruple_zero == QuadZero::Report && s.quadruple_zero_well_shaped > 0 {
-            regions.push(crate::mesher::Uncertified {
-                region: *domain,
-                reason: format!(
+            regions.push(crate::mesher::Uncertified::new(
+                *domain,
+                format!(
                     "{} well-shaped quadruple-zero tetrahedra: the lattice may not resolve the surface (§3.3)",
                     s.quadruple_zero_well_shaped
                 ),
-            });
+            ));
         }
         Ok(MeshOutput {
             mesh: Mesh::Volume {
                 tets: s.mesh,
                 boundary,
             },
-            certificate: Certificate::Uncertified {
-                reason,
-                claims,
-                regions,
-            },
+            certificate: Certificate::uncertified(reason, claims, regions),
             stats,
         })
     }

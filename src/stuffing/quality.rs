@@ -1,13 +1,13 @@
 //! Angle measurements used by the stuffing stats and the Table 1 checks: dihedral
 //! angles, plane angles of every tetrahedron face, plane angles of the exposed
 //! (boundary) triangles, and inverted-tetrahedron counts (exact `orient3d`).
-use crate::geom::{angle_deg, cross, dot, norm, sub};
+use crate::kernel::geom::{angle_deg, cross, dot, norm, sub};
 use crate::mesh::{TetMesh, TriMesh};
 use serde::Serialize;
 
 /// The six dihedral angles of a tetrahedron, in degrees.
 pub fn dihedrals(p: [[f64; 3]; 4]) -> [f64; 6] {
-    const E: [(usize, usize, usize, usize); 6] = crate::geom::TET_EDGES_WITH_OPPOSITE;
+    const E: [(usize, usize, usize, usize); 6] = crate::kernel::geom::TET_EDGES_WITH_OPPOSITE;
     E.map(|(i, j, k, l)| {
         let e = sub(p[j], p[i]);
         let ee = dot(e, e);
@@ -48,16 +48,7 @@ pub struct AngleSummary {
 }
 
 /// Signed volume sign by the exact `orient3d` predicate: > 0 for positive tets.
-pub fn orientation(p: [[f64; 3]; 4]) -> f64 {
-    let c = |q: [f64; 3]| robust::Coord3D {
-        x: q[0],
-        y: q[1],
-        z: q[2],
-    };
-    // robust's orient3d is positive when d is below the plane of a, b, c (ccw seen
-    // from above), i.e. for negatively oriented (a, b, c, d) in our convention.
-    -robust::orient3d(c(p[0]), c(p[1]), c(p[2]), c(p[3]))
-}
+pub use crate::kernel::predicates::tet_orientation as orientation;
 
 pub fn summarize(tets: &TetMesh, boundary: &TriMesh) -> AngleSummary {
     let mut s = AngleSummary {

@@ -3,7 +3,7 @@
 //! the mesher and the `proofs` crate both read.
 //!
 //! Local point numbering of a BCC tetrahedron in the canonical naming of
-//! [`crate::bcc`]: `0 = e0, 1 = e1` (the even black edge), `2 = o0, 3 = o1` (the odd
+//! [`crate::lattice::bcc`]: `0 = e0, 1 = e1` (the even black edge), `2 = o0, 3 = o1` (the odd
 //! black edge), and `4 + k` = the cut point on edge [`EDGES`]`[k]`.
 //!
 //! Derivation, for one sign pattern (+ inside, − outside, 0 on the surface):
@@ -13,7 +13,7 @@
 //!    keep the outward orientation) plus the *cut face*, the loop of unmatched edges.
 //! 2. Quadrilateral faces are split: a truncated tetrahedron face with a truncated black
 //!    edge takes the diagonal adjoining the black edge's cut point; one with a whole
-//!    black edge takes the Parity-Rule diagonal ([`crate::bcc::parity_diagonal_from_a`],
+//!    black edge takes the Parity-Rule diagonal ([`crate::lattice::bcc::parity_diagonal_from_a`],
 //!    evaluated on the reference tetrahedron: the choice is the same for every
 //!    tetrahedron in the canonical naming). The cut-face quadrilateral (pattern ++−−)
 //!    is not constrained by the paper: we take the diagonal for which the polytope can
@@ -23,7 +23,7 @@
 //!
 //! Output tetrahedra are positively oriented on the reference tetrahedron (cut points at
 //! edge midpoints); the mirror family of lattice tetrahedra swaps two vertices.
-use crate::bcc::{self, Coord};
+use crate::lattice::bcc::{self, Coord};
 use std::sync::LazyLock;
 
 /// The six edges of a tetrahedron in local numbering: the two black edges first.

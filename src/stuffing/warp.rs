@@ -11,7 +11,7 @@
 //! the result equals a sequential run in colour order (deterministic for any thread
 //! count). *Ordered warping* is the two-loop algorithm of §3.2, with a work queue.
 use super::field::Field;
-use crate::bcc::is_black_dir;
+use crate::lattice::bcc::is_black_dir;
 use rayon::prelude::*;
 use std::collections::VecDeque;
 

@@ -79,9 +79,13 @@ pub fn regions_markdown(ratio: Ratio) -> Result<String, String> {
 
 /// Angle functions along every boundary arc of a case's region pieces (the paper's
 /// Figs 14, 15, 17, 18): x = arc index + t.
-pub fn boundary_series(ratio: Ratio, case: &Case, samples: usize) -> Vec<certmesh::plot::Series> {
-    let mut out: Vec<certmesh::plot::Series> = (0..3)
-        .map(|k| certmesh::plot::Series {
+pub fn boundary_series(
+    ratio: Ratio,
+    case: &Case,
+    samples: usize,
+) -> Vec<certmesh::reproduce::plot::Series> {
+    let mut out: Vec<certmesh::reproduce::plot::Series> = (0..3)
+        .map(|k| certmesh::reproduce::plot::Series {
             name: format!("angle at {}", case.vertices[k].name),
             points: Vec::new(),
         })
@@ -146,7 +150,7 @@ pub fn write_papers(dir: &Path, ratio: Ratio, budget: &crate::bnb::Budget) -> Re
         let series = boundary_series(ratio, c, 200);
         if [0usize, 8, 10].contains(&i) {
             let base = fig.join(format!("arcs-case{i}"));
-            certmesh::plot::lines(
+            certmesh::reproduce::plot::lines(
                 &base,
                 &format!("{}: projected angles along the boundary arcs", c.name),
                 "boundary arc index + t",
@@ -156,7 +160,7 @@ pub fn write_papers(dir: &Path, ratio: Ratio, budget: &crate::bnb::Budget) -> Re
             .map_err(|e| e.to_string())?;
         }
         for (k, s) in series.into_iter().enumerate() {
-            all.push(certmesh::plot::Series {
+            all.push(certmesh::reproduce::plot::Series {
                 name: if i == 0 {
                     format!("angle {k}")
                 } else {
@@ -171,7 +175,7 @@ pub fn write_papers(dir: &Path, ratio: Ratio, budget: &crate::bnb::Budget) -> Re
         }
     }
     let envelope = envelope_series(&all);
-    certmesh::plot::lines(
+    certmesh::reproduce::plot::lines(
         &fig.join("arcs-all"),
         "All 18 triangles: min and max projected angle along boundary arcs (x = 100·case + arc)",
         "case·100 + arc + t",
@@ -295,7 +299,9 @@ pub fn write_papers(dir: &Path, ratio: Ratio, budget: &crate::bnb::Budget) -> Re
     Ok(())
 }
 
-fn envelope_series(all: &[certmesh::plot::Series]) -> Vec<certmesh::plot::Series> {
+fn envelope_series(
+    all: &[certmesh::reproduce::plot::Series],
+) -> Vec<certmesh::reproduce::plot::Series> {
     use std::collections::BTreeMap;
     let mut lo: BTreeMap<i64, f64> = BTreeMap::new();
     let mut hi: BTreeMap<i64, f64> = BTreeMap::new();
@@ -309,14 +315,14 @@ fn envelope_series(all: &[certmesh::plot::Series]) -> Vec<certmesh::plot::Series
         }
     }
     vec![
-        certmesh::plot::Series {
+        certmesh::reproduce::plot::Series {
             name: "min over all angles".into(),
             points: lo
                 .into_iter()
                 .map(|(k, v)| (k as f64 / 1000.0, v))
                 .collect(),
         },
-        certmesh::plot::Series {
+        certmesh::reproduce::plot::Series {
             name: "max over all angles".into(),
             points: hi
                 .into_iter()
@@ -373,16 +379,16 @@ pub fn scan(
     }
     std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
     let series = vec![
-        certmesh::plot::Series {
+        certmesh::reproduce::plot::Series {
             name: "certified min angle (lower end)".into(),
             points: smin,
         },
-        certmesh::plot::Series {
+        certmesh::reproduce::plot::Series {
             name: "certified max angle (upper end)".into(),
             points: smax,
         },
     ];
-    certmesh::plot::lines(
+    certmesh::reproduce::plot::lines(
         &dir.join(format!("scan-{}", rule.name())),
         "GradNormal certified angle bounds vs a/e",
         "a/e",

@@ -28,7 +28,7 @@
 //! (the exterior stencils of double-sided meshing) needs no separate treatment: the
 //! descriptor records only the geometry, and the sign-swapped stencil of a pattern is
 //! the stencil of the negated pattern, which the enumeration visits anyway.
-use certmesh::bcc::{self, NEIGHBORS};
+use certmesh::lattice::bcc::{self, NEIGHBORS};
 use certmesh::stuffing::params::Row;
 use certmesh::stuffing::stencils::{self, pattern_signs, EDGES, TABLE};
 use serde::{Deserialize, Serialize};

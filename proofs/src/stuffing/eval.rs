@@ -212,7 +212,7 @@ pub fn problems(ci: usize, case: &Case, a: &Alphas, dihedrals: bool, reduce: boo
     let geo: Vec<Geo> = case.v.iter().map(|s| Geo::new(s, a)).collect();
     let mut out = Vec::new();
     if dihedrals {
-        for (i, j, k, l) in certmesh::geom::TET_EDGES_WITH_OPPOSITE {
+        for (i, j, k, l) in certmesh::kernel::geom::TET_EDGES_WITH_OPPOSITE {
             let verts = vec![i, j, k, l];
             let g: Vec<Geo> = verts.iter().map(|&v| geo[v]).collect();
             // Free variables: a and b always; c and d too without the reduction.

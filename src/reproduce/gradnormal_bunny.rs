@@ -8,19 +8,19 @@
 //! 466,770 faces; Fig 4 shows the angle counts divided by three times the faces.
 //!
 //! Here: the scan is read from `data/stanford-bunny.obj`, its boundary loops
-//! are closed by fans ([`crate::sdf::fill_holes`]), it is normalised into the unit cube
+//! are closed by fans ([`crate::implicit::sdf::fill_holes`]), it is normalised into the unit cube
 //! (longest side 1 − 2·[`MARGIN`]) and meshed by [`GradNormal`] through the signed
 //! distance [`MeshSdf`] (exact distance, winding-number sign). Nothing is certified: the
 //! signed distance is floating point and `MeshSdf::is_rigorous()` is false.
-use super::check::{angle_range, angles, topology};
-use super::tiling::{Goldberg, SOMMERVILLE_RATIO};
-use super::{GradNormal, GradNormalParams};
 use crate::error::{Error, Result};
-use crate::geom::Aabb;
+use crate::gradnormal::check::{angle_range, angles, topology};
+use crate::gradnormal::tiling::{Goldberg, SOMMERVILLE_RATIO};
+use crate::gradnormal::{GradNormal, GradNormalParams};
+use crate::implicit::sdf::{self, MeshSdf};
+use crate::kernel::geom::Aabb;
 use crate::mesh::TriMesh;
 use crate::mesher::NoProgress;
-use crate::plot::{self, Series};
-use crate::sdf::{self, MeshSdf};
+use crate::reproduce::plot::{self, Series};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -79,7 +79,7 @@ pub struct Bunny {
 /// GradNormal on the normalised bunny at a tiling of `tets` tetrahedra of the unit cube.
 pub fn remesh(
     f: &MeshSdf,
-    fill: Option<&crate::bvh::TriBvh>,
+    fill: Option<&crate::kernel::bvh::TriBvh>,
     tets: f64,
 ) -> Result<(BunnyRun, TriMesh)> {
     let e = Goldberg::scale_for_count(1.0, tets, SOMMERVILLE_RATIO);
@@ -158,7 +158,7 @@ pub fn run(path: &Path, tilings: &[f64], margin: f64) -> Result<Bunny> {
     let fill = if fans.triangles.is_empty() {
         None
     } else {
-        Some(crate::bvh::TriBvh::new(&fans)?)
+        Some(crate::kernel::bvh::TriBvh::new(&fans)?)
     };
     let mut runs = Vec::new();
     for &n in tilings {
@@ -225,7 +225,7 @@ pub fn section(out_dir: &Path, quick: bool) -> Result<String> {
             margin,
         )?)
     };
-    let _ = writeln!(md, "Input: `data/stanford-bunny.obj` ({} vertices, {} faces). Its {} boundary loops were closed by fans around their centroids ({} boundary edges left open; {} isolated vertices, which the distance ignores), the result normalised into the unit cube (centred; longest side {:.2}, then fitted to the paper's face count), and GradNormal run on the signed distance (`certmesh::sdf::MeshSdf`: exact point–triangle distance through the BVH, sign from the hierarchical generalised winding number, gradient = direction to the closest point) with the paper's rules at the paper's two tilings of the unit cube. Building the distance (hole filling, normalisation, BVH, dipoles): {:.2} s. Nothing here is certified (floating-point distance; the winding sign of a scan is not a proof).\n",
+    let _ = writeln!(md, "Input: `data/stanford-bunny.obj` ({} vertices, {} faces). Its {} boundary loops were closed by fans around their centroids ({} boundary edges left open; {} isolated vertices, which the distance ignores), the result normalised into the unit cube (centred; longest side {:.2}, then fitted to the paper's face count), and GradNormal run on the signed distance (`certmesh::implicit::sdf::MeshSdf`: exact point–triangle distance through the BVH, sign from the hierarchical generalised winding number, gradient = direction to the closest point) with the paper's rules at the paper's two tilings of the unit cube. Building the distance (hole filling, normalisation, BVH, dipoles): {:.2} s. Nothing here is certified (floating-point distance; the winding sign of a scan is not a proof).\n",
         b.original_vertices, b.original_faces, b.holes.filled, b.holes.open_edges, b.holes.isolated_vertices, 1.0 - 2.0 * MARGIN, b.sdf_seconds);
     let _ = writeln!(
         md,

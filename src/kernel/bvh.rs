@@ -7,7 +7,7 @@
 //! reuse it. [`TriBvh`] and [`SegBvh`] add the exact point-triangle (Ericson,
 //! *Real-Time Collision Detection*, §5.1.5) and point-segment routines.
 use crate::error::{Error, Result};
-use crate::geom::{self, Aabb};
+use crate::kernel::geom::{self, Aabb};
 use crate::mesh::{Curve2, TriMesh};
 
 /// A node: `count > 0` is a leaf over `order[start..start + count]`; `count == 0` is an

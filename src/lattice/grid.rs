@@ -6,11 +6,11 @@
 //! * [`Samples`]: f at every vertex, dense, in a flat `Vec<f64>` (x fastest), sampled in
 //!   parallel;
 //! * [`SparseSamples`]: f only at chosen vertices (those of the cells that interval
-//!   pruning kept, see [`crate::octree`]), stored in 8×8×8 bricks;
+//!   pruning kept, see [`crate::lattice::octree`]), stored in 8×8×8 bricks;
 //! * [`Field`]: what an extractor reads from either.
 use crate::error::{Error, Result};
-use crate::geom::Aabb;
 use crate::implicit::Implicit;
+use crate::kernel::geom::Aabb;
 use crate::mesher::Progress;
 use rayon::prelude::*;
 

@@ -2,14 +2,14 @@
 //! interface and judge the outputs side by side — topology verdict against the catalog,
 //! components and genus found, angle range, Hausdorff estimate, time, evaluations and the
 //! certificate.
-use crate::algorithms;
 use crate::catalog::{Entry, Topology};
 use crate::error::Result;
-use crate::geom::Aabb;
 use crate::implicit::Implicit;
+use crate::kernel::geom::Aabb;
+use crate::mesher::options::MesherOptions;
+use crate::mesher::registry as algorithms;
 use crate::mesher::{self, Certificate, Mesh, Progress, Run};
 use crate::metrics::{self, FidelityParams};
-use crate::options::MesherOptions;
 use serde::Serialize;
 
 /// One row of the comparison table.
@@ -34,7 +34,13 @@ pub struct Row {
     pub tetrahedra: Option<usize>,
     pub min_angle_deg: Option<f64>,
     pub max_angle_deg: Option<f64>,
+    /// Sampled two-sided Hausdorff estimate (not a bound). `null` in JSON when it is
+    /// undefined or infinite; `hausdorff_note` then says why.
     pub hausdorff: Option<f64>,
+    /// Why `hausdorff` is undefined or infinite (e.g. no mesh point projects onto f = 0).
+    pub hausdorff_note: Option<String>,
+    /// What `hausdorff` is: a sampled estimate.
+    pub hausdorff_kind: &'static str,
     pub seconds: f64,
     pub evaluations: u64,
     pub certified: bool,
@@ -63,6 +69,8 @@ impl Row {
             min_angle_deg: None,
             max_angle_deg: None,
             hausdorff: None,
+            hausdorff_note: None,
+            hausdorff_kind: metrics::fidelity::HAUSDORFF_KIND,
             seconds: 0.0,
             evaluations: 0,
             certified: false,
@@ -104,7 +112,7 @@ pub fn evaluate(
             row.manifold = s.topology.branch_points == 0;
             row.vertices = c.vertices.len();
             row.faces = c.segments.len();
-            row.hausdorff = s.fidelity.as_ref().map(|x| x.hausdorff);
+            set_hausdorff(&mut row, s.fidelity.as_ref());
             if let Some(t) = expected {
                 let v = metrics::curve_verdict(&s.topology, t);
                 (
@@ -128,7 +136,7 @@ pub fn evaluate(
             row.faces = s.faces;
             row.min_angle_deg = s.min_angle_deg;
             row.max_angle_deg = s.max_angle_deg;
-            row.hausdorff = s.fidelity.as_ref().map(|x| x.hausdorff);
+            set_hausdorff(&mut row, s.fidelity.as_ref());
             if let Mesh::Volume { tets, .. } = m {
                 row.tetrahedra = Some(tets.tets.len());
             }
@@ -151,6 +159,24 @@ pub fn evaluate(
         }
     }
     Ok(row)
+}
+
+/// The Hausdorff estimate of a row and, when it is not a finite number, why.
+fn set_hausdorff(row: &mut Row, fd: Option<&metrics::Fidelity>) {
+    row.hausdorff = fd.map(|x| x.hausdorff);
+    row.hausdorff_note = fd
+        .filter(|x| !x.hausdorff.is_finite())
+        .map(|x| {
+            let what = if x.hausdorff.is_nan() {
+                "undefined"
+            } else {
+                "infinite"
+            };
+            match x.fidelity_undefined.get("hausdorff") {
+                Some(r) if !r.is_empty() => format!("{what}: {r}"),
+                _ => what.to_string(),
+            }
+        });
 }
 
 /// Run the matrix `entries × algos`. Algorithms that do not handle an entry's dimension
@@ -199,14 +225,76 @@ pub fn compare_with(
 }
 
 fn fmt_opt(x: Option<f64>, prec: usize) -> String {
-    x.map(|v| format!("{v:.prec$}"))
-        .unwrap_or_else(|| "–".into())
+    match x {
+        None => "–".into(),
+        Some(v) if v.is_nan() => "undefined".into(),
+        Some(v) if v.is_infinite() => "inf".into(),
+        Some(v) => format!("{v:.prec$}"),
+    }
+}
+
+/// The comparison as CSV (one row per run; the certificate as its one-line summary).
+pub fn csv(rows: &[Row]) -> String {
+    fn field(s: &str) -> String {
+        if s.contains([',', '"', '\n']) {
+            format!("\"{}\"", s.replace('"', "\"\""))
+        } else {
+            s.to_string()
+        }
+    }
+    let num = |x: Option<f64>| match x {
+        Some(v) if v.is_nan() => "undefined".to_string(),
+        Some(v) => v.to_string(),
+        None => String::new(),
+    };
+    let mut s = String::from(
+        "surface,algo,dim,topology_ok,expected,found,components,genus,closed,manifold,vertices,faces,tetrahedra,min_angle_deg,max_angle_deg,hausdorff_est,hausdorff_note,seconds,evaluations,certified,certificate,error\n",
+    );
+    for r in rows {
+        let cert = match &r.certificate {
+            Certificate::Certified { .. } => "certified".to_string(),
+            Certificate::Uncertified { reason, .. } => format!("uncertified: {reason}"),
+        };
+        let cols = [
+            field(&r.surface),
+            field(&r.algo),
+            r.dim.to_string(),
+            r.topology_ok.map(|b| b.to_string()).unwrap_or_default(),
+            field(&r.expected),
+            field(&r.found),
+            r.components.to_string(),
+            field(
+                &r.genus
+                    .iter()
+                    .map(|g| g.to_string())
+                    .collect::<Vec<_>>()
+                    .join(" "),
+            ),
+            r.closed.to_string(),
+            r.manifold.to_string(),
+            r.vertices.to_string(),
+            r.faces.to_string(),
+            r.tetrahedra.map(|t| t.to_string()).unwrap_or_default(),
+            num(r.min_angle_deg),
+            num(r.max_angle_deg),
+            num(r.hausdorff),
+            field(r.hausdorff_note.as_deref().unwrap_or("")),
+            r.seconds.to_string(),
+            r.evaluations.to_string(),
+            r.certified.to_string(),
+            field(&cert),
+            field(r.error.as_deref().unwrap_or("")),
+        ];
+        s += &cols.join(",");
+        s.push('\n');
+    }
+    s
 }
 
 /// The comparison as a markdown table.
 pub fn markdown(rows: &[Row]) -> String {
     let mut s = String::from(
-        "| surface | algo | topology | found | angles (deg) | Hausdorff | time (s) | evals | certificate |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| surface | algo | topology | found | angles (deg) | Hausdorff (est.) | time (s) | evals | certificate |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         if let Some(e) = &r.error {

@@ -1,10 +1,12 @@
 //! `certmesh demo` (the main job on built-in defaults) and `certmesh reproduce PAPER`.
 use crate::catalog::{self, Entry};
-use crate::compare;
 use crate::error::{Error, Result};
+use crate::harness::compare;
+use crate::mesher::options::MesherOptions;
+use crate::mesher::registry as algorithms;
 use crate::mesher::{Mesh, Progress, Run};
-use crate::options::MesherOptions;
-use crate::{algorithms, io, metrics, plot};
+use crate::reproduce::plot;
+use crate::{io, metrics};
 use std::path::Path;
 
 /// The demo's surfaces and curves.
@@ -43,9 +45,18 @@ fn demo_entries(quick: bool) -> Vec<Entry> {
         .collect()
 }
 
-/// Mesh the demo entries with every registered algorithm, print the comparison table,
-/// and write meshes, the table (markdown and JSON) and angle histograms into `out`.
-pub fn run(out: &Path, quick: bool, json: bool, progress: &dyn Progress) -> Result<()> {
+/// What a demo run produced (the caller prints it; the library does not print).
+#[derive(Clone, Debug)]
+pub struct DemoReport {
+    /// One row per (entry, algorithm) run.
+    pub rows: Vec<compare::Row>,
+    /// The rows as a markdown table (also written to `out/compare.md`).
+    pub table: String,
+}
+
+/// Mesh the demo entries with every registered algorithm and write meshes, the
+/// comparison table (markdown and JSON) and angle histograms into `out`.
+pub fn run(out: &Path, quick: bool, progress: &dyn Progress) -> Result<DemoReport> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let mesh_dir = out.join("meshes");
     std::fs::create_dir_all(&mesh_dir).map_err(|e| Error::io(&mesh_dir, e))?;
@@ -109,41 +120,15 @@ pub fn run(out: &Path, quick: bool, json: bool, progress: &dyn Progress) -> Resu
             1.0,
         )?;
     }
-    if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&rows).expect("rows serialize")
-        );
-    } else {
-        print!("{table}");
-        let wrong = rows.iter().filter(|r| r.topology_ok == Some(false)).count();
-        let cert = rows.iter().filter(|r| r.certified).count();
-        println!(
-            "\n{} runs: {} with the wrong topology, {} certified. Meshes, compare.md/json and angle histograms in {}",
-            rows.len(),
-            wrong,
-            cert,
-            out.display()
-        );
-    }
-    Ok(())
+    Ok(DemoReport { rows, table })
 }
 
 /// The papers `certmesh reproduce` knows.
-pub const PAPERS: &[&str] = &["gradnormal", "stuffing", "meshing-of-surfaces"];
+pub const PAPERS: &[&str] = &crate::reproduce::PAPERS;
 
 /// Regenerate a paper's reproduction folder.
 pub fn reproduce(paper: &str, out: Option<&Path>, quick: bool) -> Result<()> {
     let default = Path::new("papers").join(paper);
     let out = out.unwrap_or(&default);
-    match paper {
-        "gradnormal" => crate::gradnormal::reproduce::reproduce(out, quick),
-        "stuffing" => crate::stuffing::reproduce(out, quick),
-        "meshing-of-surfaces" => crate::subdivision::reproduce::reproduce(out, quick),
-        _ => Err(Error::Unknown {
-            kind: "paper",
-            name: paper.to_string(),
-            known: PAPERS.join(" "),
-        }),
-    }
+    crate::reproduce::reproduce(paper, out, quick)
 }

@@ -309,7 +309,7 @@ mod tests {
             prop_assert_eq!(l.id(l.coord(id)), Some(id));
             if let Some(q) = l.neighbor(id, d) {
                 prop_assert_eq!(l.neighbor(q, d ^ 1), Some(id));
-                let len = crate::geom::dist(l.position(id), l.position(q));
+                let len = crate::kernel::geom::dist(l.position(id), l.position(q));
                 prop_assert!((len - l.edge_length(d)).abs() < 1e-12);
             }
         }

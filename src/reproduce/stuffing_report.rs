@@ -105,5 +105,5 @@ fn histogram(angles: &[f64], path: &Path, title: &str, emphasis: bool) -> Result
 /// Regenerate `papers/stuffing/` (README.md with the Table 1 comparison and the
 /// histograms) into `out_dir`. `quick` uses coarser lattices.
 pub fn reproduce(out_dir: &Path, quick: bool) -> Result<()> {
-    super::repro::run(out_dir, quick)
+    crate::reproduce::stuffing::run(out_dir, quick)
 }

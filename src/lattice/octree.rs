@@ -14,8 +14,8 @@
 //! non-rigorous oracle ([`Implicit::is_rigorous`] false) the enclosure is only as good
 //! as the oracle's bound.
 use crate::error::Result;
-use crate::grid::{Grid, SparseSamples};
 use crate::implicit::Implicit;
+use crate::lattice::grid::{Grid, SparseSamples};
 use crate::mesher::Progress;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -185,9 +185,9 @@ pub fn sample_pruned_with(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::Aabb;
-    use crate::grid::{Field, Samples};
     use crate::implicit::Formula;
+    use crate::kernel::geom::Aabb;
+    use crate::lattice::grid::{Field, Samples};
     use crate::mesher::NoProgress;
 
     #[test]

@@ -1,8 +1,8 @@
 //! The registry: algorithm names on the command line → meshers. Every mesher module
 //! provides `from_options(&MesherOptions)`; the comparison harness treats all alike.
 use crate::error::{Error, Result};
+use crate::mesher::options::MesherOptions;
 use crate::mesher::Mesher;
-use crate::options::MesherOptions;
 
 /// One registered algorithm.
 #[derive(Clone, Copy, Debug, serde::Serialize)]
@@ -37,9 +37,9 @@ macro_rules! entry {
 fn table() -> Vec<(AlgoInfo, Ctor)> {
     use crate::gradnormal::{planar, GradNormal, MidNormal};
     use crate::marching::{MarchingCubes, MarchingSquares, MarchingTetrahedra};
-    use crate::plantinga_vegter::{PlantingaVegter, PlantingaVegter2};
-    use crate::snyder::{Snyder, Snyder2};
     use crate::stuffing::Stuffing;
+    use crate::subdivision::plantinga_vegter::{PlantingaVegter, PlantingaVegter2};
+    use crate::subdivision::snyder::{Snyder, Snyder2};
     vec![
         entry!(
             "mc",

@@ -18,10 +18,10 @@
 //! catch a sign jump of an open scan inside the box). This is floating point and the
 //! winding sign of an open scan is a heuristic, not a proof: [`Implicit::is_rigorous`]
 //! is false, so no mesher certifies anything from a [`MeshSdf`].
-use crate::bvh::{Closest, TriBvh};
 use crate::error::{Error, Result};
-use crate::geom::{add, cross, dot, norm, scale, sub, Aabb};
 use crate::implicit::{Dual, Hyper, IBox, Implicit};
+use crate::kernel::bvh::{Closest, TriBvh};
+use crate::kernel::geom::{add, cross, dot, norm, scale, sub, Aabb};
 use crate::mesh::TriMesh;
 use inari::Interval;
 use std::collections::HashMap;

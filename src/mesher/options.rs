@@ -2,33 +2,9 @@
 //! reads the fields it understands (and documents its defaults); algorithm-specific
 //! knobs come through `extra` (`--set key=value`).
 use crate::error::{Error, Result};
+pub use crate::implicit::ops::Crossing;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-
-/// How a crossing of f = 0 on a segment with a sign change is located.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Crossing {
-    /// Linear interpolation of the end values (fast; no fidelity guarantee).
-    Linear,
-    /// Bisection on f to the tolerance (default).
-    #[default]
-    Bisection,
-}
-
-impl std::str::FromStr for Crossing {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "linear" => Ok(Crossing::Linear),
-            "bisection" => Ok(Crossing::Bisection),
-            _ => Err(Error::Unknown {
-                kind: "crossing method",
-                name: s.into(),
-                known: "linear bisection".into(),
-            }),
-        }
-    }
-}
 
 /// Options common to the meshers. `None` means "the mesher's documented default".
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -53,6 +29,10 @@ pub struct MesherOptions {
     pub params: Option<String>,
     /// Graded variant (stuffing).
     pub graded: bool,
+    /// Box tests allowed (subdivision meshers; `--max-boxes`).
+    pub max_boxes: Option<u64>,
+    /// Wall-clock limit in seconds (subdivision meshers; `--time-limit`).
+    pub time_limit: Option<f64>,
     /// Algorithm-specific settings, `key=value`.
     pub extra: BTreeMap<String, String>,
 }

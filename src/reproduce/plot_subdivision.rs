@@ -5,8 +5,8 @@
 //! grey f ≠ 0, green SNV, blue parameterizable in y (∂f/∂x ≠ 0), orange parameterizable
 //! in x (∂f/∂y ≠ 0), red uncertified.
 use crate::error::{Error, Result};
-use crate::geom::Aabb;
 use crate::implicit::Implicit;
+use crate::kernel::geom::Aabb;
 use crate::mesh::Curve2;
 use crate::subdivision::Verdict;
 use plotters::coord::Shift;

@@ -16,18 +16,23 @@
 //! changes only and reported. `generic_shift` moves the grid to a generic position
 //! ([`GenericMotion`]).
 use crate::error::{Error, Result};
-use crate::geom::Aabb;
 use crate::implicit::Implicit;
-use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
-use crate::options::MesherOptions;
-use crate::plantinga_vegter::{check_input, PvPairing};
+use crate::kernel::geom::Aabb;
+use crate::mesher::options::MesherOptions;
+use crate::mesher::{Mesh, MeshOutput, Mesher, Progress};
+use crate::subdivision::certificate;
+use crate::subdivision::plantinga_vegter::{
+    boundary_failure, check_budget, check_input, PvPairing, UNDEFINED_BOX,
+};
 use crate::subdivision::{
-    assemble, enclose, excludes_zero, no_zero_plus, point_sign, subdivide, tree_stats, Cell,
-    Decision, GenericMotion, Grid, IntervalIsolation, Pairing, TileCrossing, Tree, Verdict,
-    MAX_LEVEL,
+    assemble, enclose, excludes_zero, no_zero_plus, point_sign, subdivide, tree_stats, Budget, Cell, Decision,
+    GenericMotion, Grid, IntervalIsolation, Pairing, TileCrossing, Tree, Verdict,
+    DEFAULT_MAX_BOXES, MAX_LEVEL,
 };
 use std::sync::atomic::AtomicU64;
 
+/// The theorem a certified run invokes.
+pub const SNYDER_THEOREM: &str = "Snyder, Lemma 2";
 pub const SNYDER_CLAIM: &str = "isotopic to f = 0 inside the domain (Snyder, Lemma 2)";
 
 /// Parameters of both Snyder meshers.
@@ -45,6 +50,10 @@ pub struct SnyderParams {
     pub tolerance: f64,
     /// Mesh in generic position (default false).
     pub generic_shift: bool,
+    /// Box tests allowed (default [`DEFAULT_MAX_BOXES`]; `--max-boxes`).
+    pub max_boxes: u64,
+    /// Wall-clock limit of the subdivision in seconds (default none; `--time-limit`).
+    pub time_limit: Option<f64>,
 }
 
 impl SnyderParams {
@@ -55,7 +64,17 @@ impl SnyderParams {
             root_depth: 40,
             tolerance: 1e-9,
             generic_shift: false,
+            max_boxes: DEFAULT_MAX_BOXES,
+            time_limit: None,
         }
+    }
+    pub fn with_max_boxes(mut self, n: u64) -> Self {
+        self.max_boxes = n;
+        self
+    }
+    pub fn with_time_limit(mut self, seconds: Option<f64>) -> Self {
+        self.time_limit = seconds;
+        self
     }
     pub fn with_max_depth(mut self, d: u32) -> Self {
         self.max_depth = d;
@@ -89,6 +108,10 @@ impl SnyderParams {
         if let Some(r) = o.get::<u32>("root_depth")? {
             p.root_depth = r;
         }
+        if let Some(n) = o.max_boxes {
+            p.max_boxes = n;
+        }
+        p.time_limit = o.time_limit;
         p.generic_shift = o.generic_shift;
         p.validate()?;
         Ok(p)
@@ -118,6 +141,7 @@ impl SnyderParams {
                 self.tolerance
             )));
         }
+        check_budget(self.max_boxes, self.time_limit)?;
         Ok(())
     }
 }
@@ -191,7 +215,12 @@ impl Mesher for Snyder2 {
     }
 }
 
-/// Face criterion of Lemma 2: 0 ∉ □f, or one of the two in-plane partials excludes 0.
+/// Face criterion of Lemma 2: f has no zero on the face in the sign⁺ sense (□f ⊂
+/// [0, ∞) or (−∞, 0)), or one of the two in-plane partials excludes 0. Called only
+/// for a face of a box already proven C^∞ with a partial bounded away from 0, where
+/// the zero set is regular and the sign⁺ convention (meshing f + ε) is isotopic to
+/// f = 0: a face the surface only touches (the blob at (±1, 0, 0)) is then fine. It
+/// is never used to exclude a box: that needs 0 ∉ □f strictly.
 fn face_ok(f: &dyn Implicit, ib: &crate::implicit::IBox, normal: usize) -> bool {
     let (v, g) = enclose(f, ib);
     no_zero_plus(v) || (0..3).any(|j| j != normal && excludes_zero(g[j]))
@@ -201,9 +230,17 @@ fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Dec
     let ib = g.cell_ibox(c);
     let (v, grad) = enclose(f, &ib);
     let d = crate::implicit::Dual { v, g: grad };
-    if no_zero_plus(d.v) {
+    if f.eval_interval(&ib).is_empty() {
+        return Decision::Leaf(Verdict::Failed(UNDEFINED_BOX));
+    }
+    // Only a strict exclusion proves the box free of f = 0: with □f ⊂ [0, ∞) the box
+    // may hold a double zero ((x²+y²+z²−1)² vanishes on the sphere).
+    if excludes_zero(d.v) {
         return Decision::Leaf(Verdict::Empty);
     }
+    // Lemma 2 is about C¹ functions: no box is certified where f may have a pole, a
+    // kink or a domain boundary.
+    let smooth = f.regularity(&ib).c1_failure();
     let dim = g.dim;
     let (lo, hi) = g.cell_lo_hi(c);
     let mut any_param = false;
@@ -213,6 +250,9 @@ fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Dec
             continue;
         }
         any_param = true;
+        if let Some(reason) = smooth {
+            return Decision::Split(reason);
+        }
         if dim == 3 {
             let mut ok = true;
             for w in [lo[k], hi[k]] {
@@ -228,6 +268,11 @@ fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Dec
                 faces_failed = true;
                 continue;
             }
+        }
+        // The sign⁺ convention and the edge isolation are blind to a zero set that
+        // touches the domain boundary (a tangency, a corner): see `boundary_failure`.
+        if let Some(d) = boundary_failure(f, g, c) {
+            return d;
         }
         if !edges_isolated(f, g, lo, hi, p) {
             return Decision::Split("grazing intersection: roots on a box edge not isolated");
@@ -309,8 +354,10 @@ pub fn run_snyder(
         dim,
         depth: p.max_depth,
     };
+    let budget = Budget::new(p.max_boxes, p.time_limit);
+    budget.check_min_depth(dim, p.min_depth)?;
     progress.start("subdivision", 0);
-    let mut tree = subdivide(grid, p.min_depth, p.max_depth, &|gr: &Grid, c| {
+    let mut tree = subdivide(grid, p.min_depth, p.max_depth, &budget, &|gr: &Grid, c| {
         snyder_classify(g, gr, c, p)
     });
     tree.collect_points();
@@ -348,26 +395,7 @@ pub fn run_snyder(
             Mesh::Volume { .. } => {}
         }
     }
-    let certificate = if regions.is_empty() {
-        let claim = if motion.is_some() {
-            format!("{SNYDER_CLAIM}, grid in generic position (the meshed region is a rotated box containing the domain)")
-        } else {
-            SNYDER_CLAIM.to_string()
-        };
-        Certificate::Certified {
-            claims: vec![claim],
-        }
-    } else {
-        Certificate::Uncertified {
-            reason: format!(
-                "{} region(s) not certified (first: {})",
-                regions.len(),
-                regions[0].reason
-            ),
-            claims: Vec::new(),
-            regions,
-        }
-    };
+    let certificate = certificate(SNYDER_THEOREM, &tree, dim, &dom, motion.is_some(), regions);
     Ok((
         tree,
         MeshOutput {

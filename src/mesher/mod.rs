@@ -5,10 +5,16 @@
 //! `RefinementParameters`), and returns a [`MeshOutput`] with a [`Certificate`] saying
 //! exactly what was proven, or where and why nothing was.
 use crate::error::Result;
-use crate::geom::Aabb;
 use crate::implicit::{EvalCounts, Implicit};
+use crate::kernel::geom::Aabb;
 use crate::mesh::{Curve2, TetMesh, TriMesh};
 use serde::{Deserialize, Serialize};
+
+pub mod claims;
+pub mod options;
+pub mod registry;
+
+pub use claims::{Cause, Claim};
 
 /// What a mesher produced.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -40,6 +46,20 @@ pub struct Uncertified {
     pub region: Aabb,
     /// Why: "depth limit hit", "grazing intersection", "possible singular point", ...
     pub reason: String,
+    /// The reason by kind.
+    #[serde(default)]
+    pub cause: Cause,
+}
+
+impl Uncertified {
+    pub fn new(region: Aabb, reason: impl Into<String>) -> Self {
+        let reason = reason.into();
+        Uncertified {
+            region,
+            cause: Cause::of(&reason),
+            reason,
+        }
+    }
 }
 
 /// What was proven about the output.
@@ -47,31 +67,67 @@ pub struct Uncertified {
 #[serde(tag = "status", rename_all = "lowercase")]
 pub enum Certificate {
     /// Every listed claim was established by interval or exact arithmetic.
-    Certified { claims: Vec<String> },
+    Certified {
+        claims: Vec<String>,
+        /// The claims, typed (the same statements as `claims`).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        claims_typed: Vec<Claim>,
+    },
     /// Nothing (or only `claims`) was proven; `regions` say where the proof failed.
     /// `reason` is a one-line summary.
     Uncertified {
         reason: String,
         claims: Vec<String>,
         regions: Vec<Uncertified>,
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        claims_typed: Vec<Claim>,
     },
 }
 
 impl Certificate {
+    /// Everything proven: the typed claims (their texts become `claims`).
+    pub fn certified(claims: Vec<Claim>) -> Self {
+        Certificate::Certified {
+            claims: claims.iter().map(|c| c.to_string()).collect(),
+            claims_typed: claims,
+        }
+    }
+    /// Not everything proven: what was (`claims`) and where and why not.
+    pub fn uncertified(
+        reason: impl Into<String>,
+        claims: Vec<Claim>,
+        regions: Vec<Uncertified>,
+    ) -> Self {
+        Certificate::Uncertified {
+            reason: reason.into(),
+            claims: claims.iter().map(|c| c.to_string()).collect(),
+            claims_typed: claims,
+            regions,
+        }
+    }
+    /// The typed claims.
+    pub fn claims_typed(&self) -> &[Claim] {
+        match self {
+            Certificate::Certified { claims_typed, .. }
+            | Certificate::Uncertified { claims_typed, .. } => claims_typed,
+        }
+    }
+    /// Is the output proven to have the topology of f = 0 (an isotopy claim)?
+    pub fn proves_topology(&self) -> bool {
+        self.is_certified() && self.claims_typed().iter().any(Claim::is_topological)
+    }
     pub fn is_certified(&self) -> bool {
         matches!(self, Certificate::Certified { .. })
     }
     /// A baseline that proves nothing.
     pub fn none(reason: impl Into<String>) -> Self {
-        Certificate::Uncertified {
-            reason: reason.into(),
-            claims: Vec::new(),
-            regions: Vec::new(),
-        }
+        Certificate::uncertified(reason, Vec::new(), Vec::new())
     }
     pub fn claims(&self) -> &[String] {
         match self {
-            Certificate::Certified { claims } | Certificate::Uncertified { claims, .. } => claims,
+            Certificate::Certified { claims, .. } | Certificate::Uncertified { claims, .. } => {
+                claims
+            }
         }
     }
     pub fn reason(&self) -> Option<&str> {
@@ -138,11 +194,11 @@ pub fn run(
     let mut output = output;
     // No mesher may claim more than it computed: a non-rigorous oracle certifies nothing.
     if !f.is_rigorous() && output.certificate.is_certified() {
-        output.certificate = Certificate::Uncertified {
-            reason: "the function has no rigorous interval extension".into(),
-            claims: Vec::new(),
-            regions: Vec::new(),
-        };
+        output.certificate = Certificate::uncertified(
+            "the function has no rigorous interval extension",
+            Vec::new(),
+            Vec::new(),
+        );
     }
     Ok(Run {
         algo: m.name().to_string(),

@@ -18,15 +18,24 @@
 //! The run is certified ("isotopic to f = 0 inside the domain") only if every leaf met a
 //! criterion and every grid-point sign was decided by interval arithmetic.
 use crate::error::{Error, Result};
-use crate::geom::Aabb;
 use crate::implicit::Implicit;
-use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
-use crate::options::{Crossing, MesherOptions};
+use crate::kernel::geom::Aabb;
+use crate::mesher::options::{Crossing, MesherOptions};
+use crate::mesher::{Mesh, MeshOutput, Mesher, Progress};
+use crate::subdivision::certificate;
 use crate::subdivision::{
     assemble, cos_lower_bound, cut_arcs, excludes_zero, mean_value, snv_dot, subdivide, tree_stats,
-    AngleBound, Decision, Grid, Pairing, SignChange, TileCrossing, Tree, Verdict, MAX_LEVEL,
+    AngleBound, Budget, Decision, Grid, Pairing, SignChange, TileCrossing, Tree, Verdict,
+    DEFAULT_MAX_BOXES, MAX_LEVEL,
 };
 
+/// The reason for a box on which f is defined nowhere (an empty enclosure): "no zero"
+/// would be vacuous and is almost always a mistake in the formula (x/0).
+pub const UNDEFINED_BOX: &str =
+    "f is undefined on this whole box (a division by 0, a root of a negative number)";
+
+/// The theorem a certified run invokes.
+pub const PV_THEOREM: &str = "Plantinga–Vegter";
 /// The claim of a certified run.
 pub const PV_CLAIM: &str = "isotopic to f = 0 inside the domain (Plantinga–Vegter)";
 
@@ -49,6 +58,11 @@ pub struct PvParams {
     pub max_angle: f64,
     /// The angle bound used when `max_angle < 90` (default sharp); `--set angle_bound=crude|sharp`.
     pub angle_bound: AngleBound,
+    /// Box tests allowed (default [`DEFAULT_MAX_BOXES`]; `--max-boxes`). A run that
+    /// spends them stops, reports `refinement_complete: false` and certifies nothing.
+    pub max_boxes: u64,
+    /// Wall-clock limit of the subdivision in seconds (default none; `--time-limit`).
+    pub time_limit: Option<f64>,
 }
 
 impl PvParams {
@@ -60,7 +74,17 @@ impl PvParams {
             tolerance: 1e-9,
             max_angle: 90.0,
             angle_bound: AngleBound::Sharp,
+            max_boxes: DEFAULT_MAX_BOXES,
+            time_limit: None,
         }
+    }
+    pub fn with_max_boxes(mut self, n: u64) -> Self {
+        self.max_boxes = n;
+        self
+    }
+    pub fn with_time_limit(mut self, seconds: Option<f64>) -> Self {
+        self.time_limit = seconds;
+        self
     }
     pub fn with_max_depth(mut self, d: u32) -> Self {
         self.max_depth = d;
@@ -97,6 +121,10 @@ impl PvParams {
         if let Some(t) = o.tolerance {
             p.tolerance = t;
         }
+        if let Some(n) = o.max_boxes {
+            p.max_boxes = n;
+        }
+        p.time_limit = o.time_limit;
         if let Some(a) = o.get::<f64>("max_angle")? {
             p.max_angle = a;
         }
@@ -131,8 +159,24 @@ impl PvParams {
                 self.tolerance
             )));
         }
+        check_budget(self.max_boxes, self.time_limit)?;
         Ok(())
     }
+}
+
+/// `--max-boxes` at least 1, `--time-limit` positive and finite.
+pub(crate) fn check_budget(max_boxes: u64, time_limit: Option<f64>) -> Result<()> {
+    if max_boxes == 0 {
+        return Err(Error::Param("max_boxes must be at least 1".into()));
+    }
+    if let Some(t) = time_limit {
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(Error::Param(format!(
+                "time_limit {t} must be a positive number of seconds"
+            )));
+        }
+    }
+    Ok(())
 }
 
 pub(crate) fn parse_bound(s: &str) -> Result<AngleBound> {
@@ -249,7 +293,11 @@ pub(crate) fn pv_classify(
     p: &PvParams,
 ) -> Decision {
     let ib = g.cell_ibox(c);
-    if excludes_zero(f.eval_interval(&ib)) {
+    let v = f.eval_interval(&ib);
+    if v.is_empty() {
+        return Decision::Leaf(Verdict::Failed(UNDEFINED_BOX));
+    }
+    if excludes_zero(v) {
         return Decision::Leaf(Verdict::Empty);
     }
     let d = f.grad_interval(&ib);
@@ -264,12 +312,117 @@ pub(crate) fn pv_classify(
             .is_some_and(|c| c >= p.max_angle.to_radians().cos())
     };
     if ok {
+        // Theorem 2 needs f ∈ C¹ on the box: an enclosure over a pole "excludes 0"
+        // without meaning anything.
+        if let Some(reason) = f.regularity(&ib).c1_failure() {
+            return Decision::Split(reason);
+        }
+        if let Some(d) = boundary_failure(f, g, c) {
+            return d;
+        }
         Decision::Leaf(Verdict::Snv)
     } else if (0..g.dim).all(|k| d.g[k].contains(0.0)) {
         Decision::Split("possible singular point: 0 in □f and 0 in □∇f")
     } else {
         Decision::Split("depth limit hit")
     }
+}
+
+/// The domain boundary (found by the soundness property test). The argument behind
+/// Theorem 2 lets the curve cross a box edge twice unnoticed because it "cannot leave
+/// the adjacent cube without violating the Small Normal Variation condition" there
+/// (the chapter, Fig. 1.9c); on the boundary of the domain there is no adjacent cube,
+/// and the arc that dips out of the domain and comes back is lost: f = 1.5x² + y² −
+/// 2.25 on [−1.63, 0.24] × [−1.49, −0.49] has two arcs inside the domain, and the
+/// unguarded algorithm meshed one. So a box touching the boundary is accepted only if
+/// * in 2D, on each of its edges on the boundary, 0 ∉ □f or 0 ∉ □∂f/∂t (at most one
+///   crossing, seen by the end signs);
+/// * in 3D, on each of its faces on the boundary, 0 ∉ □f: the surface stays inside
+///   the domain, the setting in which the theorem is proven. A surface that crosses
+///   the boundary is reported uncertified there.
+pub(crate) fn boundary_failure(
+    f: &dyn Implicit,
+    g: &Grid,
+    c: crate::subdivision::Cell,
+) -> Option<Decision> {
+    let (lo, hi) = g.cell_lo_hi(c);
+    let top = 1u32 << g.depth;
+    for k in 0..g.dim {
+        for (side, on) in [(lo[k], lo[k] == 0), (hi[k], hi[k] == top)] {
+            if !on {
+                continue;
+            }
+            let (mut a, mut b) = (lo, hi);
+            a[k] = side;
+            b[k] = side;
+            let fb = g.ibox(a, b);
+            if g.dim == 2 {
+                let t = 1 - k; // the edge runs along the other axis
+                let d = f.grad_interval(&fb);
+                if excludes_zero(d.v) {
+                    continue;
+                }
+                if !excludes_zero(d.g[t]) {
+                    return Some(Decision::Split(
+                        "f = 0 may cross a domain edge twice (Theorem 2 needs a monotone f there)",
+                    ));
+                }
+                // A zero exactly at an end (the curve through a corner of the domain,
+                // or touching it there) is not seen by the sign⁺ convention correctly.
+                for p in [g.point(a), g.point(b)] {
+                    let pb = p.map(crate::implicit::number::point);
+                    if !excludes_zero(f.eval_interval(&pb)) {
+                        return Some(Decision::Split(
+                            "f = 0 may pass through a grid point on the domain boundary",
+                        ));
+                    }
+                }
+            } else {
+                let v = f.eval_interval(&fb);
+                if !excludes_zero(v) {
+                    // Smaller boxes may prove a face near the surface free of it, but
+                    // where the face's corners have proven opposite signs the surface
+                    // does cross the boundary: no refinement helps, stop here.
+                    let signs: Vec<_> = face_corners(a, b, k)
+                        .into_iter()
+                        .map(|q| crate::implicit::ops::point_sign(f, g.point(q)))
+                        .collect();
+                    let crosses = signs.iter().all(|s| s.rigorous)
+                        && signs.iter().any(|s| s.pos)
+                        && signs.iter().any(|s| !s.pos);
+                    let reason = "f = 0 may meet the domain boundary (Theorem 2 is proven for a surface inside the domain)";
+                    return Some(if crosses {
+                        Decision::Leaf(Verdict::Failed(
+                            "f = 0 meets the domain boundary (Theorem 2 is proven for a surface inside the domain)",
+                        ))
+                    } else {
+                        Decision::Split(reason)
+                    });
+                }
+            }
+        }
+    }
+    None
+}
+
+/// The four corners of the face spanned by grid points `a` and `b` (equal in axis
+/// `normal`).
+fn face_corners(a: [u32; 3], b: [u32; 3], normal: usize) -> [[u32; 3]; 4] {
+    let (u, v) = match normal {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    };
+    let mut out = [a; 4];
+    for (m, q) in out.iter_mut().enumerate() {
+        if m & 1 == 1 {
+            q[u] = b[u];
+        }
+        if m & 2 == 2 {
+            q[v] = b[v];
+        }
+    }
+    out
 }
 
 /// Run Plantinga–Vegter; also returns the tree (for figures and reports).
@@ -287,8 +440,10 @@ pub fn run_pv(
         dim,
         depth: p.max_depth,
     };
+    let budget = Budget::new(p.max_boxes, p.time_limit);
+    budget.check_min_depth(dim, p.min_depth)?;
     progress.start("subdivision", 0);
-    let mut tree = subdivide(grid, p.min_depth, p.max_depth, &|g: &Grid, c| {
+    let mut tree = subdivide(grid, p.min_depth, p.max_depth, &budget, &|g: &Grid, c| {
         pv_classify(f, g, c, p)
     });
     tree.balance(f);
@@ -304,21 +459,7 @@ pub fn run_pv(
     stats.insert("max_angle_deg".into(), serde_json::json!(p.max_angle));
     let mut regions = tree.failures();
     regions.extend(asm.uncertain.iter().cloned());
-    let certificate = if regions.is_empty() {
-        Certificate::Certified {
-            claims: vec![PV_CLAIM.to_string()],
-        }
-    } else {
-        Certificate::Uncertified {
-            reason: format!(
-                "{} region(s) not certified (first: {})",
-                regions.len(),
-                regions[0].reason
-            ),
-            claims: Vec::new(),
-            regions,
-        }
-    };
+    let certificate = certificate(PV_THEOREM, &tree, dim, domain, false, regions);
     let mesh = if dim == 2 {
         Mesh::Curve(asm.curve.unwrap_or_default())
     } else {

@@ -16,16 +16,16 @@
 //!
 //! `quick` keeps the run to seconds (fewer grids and surfaces, no Snyder depth-14 runs on
 //! the large surfaces); the test suite runs it.
-use super::{leaf_boxes, AngleBound};
 use crate::catalog::{self, Entry};
 use crate::error::{Error, Result};
 use crate::implicit::{Counted, EvalCounts};
 use crate::marching::{MarchingCubes, MarchingSquares, MarchingTetrahedra};
+use crate::mesher::options::Crossing;
 use crate::mesher::{self, Certificate, Mesh, MeshOutput, Mesher, NoProgress, Run};
 use crate::metrics;
-use crate::options::Crossing;
-use crate::plantinga_vegter::{run_pv, PlantingaVegter, PvParams};
-use crate::snyder::{run_snyder, Snyder, SnyderParams};
+use crate::subdivision::plantinga_vegter::{run_pv, PlantingaVegter, PvParams};
+use crate::subdivision::snyder::{run_snyder, Snyder, SnyderParams};
+use crate::subdivision::{leaf_boxes, AngleBound};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -257,7 +257,7 @@ fn case_row(e: &Entry, method: &str, m: &dyn Mesher) -> Result<CaseRow> {
             .count(),
         farthest_region: regs
             .iter()
-            .map(|x| crate::geom::norm(x.region.center()))
+            .map(|x| crate::kernel::geom::norm(x.region.center()))
             .fold(None, |a: Option<f64>, d| Some(a.map_or(d, |a| a.max(d)))),
         found: found(e, &r.output.mesh)?,
     })
@@ -411,12 +411,12 @@ pub fn compute(quick: bool) -> Result<Report> {
     rep.cases.push(case_row(
         &lem,
         "pv",
-        &crate::plantinga_vegter::PlantingaVegter2::default(),
+        &crate::subdivision::plantinga_vegter::PlantingaVegter2::default(),
     )?);
     rep.cases.push(case_row(
         &lem,
         "snyder",
-        &crate::snyder::Snyder2::default(),
+        &crate::subdivision::snyder::Snyder2::default(),
     )?);
     // 5. The 3D side-by-side.
     for name in ["two-spheres", "thin-torus"] {
@@ -852,7 +852,7 @@ fn slice_figures(out: &Path, quick: bool) -> Result<()> {
         for (label, m) in runs {
             let o = m.mesh(&f, &e.domain, &NoProgress)?;
             if let Some(surf) = o.mesh.surface() {
-                crate::plot_subdivision::draw_subdivision_svg(
+                crate::reproduce::plot_subdivision::draw_subdivision_svg(
                     &out.join(format!("fig-slice-{name}-{label}")),
                     &f,
                     &plane,
@@ -880,7 +880,7 @@ fn figures(out: &Path, rep: &Report) -> Result<()> {
         let (t2, sn) = run_snyder(&f, &e.domain, &SnyderParams::new(2), 2, &NoProgress)?;
         for (label, t, o) in [("pv", &t1, &pv), ("snyder", &t2, &sn)] {
             if let Mesh::Curve(c) = &o.mesh {
-                crate::plot_subdivision::draw_subdivision_svg(
+                crate::reproduce::plot_subdivision::draw_subdivision_svg(
                     &out.join(format!("fig-{label}-{}", e.name)),
                     &f,
                     &e.domain,
@@ -906,7 +906,7 @@ fn figures(out: &Path, rep: &Report) -> Result<()> {
                 .contains(&r.surface.as_str())
             })
             .filter_map(|r| {
-                Some(crate::plot::Series {
+                Some(crate::reproduce::plot::Series {
                     name: r.surface.clone(),
                     points: pick(r)?
                         .iter()
@@ -916,7 +916,7 @@ fn figures(out: &Path, rep: &Report) -> Result<()> {
             })
             .collect::<Vec<_>>()
     };
-    crate::plot::lines(
+    crate::reproduce::plot::lines(
         &out.join("fig-boxes-per-depth"),
         "Plantinga–Vegter: boxes per depth",
         "depth (level of the octree)",
@@ -925,7 +925,7 @@ fn figures(out: &Path, rep: &Report) -> Result<()> {
     )?;
     let sn = series(&|r| r.snyder_shift.as_ref().map(|s| s.boxes_by_depth.clone()));
     if !sn.is_empty() {
-        crate::plot::lines(
+        crate::reproduce::plot::lines(
             &out.join("fig-boxes-per-depth-snyder"),
             "Snyder (generic shift): boxes per depth",
             "depth (level of the octree)",

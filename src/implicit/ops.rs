@@ -1,0 +1,370 @@
+//! The primitive operations of the surface oracle: everything a mesher asks of f
+//! beyond single evaluations, written once. As in the chapter's lists of "primitive
+//! operations" (Boissonnat et al., *Meshing of Surfaces*, 2007, §1.2.3, §1.3.1,
+//! §1.4.1) and CGAL's surface-mesher oracle, a mesher is characterised by which of
+//! these it calls:
+//!
+//! | operation | what it proves | used by |
+//! |---|---|---|
+//! | [`point_sign`] | the sign of f at a point, or "undecided" (0 in the enclosure, or f undefined there) | Snyder, Plantinga–Vegter (grid corners) |
+//! | [`excludes_zero`], [`enclose`] | 0 ∉ □f over a box (natural ∩ mean-value enclosure; the mean-value form only where f is continuous) | Snyder, Plantinga–Vegter, the pruned marching meshers |
+//! | [`IntervalIsolation::isolate`] | all roots of f on a segment, each in its own piece with 0 ∉ □f' (unique), or failure (a grazing root) | Snyder (every box edge) |
+//! | [`locate`], [`crossing`] | the position of one crossing between two points of opposite sign (bisection, or the linear fast path); no certificate | every lattice and subdivision mesher |
+//! | [`project`], [`project_steps`] | Newton projection onto f = 0 (no certificate) | GradNormal, MidNormal, the fidelity metrics |
+//! | [`Implicit::regularity`] | f defined, continuous, C^∞ on a box | every certified criterion |
+//!
+//! Certified critical points of f on a box face or segment (interval Newton /
+//! Krawczyk) belong here too; the Delaunay-refinement and Morse methods that need them
+//! add them.
+use crate::error::{Error, Result};
+use crate::implicit::{IBox, Implicit, Regularity};
+use crate::kernel::geom::{dot, lerp, scale, sub};
+use inari::Interval;
+use serde::{Deserialize, Serialize};
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+
+// ---------------------------------------------------------------------------------
+// The sign of f at a point.
+
+/// The sign of f at a grid point, decided by interval arithmetic.
+#[derive(Clone, Copy, Debug)]
+pub struct PointSign {
+    /// sign⁺: true for f >= 0.
+    pub pos: bool,
+    /// f at the point (float evaluation).
+    pub value: f64,
+    /// The enclosure decided the sign (or f is exactly 0).
+    pub rigorous: bool,
+}
+
+pub fn point_sign(f: &dyn Implicit, p: [f64; 3]) -> PointSign {
+    let b = p.map(|x| Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE));
+    let i = f.eval_interval(&b);
+    let value = f.eval(p);
+    // An empty enclosure means f is undefined at p (1/0): no sign is proven.
+    if i.is_empty() {
+        PointSign {
+            pos: value >= 0.0,
+            value,
+            rigorous: false,
+        }
+    } else if i.inf() >= 0.0 {
+        PointSign {
+            pos: true,
+            value,
+            rigorous: true,
+        }
+    } else if i.sup() < 0.0 {
+        PointSign {
+            pos: false,
+            value,
+            rigorous: true,
+        }
+    } else {
+        PointSign {
+            pos: value >= 0.0,
+            value,
+            rigorous: false,
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// Enclosures over a box.
+
+/// Is the box free of zeros of f (0 ∉ □f)?
+#[inline]
+pub fn excludes_zero(i: Interval) -> bool {
+    i.inf() > 0.0 || i.sup() < 0.0
+}
+
+/// Is the box free of zeros of f + ε (the sign⁺ convention): □f ⊂ [0, ∞) or (-∞, 0)?
+#[inline]
+pub fn no_zero_plus(i: Interval) -> bool {
+    i.inf() >= 0.0 || i.sup() < 0.0
+}
+
+/// An enclosure of f over a box: the natural interval extension intersected with the
+/// mean-value form f(c) + Σ □∂_k f(B)·(B_k − c_k). The mean-value form's width is O(h²)
+/// near points where the partials vanish, where the natural extension of a rotated
+/// formula (generic position) only reaches O(h) — without it Snyder's face test never
+/// proves a face near a tangency empty (the dependency problem). Returns it with the
+/// gradient enclosure.
+pub fn enclose(f: &dyn Implicit, b: &IBox) -> (Interval, [Interval; 3]) {
+    let d = f.grad_interval(b);
+    (mean_value(f, b, &d), d.g)
+}
+
+/// The natural enclosure `d.v` intersected with the mean-value form built from the
+/// gradient enclosure `d.g` (see [`enclose`]).
+pub fn mean_value(f: &dyn Implicit, b: &IBox, d: &crate::implicit::Dual<Interval>) -> Interval {
+    let c = [0, 1, 2].map(|k| b[k].mid());
+    let cb = c.map(|x| Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE));
+    let mut mv = f.eval_interval(&cb);
+    for k in 0..3 {
+        if b[k].wid() > 0.0 {
+            mv = mv + d.g[k] * (b[k] - cb[k]);
+        }
+    }
+    let v = d.v.intersection(mv);
+    // The mean-value form is an enclosure only for a continuous f whose derivative
+    // enclosures are slopes (C¹, or Lipschitz through |·|, min, max): across a pole or
+    // a gap of the domain it may exclude values f takes. Ask only when it tightens.
+    if v.is_empty() || v == d.v || f.regularity(b) < Regularity::Continuous {
+        d.v
+    } else {
+        v
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// Roots on a segment.
+
+/// How a crossing of f = 0 on a segment with a sign change is located.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Crossing {
+    /// Linear interpolation of the end values (fast; no fidelity guarantee).
+    Linear,
+    /// Bisection on f to the tolerance (default).
+    #[default]
+    Bisection,
+}
+
+impl std::str::FromStr for Crossing {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "linear" => Ok(Crossing::Linear),
+            "bisection" => Ok(Crossing::Bisection),
+            _ => Err(Error::Unknown {
+                kind: "crossing method",
+                name: s.into(),
+                known: "linear bisection".into(),
+            }),
+        }
+    }
+}
+
+/// The parameter t in [0, 1] of a crossing on the segment a→b, where `fa` and `fb`
+/// have opposite signs (or one is zero). `tol` is the tolerance in t; bisection
+/// stops at it or when the midpoint is no longer representable.
+pub fn crossing_t(
+    f: &dyn Implicit,
+    a: [f64; 3],
+    fa: f64,
+    b: [f64; 3],
+    fb: f64,
+    how: Crossing,
+    tol: f64,
+) -> f64 {
+    if fa == 0.0 {
+        return 0.0;
+    }
+    if fb == 0.0 {
+        return 1.0;
+    }
+    let linear = (fa / (fa - fb)).clamp(0.0, 1.0);
+    match how {
+        Crossing::Linear => linear,
+        Crossing::Bisection => {
+            let (mut lo, mut hi) = (0.0f64, 1.0f64);
+            let neg_at_lo = fa < 0.0;
+            while hi - lo > tol {
+                let mid = 0.5 * (lo + hi);
+                if mid <= lo || mid >= hi {
+                    break;
+                }
+                let fm = f.eval(lerp(a, b, mid));
+                if fm == 0.0 {
+                    return mid;
+                }
+                if (fm < 0.0) == neg_at_lo {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            0.5 * (lo + hi)
+        }
+    }
+}
+
+/// The crossing point itself (see [`crossing_t`]).
+pub fn crossing(
+    f: &dyn Implicit,
+    a: [f64; 3],
+    fa: f64,
+    b: [f64; 3],
+    fb: f64,
+    how: Crossing,
+    tol: f64,
+) -> [f64; 3] {
+    lerp(a, b, crossing_t(f, a, fa, b, fb, how, tol))
+}
+
+/// Locate the crossing of f + ε = 0 between `pa` (sign `sa`) and `pb` by bisection on
+/// sign⁺ to `tol` (relative), or by linear interpolation of the end values.
+pub fn locate(
+    f: &dyn Implicit,
+    pa: [f64; 3],
+    sa: bool,
+    pb: [f64; 3],
+    tol: f64,
+    linear: Option<(f64, f64)>,
+) -> [f64; 3] {
+    if let Some((fa, fb)) = linear {
+        let t = if fa == fb {
+            0.5
+        } else {
+            (fa / (fa - fb)).clamp(0.0, 1.0)
+        };
+        return lerp(pa, pb, t);
+    }
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    while hi - lo > tol {
+        let m = 0.5 * (lo + hi);
+        if m <= lo || m >= hi {
+            break;
+        }
+        if (f.eval(lerp(pa, pb, m)) >= 0.0) == sa {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    lerp(pa, pb, 0.5 * (lo + hi))
+}
+
+/// Snyder's interval root isolation on an edge (§1.2.3): bisect until, on each piece,
+/// 0 ∉ □f (no root) or 0 ∉ □f' (at most one root, present iff the end signs differ).
+/// Grazing roots (f = f' = 0) make it fail at `max_depth` bisections.
+pub struct IntervalIsolation {
+    pub max_depth: u32,
+    pub tol: f64,
+}
+
+impl IntervalIsolation {
+    /// The isolating pieces `[t0, t1]` of the segment, or `None` if isolation failed.
+    pub fn isolate(
+        &self,
+        f: &dyn Implicit,
+        pa: [f64; 3],
+        sa: bool,
+        pb: [f64; 3],
+        sb: bool,
+        steps: &AtomicU64,
+    ) -> Option<Vec<(f64, f64, bool)>> {
+        let k = (0..3).find(|&k| pa[k] != pb[k])?;
+        let mut out = Vec::new();
+        if self.rec(
+            f,
+            pa,
+            pb,
+            k,
+            (0.0, sa),
+            (1.0, sb),
+            self.max_depth,
+            steps,
+            &mut out,
+        ) {
+            Some(out)
+        } else {
+            None
+        }
+    }
+    #[allow(clippy::too_many_arguments)]
+    fn rec(
+        &self,
+        f: &dyn Implicit,
+        pa: [f64; 3],
+        pb: [f64; 3],
+        k: usize,
+        (t0, s0): (f64, bool),
+        (t1, s1): (f64, bool),
+        depth: u32,
+        steps: &AtomicU64,
+        out: &mut Vec<(f64, f64, bool)>,
+    ) -> bool {
+        steps.fetch_add(1, Relaxed);
+        let a = lerp(pa, pb, t0);
+        let b = lerp(pa, pb, t1);
+        let ib = [0, 1, 2].map(|j| {
+            Interval::try_from((a[j].min(b[j]), a[j].max(b[j]))).unwrap_or(Interval::ENTIRE)
+        });
+        let (v, dg) = enclose(f, &ib);
+        let d = crate::implicit::Dual { v, g: dg };
+        if no_zero_plus(d.v) {
+            return s0 == s1;
+        }
+        if excludes_zero(d.g[k]) {
+            if s0 != s1 {
+                out.push((t0, t1, s0));
+            }
+            return true;
+        }
+        if depth == 0 {
+            return false;
+        }
+        let tm = 0.5 * (t0 + t1);
+        let ps = point_sign(f, lerp(pa, pb, tm));
+        if !ps.rigorous {
+            return false;
+        }
+        self.rec(f, pa, pb, k, (t0, s0), (tm, ps.pos), depth - 1, steps, out)
+            && self.rec(f, pa, pb, k, (tm, ps.pos), (t1, s1), depth - 1, steps, out)
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// Projection onto f = 0.
+
+/// One Newton step p ← p − f ∇f / |∇f|² from `d` = (f, ∇f) at p (the z component of
+/// ∇f ignored for curves): the new point and the step length, or `None` where ∇f
+/// vanishes or a value is not finite.
+fn newton_step(
+    f: &dyn Implicit,
+    p: [f64; 3],
+    d: crate::implicit::Dual<f64>,
+) -> Option<([f64; 3], f64)> {
+    let mut g = d.g;
+    if f.dim() == 2 {
+        g[2] = 0.0;
+    }
+    let g2 = dot(g, g);
+    if !(g2 > 0.0) || !d.v.is_finite() || !g2.is_finite() {
+        return None;
+    }
+    let t = d.v / g2;
+    Some((sub(p, scale(g, t)), t.abs() * g2.sqrt()))
+}
+
+/// Project `p` onto f = 0 by Newton steps. `None` when ∇f vanishes, a value is not
+/// finite, or the last step is still longer than `tol` after `steps` steps.
+pub fn project(f: &dyn Implicit, p: [f64; 3], steps: usize, tol: f64) -> Option<[f64; 3]> {
+    let mut q = p;
+    for _ in 0..steps.max(1) {
+        let (r, len) = newton_step(f, q, f.grad(q))?;
+        q = r;
+        if len <= tol {
+            return Some(q);
+        }
+    }
+    None
+}
+
+/// Exactly `steps` Newton steps (fewer if f vanishes exactly), as GradNormal's
+/// Algorithm 2, line 6 prescribes: the point, and whether every step had a usable
+/// gradient (if not, the point where it stopped). One gradient evaluation per step.
+pub fn project_steps(f: &dyn Implicit, mut p: [f64; 3], steps: usize) -> ([f64; 3], bool) {
+    for _ in 0..steps {
+        let d = f.grad(p);
+        if d.v == 0.0 {
+            break;
+        }
+        match newton_step(f, p, d) {
+            Some((q, _)) => p = q,
+            None => return (p, false),
+        }
+    }
+    (p, true)
+}

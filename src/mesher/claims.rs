@@ -1,0 +1,144 @@
+//! Typed certificate claims and typed reasons for uncertified regions, so that a script
+//! or the comparison harness can ask "which outputs are proven isotopic" without
+//! parsing prose. Each claim's `Display` is the sentence the report prints (the
+//! `claims` strings of the JSON report); the typed form is in `claims_typed`.
+use crate::kernel::geom::Aabb;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// One proven statement about a mesher's output.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Claim {
+    /// The output is isotopic to f = 0 inside `inside` (the domain, or with
+    /// `generic_position` a rotated box containing it), by `theorem`.
+    Isotopic {
+        inside: Aabb,
+        theorem: String,
+        generic_position: bool,
+    },
+    /// f = 0 inside `inside` is a regular curve (`dim` 2) or surface (3): every box
+    /// meeting it was proven C^∞ with ∇f bounded away from 0.
+    RegularZeroSet { dim: usize, inside: Aabb },
+    /// `empty` of the `boxes` leaves were proven free of f = 0 (0 ∉ □f).
+    ExcludedEmpty { empty: usize, boxes: usize },
+    /// Every interior triangle lies in exactly two tetrahedra and the boundary is
+    /// watertight and consistently oriented (exact combinatorial check).
+    Conforming { nonmanifold_edges: usize },
+    /// The number of tetrahedra with non-positive orientation (exact orient3d).
+    InvertedTetrahedra { count: usize },
+}
+
+impl fmt::Display for Claim {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Claim::Isotopic {
+                theorem,
+                generic_position,
+                ..
+            } => {
+                write!(f, "isotopic to f = 0 inside the domain ({theorem})")?;
+                if *generic_position {
+                    write!(f, ", grid in generic position (the meshed region is a rotated box containing the domain)")?;
+                }
+                Ok(())
+            }
+            Claim::RegularZeroSet { dim, .. } => write!(
+                f,
+                "f = 0 inside the domain is a regular {}: every box meeting it is proven C^inf \
+                 with a gradient bounded away from 0 (interval regularity flags and enclosures)",
+                if *dim == 2 { "curve" } else { "surface" }
+            ),
+            Claim::ExcludedEmpty { empty, boxes } => write!(
+                f,
+                "{empty} of {boxes} boxes proven free of f = 0 (0 not in the enclosure of f)"
+            ),
+            Claim::Conforming { nonmanifold_edges } => {
+                write!(f, "conforming: every interior triangle in exactly two tetrahedra, boundary watertight and consistently oriented")?;
+                if *nonmanifold_edges == 0 {
+                    write!(f, ", a closed 2-manifold")?;
+                } else {
+                    write!(
+                        f,
+                        ", with {nonmanifold_edges} non-manifold edges where the solid pinches"
+                    )?;
+                }
+                write!(f, " (exact combinatorial check)")
+            }
+            Claim::InvertedTetrahedra { count } => {
+                write!(f, "{count} inverted tetrahedra (exact orient3d)")
+            }
+        }
+    }
+}
+
+impl Claim {
+    /// Does this claim state that the output has the topology of f = 0?
+    pub fn is_topological(&self) -> bool {
+        matches!(self, Claim::Isotopic { .. })
+    }
+}
+
+/// Why a region is uncertified, by kind (the text is in the region's `reason`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Cause {
+    /// f may have a pole, a gap of its domain, or a discontinuity on the box.
+    NotContinuous,
+    /// f is continuous but not differentiable there (|x|, min, max, √ at 0).
+    NotDifferentiable,
+    /// f is undefined on the whole box.
+    Undefined,
+    /// 0 ∈ □f and 0 ∈ □∇f: a singular point may be there.
+    PossiblySingular,
+    /// The criterion did not hold before the depth limit.
+    DepthLimit,
+    /// Roots on a box edge could not be isolated (a grazing intersection).
+    Grazing,
+    /// A face tangent to the surface (Snyder's top/bottom faces).
+    TangentFace,
+    /// f = 0 meets the boundary of the domain where the theorem needs it not to.
+    DomainBoundary,
+    /// The sign of f at a grid point is undecided (0 in its enclosure).
+    UndecidedSign,
+    /// The box budget (`--max-boxes`) ran out.
+    BoxBudget,
+    /// The time limit (`--time-limit`) passed.
+    TimeLimit,
+    /// Anything else (the lattice does not resolve the surface, ...).
+    #[default]
+    Other,
+}
+
+impl Cause {
+    /// The kind of a reason text written by the meshers (their reasons are constants;
+    /// this is the one place that maps them).
+    pub fn of(reason: &str) -> Cause {
+        let r = reason;
+        if r.starts_with("f is not continuous") {
+            Cause::NotContinuous
+        } else if r.starts_with("f is not differentiable") {
+            Cause::NotDifferentiable
+        } else if r.starts_with("f is undefined") {
+            Cause::Undefined
+        } else if r.starts_with("possible singular point") {
+            Cause::PossiblySingular
+        } else if r.starts_with("depth limit") {
+            Cause::DepthLimit
+        } else if r.starts_with("grazing") {
+            Cause::Grazing
+        } else if r.starts_with("top/bottom face") {
+            Cause::TangentFace
+        } else if r.contains("domain boundary") || r.contains("domain edge") {
+            Cause::DomainBoundary
+        } else if r.starts_with("sign of f") {
+            Cause::UndecidedSign
+        } else if r.starts_with("box budget") {
+            Cause::BoxBudget
+        } else if r.starts_with("time limit") {
+            Cause::TimeLimit
+        } else {
+            Cause::Other
+        }
+    }
+}

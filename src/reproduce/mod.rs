@@ -1,0 +1,37 @@
+//! Everything that regenerates a folder `papers/<name>/`: one module per paper, and
+//! the plotting they need. Algorithm modules never import this module.
+//!
+//! * [`meshing_of_surfaces`]: Boissonnat, Cohen-Steiner, Mourrain, Rote, Vegter,
+//!   *Meshing of Surfaces* (2007), §1.2: Snyder and Plantinga–Vegter;
+//! * [`gradnormal`], [`gradnormal_bunny`]: Hass, Trnkova, *Approximating isosurfaces by
+//!   guaranteed-quality triangular meshes* (SGP 2020): Table 1 and the bunny remesh;
+//! * [`stuffing`], [`stuffing_report`]: Labelle, Shewchuk, *Isosurface Stuffing*
+//!   (SIGGRAPH 2007): Table 1 on the catalog, histograms;
+//! * [`plot`], [`plot_subdivision`]: line plots, histograms and subdivision pictures.
+pub mod gradnormal;
+pub mod gradnormal_bunny;
+pub mod meshing_of_surfaces;
+pub mod plot;
+pub mod plot_subdivision;
+pub mod stuffing;
+pub mod stuffing_report;
+
+use crate::error::{Error, Result};
+use std::path::Path;
+
+/// The papers that can be reproduced, by the name `certmesh reproduce` takes.
+pub const PAPERS: [&str; 3] = ["gradnormal", "stuffing", "meshing-of-surfaces"];
+
+/// Regenerate `papers/<name>/` into `out` (`quick`: a reduced set, seconds).
+pub fn reproduce(name: &str, out: &Path, quick: bool) -> Result<()> {
+    match name {
+        "gradnormal" => gradnormal::reproduce(out, quick),
+        "stuffing" => stuffing_report::reproduce(out, quick),
+        "meshing-of-surfaces" => meshing_of_surfaces::reproduce(out, quick),
+        _ => Err(Error::Unknown {
+            kind: "paper",
+            name: name.into(),
+            known: PAPERS.join(" "),
+        }),
+    }
+}
