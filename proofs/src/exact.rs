@@ -61,6 +61,23 @@ fn cos_rat(x: &BigRational) -> (BigRational, BigRational) {
 /// rational number of degrees. cos is decreasing on [0, π], so the bounds on π give
 /// cos(deg·π_hi/180) <= cos(deg°) <= cos(deg·π_lo/180). 90° gives exactly 0.
 pub fn cos_deg(deg: &BigRational) -> (BigRational, BigRational) {
+    // Memoised: a pure function, called with the same few thresholds by every summary.
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    type Memo = Mutex<HashMap<BigRational, (BigRational, BigRational)>>;
+    static MEMO: OnceLock<Memo> = OnceLock::new();
+    let memo = MEMO.get_or_init(|| Mutex::new(HashMap::new()));
+    if let Some(r) = memo.lock().unwrap_or_else(|e| e.into_inner()).get(deg) {
+        return r.clone();
+    }
+    let r = cos_deg_uncached(deg);
+    memo.lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(deg.clone(), r.clone());
+    r
+}
+
+fn cos_deg_uncached(deg: &BigRational) -> (BigRational, BigRational) {
     if *deg == BigRational::from_integer(BigInt::from(90)) {
         return (BigRational::zero(), BigRational::zero());
     }

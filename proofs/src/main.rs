@@ -2,8 +2,13 @@
 //! interval arithmetic (inari) and exact rational arithmetic, written as certificates
 //! that can be re-verified independently.
 use clap::{Parser, Subcommand};
-use proofs::cases::Ratio;
+use proofs::bnb::Budget;
+mod cli;
+use cli::fail::{report, Fail, Kind};
+use cli::files::*;
+use cli::print::*;
 use proofs::geometry::DiagonalRule;
+use proofs::gradnormal::cases::Ratio;
 use proofs::gradnormal::{self, Certificate, Config};
 use proofs::stuffing;
 use std::path::PathBuf;
@@ -14,11 +19,53 @@ use std::process::ExitCode;
 /// The proofs verify the project's own data (the GradNormal tiling and diagonal rules,
 /// the isosurface-stuffing stencil table), read from the same code the meshers use, so
 /// a certificate speaks about the meshes certmesh actually produces.
+///
+/// Every run has a work budget (--max-boxes, --time-limit): a run that reaches it stops,
+/// says so and writes no certificate. A shard (--shard i/N) is a partial result with no
+/// verdict until `proofs merge` has all N shards.
+///
+/// Exit codes: 0 success (a certificate written or accepted, whatever its verdicts);
+/// 1 a certificate rejected by `check`, or a run stopped by its budget; 2 a usage or
+/// input error. With --json, an error is {"error": ..., "kind": ..., "position": ...}
+/// on stdout.
 #[derive(Parser)]
 #[command(name = "proofs", version, about, long_about)]
 struct Cli {
+    /// Machine-readable output: results as JSON on stdout, and an error as a JSON
+    /// object `{"error": ..., "kind": ..., "position": ...}` on stdout.
+    #[arg(long, global = true)]
+    json: bool,
     #[command(subcommand)]
     cmd: Cmd,
+}
+
+/// The work budget options of a run.
+#[derive(clap::Args, Clone, Copy, Debug)]
+struct BudgetArgs {
+    /// Work budget: the most boxes (interval evaluations) the run may use; a run that
+    /// reaches it stops, says so and writes no certificate.
+    #[arg(long, default_value_t = proofs::bnb::DEFAULT_MAX_BOXES)]
+    max_boxes: u64,
+    /// Wall-clock limit in seconds (default: none); a run that reaches it stops, says
+    /// so and writes no certificate.
+    #[arg(long, value_name = "SECONDS")]
+    time_limit: Option<f64>,
+}
+
+impl BudgetArgs {
+    fn budget(&self) -> Result<Budget, Fail> {
+        if let Some(t) = self.time_limit {
+            if !(t > 0.0 && t.is_finite()) {
+                return Err(Fail::input(format!(
+                    "--time-limit {t}: must be a positive number of seconds"
+                )));
+            }
+        }
+        if self.max_boxes == 0 {
+            return Err(Fail::input("--max-boxes must be at least 1"));
+        }
+        Ok(Budget::new(self.max_boxes, self.time_limit))
+    }
 }
 
 #[derive(Subcommand)]
@@ -39,9 +86,6 @@ enum Cmd {
         /// Run only the cases with index ≡ i (mod N): `--shard i/N`.
         #[arg(long)]
         shard: Option<String>,
-        /// Print the JSON summary (min_deg, max_deg, claims) on stdout.
-        #[arg(long)]
-        json: bool,
         /// Target enclosure width in degrees (default 1e-6).
         #[arg(long, default_value_t = 1e-6)]
         tol_deg: f64,
@@ -52,6 +96,8 @@ enum Cmd {
         /// Write PROOF.md and the figures into this directory (runs every rule).
         #[arg(long)]
         write_papers: Option<PathBuf>,
+        #[command(flatten)]
+        budget: BudgetArgs,
     },
     /// Certify the isosurface-stuffing Table 1 bounds (Labelle & Shewchuk 2007, Thm 1,
     /// §4.1) on the mesher's stencil table, and the safe property, per row.
@@ -59,9 +105,6 @@ enum Cmd {
         /// A Table 1 row (the mesher's `--params` name) or `all`.
         #[arg(long, default_value = "all")]
         row: String,
-        /// Print the JSON summary on stdout.
-        #[arg(long)]
-        json: bool,
         /// Run only the cases with index ≡ i (mod N): `--shard i/N`.
         #[arg(long)]
         shard: Option<String>,
@@ -79,8 +122,10 @@ enum Cmd {
         #[arg(long)]
         graded: bool,
         /// With `--graded`: number of sample octrees of the sampled-contexts model.
-        #[arg(long, default_value_t = proofs::stuffing_graded::DEFAULT_TREES)]
+        #[arg(long, default_value_t = proofs::stuffing::graded::DEFAULT_TREES)]
         trees: usize,
+        #[command(flatten)]
+        budget: BudgetArgs,
     },
     /// Figures of the worst configurations (like the paper's Fig 5) from stuffing
     /// certificates DIR/ROW.json, into OUT/ROW-BOUND.svg/png.
@@ -108,106 +153,50 @@ enum Cmd {
     },
 }
 
-fn load(p: &PathBuf) -> Result<Certificate, String> {
-    let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-    serde_json::from_str(&text).map_err(|e| format!("{}: not a certificate: {e}", p.display()))
-}
-
-fn save(p: &PathBuf, c: &Certificate) -> Result<(), String> {
-    let text = serde_json::to_string(c).map_err(|e| e.to_string())?;
-    std::fs::write(p, text).map_err(|e| format!("{}: {e}", p.display()))
-}
-
-fn parse_shard(s: &str) -> Result<(usize, usize), String> {
-    let (i, n) = s.split_once('/').ok_or("--shard expects i/N")?;
-    let i: usize = i.parse().map_err(|_| "--shard expects i/N")?;
-    let n: usize = n.parse().map_err(|_| "--shard expects i/N")?;
-    if n == 0 || i >= n {
-        return Err(format!("--shard {i}/{n}: need 0 <= i < N"));
-    }
-    Ok((i, n))
-}
-
-fn print_human(c: &Certificate) {
-    println!(
-        "GradNormal angle proof: a/e = {}, rule = {}, {} of {} cases, {:.2} s",
-        c.ratio,
-        c.rule,
-        c.cases.len(),
-        c.n_cases,
-        c.seconds
-    );
-    if let Some(s) = &c.summary {
-        println!(
-            "  smallest projected angle in [{:.9}°, {:.9}°]",
-            s.min_deg[0], s.min_deg[1]
-        );
-        println!(
-            "  largest projected angle  in [{:.9}°, {:.9}°]",
-            s.max_deg[0], s.max_deg[1]
-        );
-        println!(
-            "  valence-four triangles: [{:.7}°, {:.7}°] .. [{:.7}°, {:.7}°]",
-            s.v4_min_deg[0], s.v4_min_deg[1], s.v4_max_deg[0], s.v4_max_deg[1]
-        );
-        for cl in &c.claims {
-            println!("  {:9} {}", cl.verdict.name(), cl.claim);
-        }
-    }
-}
-
-fn run() -> Result<(), String> {
-    let cli = Cli::parse();
+fn run(cli: Cli) -> Result<(), Fail> {
+    let json = cli.json;
     match cli.cmd {
         Cmd::Gradnormal {
             a,
             rule,
             out,
             shard,
-            json,
             tol_deg,
             scan,
             write_papers,
+            budget,
         } => {
-            let ratio = Ratio::parse(&a)?;
-            let rule: DiagonalRule = rule.parse().map_err(|e| format!("{e}"))?;
+            let ratio = Ratio::parse(&a).map_err(|e| Fail::input(format!("--a: {e}")))?;
+            let rule: DiagonalRule = rule
+                .parse()
+                .map_err(|e| Fail::input(format!("--rule: {e}")))?;
+            let budget = budget.budget()?;
             if let Some(dir) = write_papers {
-                return proofs::report::write_papers(&dir, ratio);
+                gradnormal::check_theorem_range(ratio)?;
+                return proofs::gradnormal::report::write_papers(&dir, ratio, &budget)
+                    .map_err(|e| Fail::run(e, &budget));
             }
             if let Some(n) = scan {
                 let dir = PathBuf::from("papers/gradnormal/figures");
-                let rows = proofs::report::scan(rule, n, &dir)?;
+                let rows = proofs::gradnormal::report::scan(rule, n, &dir, &budget)
+                    .map_err(|e| Fail::run(e, &budget))?;
                 for r in rows {
                     println!("{r}");
                 }
                 return Ok(());
             }
+            check_tol_deg(tol_deg)?;
+            gradnormal::check_theorem_range(ratio)?;
+            check_out_path(&out)?;
             let mut cfg = Config::new(ratio, rule);
-            if !(tol_deg > 0.0) {
-                return Err("--tol-deg must be positive".into());
-            }
             cfg.tol_cos = 0.5 * tol_deg * std::f64::consts::PI / 180.0;
             cfg.shard = shard.as_deref().map(parse_shard).transpose()?;
             cfg.progress = !json;
-            let cert = gradnormal::run(&cfg)?;
-            save(&out, &cert)?;
+            cfg.budget = budget.clone();
+            let cert = gradnormal::run(&cfg).map_err(|e| Fail::run(e, &budget))?;
+            save_json(&out, &cert)?;
             if json {
-                let v = serde_json::json!({
-                    "ratio": cert.ratio,
-                    "rule": cert.rule,
-                    "seconds": cert.seconds,
-                    "certificate": out.display().to_string(),
-                    "min_deg": cert.summary.as_ref().map(|s| s.min_deg),
-                    "max_deg": cert.summary.as_ref().map(|s| s.max_deg),
-                    "v4_min_deg": cert.summary.as_ref().map(|s| s.v4_min_deg),
-                    "v4_max_deg": cert.summary.as_ref().map(|s| s.v4_max_deg),
-                    "claims": cert.claims,
-                    "cases": cert.summary.as_ref().map(|s| &s.cases),
-                });
-                println!(
-                    "{}",
-                    serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-                );
+                print_json(&gradnormal_json(&cert, &out))?;
             } else {
                 print_human(&cert);
                 println!("  certificate: {}", out.display());
@@ -216,34 +205,42 @@ fn run() -> Result<(), String> {
         }
         Cmd::Stuffing {
             row,
-            json,
             shard: _,
             out,
             tol_deg,
             count: _,
             graded: true,
             trees,
-        } => graded_cmd(&row, json, &out, tol_deg, trees),
+            budget,
+        } => graded_cmd(&row, json, &out, tol_deg, trees, budget.budget()?),
         Cmd::Stuffing {
             row,
-            json,
             shard,
             out,
             tol_deg,
             count,
             graded: false,
             trees: _,
-        } => stuffing_cmd(&row, json, shard.as_deref(), &out, tol_deg, count),
+            budget,
+        } => stuffing_cmd(
+            &row,
+            json,
+            shard.as_deref(),
+            &out,
+            tol_deg,
+            count,
+            budget.budget()?,
+        ),
         Cmd::StuffingFigures { certs, out, bounds } => {
             // Everything is checked before anything is written: unknown bound names, a
             // missing folder, a file that is not a certificate, no certificate at all.
             let known: Vec<&str> = stuffing::BOUNDS.iter().map(|(n, _, _)| *n).collect();
             let wanted: Vec<&str> = bounds.split(',').map(str::trim).collect();
             if let Some(bad) = wanted.iter().find(|w| !known.contains(w)) {
-                return Err(format!(
+                return Err(Fail::input(format!(
                     "unknown bound '{bad}' in --bounds; known: {}",
                     known.join(" ")
-                ));
+                )));
             }
             // --certs is a folder of ROW.json certificates, or one certificate file.
             let certs_found: Vec<(String, stuffing::Certificate)> = if certs.is_file() {
@@ -258,20 +255,21 @@ fn run() -> Result<(), String> {
                     }
                 }
                 if v.is_empty() {
-                    return Err(format!(
+                    return Err(Fail::input(format!(
                         "{}: no stuffing certificate ROW.json in this folder (rows: {})",
                         certs.display(),
                         stuffing::row_names().join(" ")
-                    ));
+                    )));
                 }
                 v
             } else {
-                return Err(format!(
+                return Err(Fail::input(format!(
                     "{}: no such certificate file or folder",
                     certs.display()
-                ));
+                )));
             };
-            std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+            std::fs::create_dir_all(&out)
+                .map_err(|e| Fail::input(format!("{}: {e}", out.display())))?;
             let mut written = 0;
             for (name, c) in &certs_found {
                 for (b, (bn, _, _)) in stuffing::BOUNDS.iter().enumerate() {
@@ -279,33 +277,51 @@ fn run() -> Result<(), String> {
                         continue;
                     }
                     let stem = out.join(format!("{name}-{bn}"));
-                    if proofs::stuffing_fig::witness_figure(c, b, &stem)? {
+                    if proofs::stuffing::figures::witness_figure(c, b, &stem)? {
                         println!("{}.svg", stem.display());
                         written += 1;
                     }
                 }
             }
             if written == 0 {
-                return Err(format!(
+                return Err(Fail::input(format!(
                     "no figure written: the {} certificate(s) read have no witness for {}",
                     certs_found.len(),
                     wanted.join(", ")
-                ));
+                )));
             }
             Ok(())
         }
         Cmd::Check { cert } if is_stuffing(&cert)? => {
             let c = load_stuffing(&cert)?;
             let t0 = std::time::Instant::now();
-            let r = stuffing::check(&c)?;
+            let r = stuffing::check(&c).map_err(Fail::check)?;
+            if json {
+                return print_json(&serde_json::json!({
+                    "ok": true,
+                    "kind": "stuffing",
+                    "row": c.row,
+                    "complete": r.complete,
+                    "partial": !r.complete,
+                    "shard": c.shard.map(|s| format!("{}/{}", s[0], s[1])),
+                    "problems": r.problems,
+                    "leaves": r.leaves,
+                    "bounds": r.bounds,
+                    "safe": r.safe,
+                    "seconds": t0.elapsed().as_secs_f64(),
+                }));
+            }
             print_check_ok(
                 &format!("row {}, {} problems", c.row, r.problems),
                 r.leaves,
                 r.complete,
                 t0,
             );
+            if let Some(s) = c.shard {
+                println!("  {}", shard_line(s, "the row"));
+            }
             for b in &r.bounds {
-                print_bound(b);
+                print_bound(b, c.partial);
             }
             println!(
                 "  safe: {} (min volume ratio {:.6})",
@@ -315,103 +331,60 @@ fn run() -> Result<(), String> {
             Ok(())
         }
         Cmd::Merge { parts, out } if parts.first().map(is_stuffing).transpose()? == Some(true) => {
-            let certs: Result<Vec<stuffing::Certificate>, String> =
+            check_out_path(&out)?;
+            let certs: Result<Vec<stuffing::Certificate>, Fail> =
                 parts.iter().map(load_stuffing).collect();
             let m = stuffing::merge(certs?)?;
             save_json(&out, &m)?;
+            if json {
+                return print_json(&stuffing::summary_json(&m, &out.display().to_string()));
+            }
             print_stuffing(&m);
             Ok(())
         }
         Cmd::Check { cert } => {
             let c = load(&cert)?;
             let t0 = std::time::Instant::now();
-            let r = gradnormal::check(&c)?;
+            let r = gradnormal::check(&c).map_err(Fail::check)?;
+            if json {
+                return print_json(&serde_json::json!({
+                    "ok": true,
+                    "kind": "gradnormal",
+                    "complete": r.complete,
+                    "partial": !r.complete,
+                    "shard": c.shard.map(|s| format!("{}/{}", s[0], s[1])),
+                    "cases": r.cases,
+                    "leaves": r.leaves,
+                    "claims": r.claims,
+                    "seconds": t0.elapsed().as_secs_f64(),
+                }));
+            }
             print_check_ok(&format!("{} cases", r.cases), r.leaves, r.complete, t0);
+            if let Some(s) = c.shard {
+                println!("  {}", shard_line(s, "the claims"));
+            }
             for cl in &r.claims {
                 println!("  {:9} {}", cl.verdict.name(), cl.claim);
             }
             Ok(())
         }
         Cmd::Regions { a } => {
-            print!("{}", proofs::report::regions_markdown(Ratio::parse(&a)?)?);
+            let ratio = Ratio::parse(&a).map_err(|e| Fail::input(format!("--a: {e}")))?;
+            print!("{}", proofs::gradnormal::report::regions_markdown(ratio)?);
             Ok(())
         }
         Cmd::Merge { parts, out } => {
-            let certs: Result<Vec<Certificate>, String> = parts.iter().map(load).collect();
+            check_out_path(&out)?;
+            let certs: Result<Vec<Certificate>, Fail> = parts.iter().map(load).collect();
             let m = gradnormal::merge(certs?)?;
-            save(&out, &m)?;
+            save_json(&out, &m)?;
+            if json {
+                return print_json(&gradnormal_json(&m, &out));
+            }
             print_human(&m);
             Ok(())
         }
     }
-}
-
-fn is_stuffing(p: &PathBuf) -> Result<bool, String> {
-    use std::io::Read;
-    let mut f = std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?;
-    let mut head = [0u8; 200];
-    let n = f
-        .read(&mut head)
-        .map_err(|e| format!("{}: {e}", p.display()))?;
-    Ok(String::from_utf8_lossy(&head[..n]).contains(stuffing::FORMAT))
-}
-
-fn load_stuffing(p: &PathBuf) -> Result<stuffing::Certificate, String> {
-    let f = std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?;
-    serde_json::from_reader(std::io::BufReader::new(f))
-        .map_err(|e| format!("{}: not a stuffing certificate: {e}", p.display()))
-}
-
-fn save_json<T: serde::Serialize>(p: &PathBuf, c: &T) -> Result<(), String> {
-    let f = std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()))?;
-    serde_json::to_writer(std::io::BufWriter::new(f), c).map_err(|e| e.to_string())
-}
-
-fn print_bound(b: &stuffing::BoundResult) {
-    let paper = b
-        .paper
-        .map(|x| format!("{x:.4}"))
-        .unwrap_or_else(|| "n/a".into());
-    let deg = b
-        .deg
-        .map(|d| format!("[{:.6}, {:.6}]", d[0], d[1]))
-        .unwrap_or_else(|| "n/a".into());
-    println!(
-        "  {:13} paper {:>9}  certified {:24}  {:9}  tight: {}",
-        b.bound,
-        paper,
-        deg,
-        b.verdict.map(|v| v.name()).unwrap_or("-"),
-        b.tight.as_deref().unwrap_or("-")
-    );
-}
-
-fn print_stuffing(c: &stuffing::Certificate) {
-    println!(
-        "stuffing row {}: {} -> {} cases, {} problems, {} leaves ({} unresolved), {:.1} s",
-        c.row,
-        c.counts.raw,
-        c.counts.distinct,
-        c.problems.len(),
-        c.leaves,
-        c.unresolved,
-        c.seconds
-    );
-    for b in &c.bounds {
-        print_bound(b);
-    }
-    println!(
-        "  safe: {} (min volume / unwarped volume = {:.6}; {} -> {} cases){}",
-        c.safe.verdict.name(),
-        c.safe.min_ratio,
-        c.safe.counts.raw,
-        c.safe.counts.distinct,
-        if c.safe.note.is_empty() {
-            String::new()
-        } else {
-            format!("; {}", c.safe.note)
-        }
-    );
 }
 
 fn stuffing_cmd(
@@ -421,32 +394,31 @@ fn stuffing_cmd(
     out: &PathBuf,
     tol_deg: f64,
     count: bool,
-) -> Result<(), String> {
+    budget: Budget,
+) -> Result<(), Fail> {
     let names: Vec<&str> = if row == "all" {
         stuffing::row_names()
     } else {
         vec![
             certmesh::stuffing::row(row)
-                .map_err(|e| e.to_string())?
+                .map_err(|e| Fail::input(format!("--row: {e}")))?
                 .name,
         ]
     };
-    if !(tol_deg > 0.0) {
-        return Err("--tol-deg must be positive".into());
-    }
+    check_tol_deg(tol_deg)?;
     let shard = shard.map(parse_shard).transpose()?;
     if count {
         for n in names {
             let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
-            let a = proofs::stuffing_cases::Alphas::of(r);
-            let (_, c) = proofs::stuffing_cases::output_cases(&a);
-            let (_, s) = proofs::stuffing_cases::bcc_cases(&a);
+            let a = proofs::stuffing::cases::Alphas::of(r);
+            let (_, c) = proofs::stuffing::cases::output_cases(&a);
+            let (_, s) = proofs::stuffing::cases::bcc_cases(&a);
             // Output-tetrahedron cases whose volume can vanish (exact corner test).
-            let (cases, _) = proofs::stuffing_cases::output_cases(&a);
+            let (cases, _) = proofs::stuffing::cases::output_cases(&a);
             let flat = cases
                 .iter()
                 .filter(|c| {
-                    let (r, _) = proofs::stuffing_cases::volume_range(c, &a);
+                    let (r, _) = proofs::stuffing::cases::volume_range(c, &a);
                     r[0] <= 0 && r[1] >= 0
                 })
                 .count();
@@ -458,7 +430,15 @@ fn stuffing_cmd(
         return Ok(());
     }
     if names.len() > 1 {
-        std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+        if out.exists() && !out.is_dir() {
+            return Err(Fail::input(format!(
+                "{}: --row all writes one file per row into a directory",
+                out.display()
+            )));
+        }
+        std::fs::create_dir_all(out).map_err(|e| Fail::input(format!("{}: {e}", out.display())))?;
+    } else {
+        check_out_path(out)?;
     }
     let mut summaries = Vec::new();
     for n in names {
@@ -467,12 +447,15 @@ fn stuffing_cmd(
         cfg.tol_deg = tol_deg;
         cfg.shard = shard;
         cfg.progress = !json;
+        // One budget per row.
+        cfg.budget = budget.fresh();
         let path = if row == "all" {
             out.join(format!("{n}.json"))
         } else {
             out.clone()
         };
-        let cert = stuffing::run(&cfg)?;
+        let cert =
+            stuffing::run(&cfg).map_err(|e| Fail::run(format!("row {n}: {e}"), &cfg.budget))?;
         save_json(&path, &cert)?;
         if json {
             summaries.push(stuffing::summary_json(&cert, &path.display().to_string()));
@@ -487,13 +470,14 @@ fn stuffing_cmd(
         } else {
             serde_json::Value::Array(summaries)
         };
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-        );
+        print_json(&v)?;
     }
     Ok(())
 }
+
+/// The work estimate of one sample octree of the graded proof's sampled-context model
+/// (about 3.3 million face configurations for the 96 default trees).
+const GRADED_FACES_PER_TREE: u64 = 35_000;
 
 fn graded_cmd(
     row: &str,
@@ -501,8 +485,9 @@ fn graded_cmd(
     out: &PathBuf,
     tol_deg: f64,
     trees: usize,
-) -> Result<(), String> {
-    use proofs::stuffing_graded as g;
+    budget: Budget,
+) -> Result<(), Fail> {
+    use proofs::stuffing::graded as g;
     let names: Vec<&str> = if row == "all" {
         g::DAGGERS.iter().map(|d| d.0).collect()
     } else if g::DAGGERS.iter().any(|d| d.0 == row) {
@@ -512,22 +497,35 @@ fn graded_cmd(
             .map(|d| d.0)
             .unwrap_or(row)]
     } else {
-        return Err(format!(
+        return Err(Fail::input(format!(
             "--graded: row '{row}' has no dagger bound; the dagger rows are {}",
             g::DAGGERS.map(|d| d.0).join(" ")
-        ));
+        )));
     };
-    if !(tol_deg > 0.0) {
-        return Err("--tol-deg must be positive".into());
-    }
+    check_tol_deg(tol_deg)?;
     if trees == 0 {
-        return Err("--trees must be at least 1".into());
+        return Err(Fail::input("--trees must be at least 1"));
     }
+    let estimate = trees as u64 * GRADED_FACES_PER_TREE;
+    if estimate > budget.max_boxes() {
+        return Err(Fail::input(format!(
+            "--trees {trees}: about {GRADED_FACES_PER_TREE} face configurations per sample octree, {estimate} in all, above the work budget of {} (--max-boxes N raises it; or lower --trees)",
+            budget.max_boxes()
+        )));
+    }
+    check_out_path(out)?;
     let mut all = Vec::new();
     for n in names {
         let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
         for context in [false, true] {
-            let res = g::run(r, tol_deg, context, trees);
+            let res = g::run_within(r, tol_deg, context, trees, &budget);
+            if res.verdict.starts_with("incomplete") {
+                return Err(Fail {
+                    kind: Kind::Budget,
+                    msg: format!("graded row {n}: {}", res.verdict),
+                    position: None,
+                });
+            }
             if !json {
                 println!(
                     "graded dagger, row {} ({} model): max plane angle, uniform {} -> paper {}",
@@ -559,32 +557,44 @@ fn graded_cmd(
     }
     let v = serde_json::to_value(&all).map_err(|e| e.to_string())?;
     let text = serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?;
-    std::fs::write(out, &text).map_err(|e| format!("{}: {e}", out.display()))?;
+    std::fs::write(out, &text).map_err(|e| Fail::input(format!("{}: {e}", out.display())))?;
     if json {
         println!("{text}");
     }
     Ok(())
 }
 
-/// The first line of `proofs check`, for either kind of certificate.
-fn print_check_ok(what: &str, leaves: usize, complete: bool, t0: std::time::Instant) {
-    println!(
-        "certificate OK: {what}, {leaves} leaves re-evaluated{} ({:.2} s)",
-        if complete {
-            ", complete"
-        } else {
-            " (partial: a shard)"
-        },
-        t0.elapsed().as_secs_f64()
-    );
-}
-
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
+    let json = std::env::args_os().any(|a| a == "--json");
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
         Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
+            use clap::error::ErrorKind;
+            let info = matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            );
+            if json && !info {
+                let f = Fail {
+                    kind: Kind::Usage,
+                    msg: e
+                        .to_string()
+                        .lines()
+                        .next()
+                        .unwrap_or("")
+                        .trim_start_matches("error: ")
+                        .to_string(),
+                    position: None,
+                };
+                return report(&f, true);
+            }
+            e.exit()
         }
+    };
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => report(&f, json),
     }
 }

@@ -7,8 +7,8 @@
 //! at the corners α = ±1, β = ∓1 ... : with γ = 1/(2H) = 1/√3, s = 1/2:
 //! max cos = sγ / sqrt((1 + γ²)(1 + s²)) = 1/(2√5).
 use proofs::bnb::{check_case, solve, Objective, Search};
-use proofs::cases::{Case, Domain, NamedPt, Ratio};
-use proofs::eval::TriObj;
+use proofs::gradnormal::cases::{Case, Domain, NamedPt, Ratio};
+use proofs::gradnormal::eval::TriObj;
 
 fn case() -> (Case, Domain) {
     let p = |n: &str, xi: [i64; 3]| NamedPt { name: n.into(), xi };
@@ -59,5 +59,14 @@ fn right_angle_extremes_match_closed_form() {
     // for the min of cos.
     let w = &cert.max[0].witness;
     assert!((w.u - w.v).abs() > 0.999, "max witness at {w:?}");
-    check_case(&dyns, &cert).unwrap();
+    check_case(
+        &dyns,
+        &cert,
+        Search {
+            tol,
+            max_depth: 40,
+            seed: 5,
+        },
+    )
+    .unwrap();
 }

@@ -1,10 +1,10 @@
 //! Enclosure properties of the interval primitives and of the angle objective.
 use inari::Interval;
 use proofs::bnb::{Enclosure, Objective};
-use proofs::cases::{Derived, Ratio};
-use proofs::eval::TriObj;
 use proofs::exact::{cos_deg, decimal, rat};
 use proofs::geometry::DiagonalRule;
+use proofs::gradnormal::cases::{Derived, Ratio};
+use proofs::gradnormal::eval::TriObj;
 use proofs::ival::{iv, mean_value, pt, D2};
 use proptest::prelude::*;
 

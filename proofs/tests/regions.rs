@@ -1,7 +1,7 @@
 //! The derived regions agree with actually cutting the tetrahedron (and the octahedra)
 //! by random planes, using the mesher's own vertex positions (`Goldberg::tetrahedron`).
-use proofs::cases::{Derived, Ratio};
 use proofs::geometry::{DiagonalRule, Goldberg, NORMAL_QUADS, NORMAL_TRIANGLES};
+use proofs::gradnormal::cases::{Derived, Ratio};
 use proptest::prelude::*;
 
 fn positions(r: f64) -> ([[f64; 3]; 4], Derived) {

@@ -5,8 +5,8 @@ use certmesh::catalog;
 use certmesh::lattice::bcc::NEIGHBORS;
 use certmesh::stuffing::stencils::TABLE;
 use certmesh::stuffing::{self, generate, prepare, Field};
-use proofs::stuffing_cases::{canonical, output_cases, Alphas, Case, Kind, Seg, Sym, DEN};
-use proofs::stuffing_eval::{problems, What};
+use proofs::stuffing::cases::{canonical, output_cases, Alphas, Case, Kind, Seg, Sym, DEN};
+use proofs::stuffing::eval::{problems, What};
 use proptest::prelude::*;
 use std::collections::HashSet;
 
@@ -200,9 +200,9 @@ fn warped_vertex_keeps_volume_positive_for_safe_rows() {
     let mut v = r.map(Seg::fixed);
     v[0] = Seg::warp(r[0], d);
     let c = Case { v, multiplicity: 1 };
-    let (range, _) = proofs::stuffing_cases::volume_range(&c, &a);
+    let (range, _) = proofs::stuffing::cases::volume_range(&c, &a);
     let whole =
-        proofs::stuffing_cases::orient_exact(&r.map(|p| p.map(|x| x as i128 * DEN as i128)));
+        proofs::stuffing::cases::orient_exact(&r.map(|p| p.map(|x| x as i128 * DEN as i128)));
     // e0 moves along the edge toward e1: its height over the face (e1, o0, o1) shrinks
     // linearly, so the volume is (1 − t)·V for t ∈ [0, α_long].
     let al = a.long as i128;
@@ -310,4 +310,31 @@ fn safe_property_matches_the_closed_form() {
     assert_eq!(s.min_ratio, 0.0);
     assert_eq!(s.verdict, Verdict::Proven);
     assert!(!s.note.is_empty());
+}
+
+/// `merge` refuses incomplete or overlapping shard sets; two halves of a row merge into
+/// a certificate that checks and states verdicts, which the halves do not.
+#[test]
+fn stuffing_merge_requires_complete_disjoint_shards() {
+    let row = stuffing::row("min-exposed-unsafe").unwrap();
+    let halves: Vec<_> = (0..2)
+        .map(|i| {
+            let mut cfg = proofs::stuffing::Config::new(row);
+            cfg.tol_deg = 5.0;
+            cfg.shard = Some((i, 2));
+            let c = proofs::stuffing::run(&cfg).unwrap();
+            assert!(c.partial && c.bounds.iter().all(|b| b.verdict.is_none()));
+            c
+        })
+        .collect();
+    assert!(proofs::stuffing::merge(vec![halves[0].clone()]).is_err());
+    assert!(proofs::stuffing::merge(vec![
+        halves[0].clone(),
+        halves[0].clone(),
+        halves[1].clone()
+    ])
+    .is_err());
+    let m = proofs::stuffing::merge(halves).unwrap();
+    let r = proofs::stuffing::check(&m).unwrap();
+    assert!(r.complete && m.bounds.iter().any(|b| b.verdict.is_some()));
 }

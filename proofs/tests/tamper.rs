@@ -1,6 +1,6 @@
 //! Certificates: a genuine one is accepted, tampered ones are rejected; shards merge.
-use proofs::cases::Ratio;
 use proofs::geometry::DiagonalRule;
+use proofs::gradnormal::cases::Ratio;
 use proofs::gradnormal::{check, merge, run, Config};
 
 fn coarse() -> Config {
@@ -98,4 +98,36 @@ fn shorter_rule_certificate_checks() {
     let mut t = cert.clone();
     t.cases[7].cert.leaves[0][0].vals = Some(vec![[0.0, 0.0]; 3]);
     assert!(check(&t).is_err());
+}
+
+#[test]
+fn merge_requires_complete_disjoint_shards() {
+    let parts: Vec<_> = (0..3)
+        .map(|i| {
+            let mut c = coarse();
+            c.shard = Some((i, 3));
+            let p = run(&c).unwrap();
+            assert!(p.partial);
+            p
+        })
+        .collect();
+    // Incomplete: a shard missing.
+    assert!(merge(parts[..2].to_vec()).is_err());
+    // Overlapping: a shard twice, even with every shard present.
+    let mut dup = parts.clone();
+    dup.push(parts[1].clone());
+    assert!(merge(dup).is_err());
+    // A shard whose cases were edited to another shard's.
+    let mut moved = parts.clone();
+    let e = moved[1].cases.pop().unwrap();
+    moved[0].cases.push(e);
+    assert!(merge(moved).is_err());
+    // A partial certificate cannot pass for a complete one.
+    let mut t = parts[0].clone();
+    t.shard = None;
+    t.partial = false;
+    assert!(check(&t).is_err());
+    let m = merge(parts).unwrap();
+    assert!(!m.partial && m.shard.is_none() && m.summary.is_some());
+    check(&m).unwrap();
 }

@@ -23,9 +23,9 @@
 //! A bound *proven* on the superset holds for the mesher; a superset maximum above the
 //! paper's value refutes nothing by itself, so the refutation uses a realised witness
 //! (the mesher test `graded_dagger_147_is_exceeded_on_a_half_pyramid`).
+use super::cases::{canonical, Alphas, Seg, Sym};
+use super::eval::{cos_plane, Geo, Problem, Role, What, V3};
 use crate::ival::pt;
-use crate::stuffing_cases::{canonical, Alphas, Seg, Sym};
-use crate::stuffing_eval::{cos_plane, Geo, Problem, Role, What, V3};
 use certmesh::stuffing::graded::{background_grid, Kind};
 use certmesh::stuffing::Row;
 use inari::Interval;
@@ -222,7 +222,7 @@ pub fn face_cases_in_context(trees: usize) -> (Vec<FaceCase>, usize, usize) {
             }
             for i in 0..4 {
                 for j in 0..4 {
-                    let d = crate::stuffing_cases::sub(t[j], t[i]);
+                    let d = crate::stuffing::cases::sub(t[j], t[i]);
                     if i != j && dirs.contains(&d) {
                         fine.insert((t[i], d));
                     }
@@ -285,7 +285,7 @@ pub fn face_cases_in_context(trees: usize) -> (Vec<FaceCase>, usize, usize) {
 /// fine (it is an edge of a fine BCC tetrahedron). A necessary condition only, so the
 /// filtered set is still a superset of what the mesher realises in that tree.
 pub fn continuation_ok(tree: &HashSet<(u32, [i64; 3])>, v: [i64; 3], d: [i64; 3]) -> bool {
-    let w = crate::stuffing_cases::add(v, d);
+    let w = crate::stuffing::cases::add(v, d);
     let leaf = |c: [i64; 3]| tree.contains(&(0, c));
     let odd = |p: [i64; 3]| p[0].rem_euclid(2) == 1;
     if d.iter().all(|&x| x.abs() == 1) {
@@ -320,7 +320,7 @@ pub fn continuation_ok(tree: &HashSet<(u32, [i64; 3])>, v: [i64; 3], d: [i64; 3]
 /// another vertex of the same tetrahedron (this contains the pair rules: never both
 /// toward each other; ordered, never toward a vertex that warps).
 fn pair_rules_ok(t: &[[i64; 3]; 4], p: &[[i64; 3]; 3], ch: &[Option<[i64; 3]>; 3]) -> bool {
-    !(0..3).any(|i| matches!(ch[i], Some(d) if t.contains(&crate::stuffing_cases::add(p[i], d))))
+    !(0..3).any(|i| matches!(ch[i], Some(d) if t.contains(&crate::stuffing::cases::add(p[i], d))))
 }
 
 fn problem(ci: usize, c: &FaceCase, a: &Alphas) -> Problem {
@@ -384,6 +384,18 @@ fn acos_deg(x: f64) -> f64 {
 /// instance of each shape, a superset over all octrees); true = the sampled-context model
 /// ([`face_cases_in_context`], exact directions but only the sampled octrees).
 pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult {
+    run_within(row, tol_deg, context, trees, &crate::bnb::Budget::default())
+}
+
+/// [`run`] within a work budget: a run that exhausts it returns the verdict
+/// `incomplete: ...` (no bound is claimed).
+pub fn run_within(
+    row: &Row,
+    tol_deg: f64,
+    context: bool,
+    trees: usize,
+    budget: &crate::bnb::Budget,
+) -> DaggerResult {
     let t0 = std::time::Instant::now();
     let (_, uniform, paper) = *DAGGERS
         .iter()
@@ -432,6 +444,9 @@ pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult
             let mut stack: Vec<(Vec<f64>, Vec<f64>, u32)> =
                 vec![(vec![0.0; dim], vec![1.0; dim], 0)];
             while let Some((lo, hi, d)) = stack.pop() {
+                if !budget.charge(1) {
+                    break;
+                }
                 let vals = pr.enclose(&lo, &hi);
                 let c: Vec<f64> = (0..dim).map(|k| 0.5 * (lo[k] + hi[k])).collect();
                 for x in std::iter::once(c.clone()).chain((0..1usize << dim).map(|m| {
@@ -471,12 +486,14 @@ pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult
         .collect();
     let lo = per.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
     let hi = f64::from_bits(best.load(Ordering::Relaxed));
-    let verdict = if lo >= thr_hi {
-        "proven"
+    let verdict = if budget.is_exhausted() {
+        format!("incomplete: {}", budget.message())
+    } else if lo >= thr_hi {
+        "proven".to_string()
     } else if hi < thr_lo {
-        "exceeded-on-superset"
+        "exceeded-on-superset".to_string()
     } else {
-        "undecided"
+        "undecided".to_string()
     };
     let witness = wit.into_inner().unwrap_or(None).map(|(pi, x, cos)| {
         let pr = &probs[pi];
@@ -502,7 +519,7 @@ pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult
         // acos is decreasing; widen by 1e-9° for the f64 acos.
         enclosure_deg: [acos_deg(hi) - 1e-9, acos_deg(lo) + 1e-9],
         cos_enclosure: [lo, hi],
-        verdict: verdict.to_string(),
+        verdict,
         witness,
         seconds: t0.elapsed().as_secs_f64(),
     }
@@ -517,7 +534,7 @@ pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult
 pub fn half_pyramid_witness_cos(t: f64) -> Interval {
     let tt = pt(t);
     let v = |p: [f64; 3], d: [f64; 3]| -> V3 {
-        [0, 1, 2].map(|k| crate::stuffing_eval::Dn::cst(pt(p[k]) + tt * pt(d[k])))
+        [0, 1, 2].map(|k| crate::stuffing::eval::Dn::cst(pt(p[k]) + tt * pt(d[k])))
     };
     let c = v([1.0, 1.0, 1.0], [0.0; 3]);
     let r0 = v([2.0, 0.0, 0.0], [-1.0, -1.0, -1.0]);

@@ -6,8 +6,8 @@
 //! e' is (w_e·w_e')/(|w_e||w_e'|): homogeneous of degree 0 in m, hence no normalisation
 //! of m and no transcendental function is needed (Sec. 4.3: angles compared through
 //! cosines).
+use super::cases::{Case, Domain, Ratio, Xi};
 use crate::bnb::{Enclosure, Objective};
-use crate::cases::{Case, Domain, Ratio, Xi};
 use crate::ival::{cross_c, ddot, iv, mean_value, pt, DVec3, IVec3, D2};
 use inari::Interval;
 

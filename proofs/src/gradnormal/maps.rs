@@ -1,7 +1,7 @@
 //! Maps of the smallest and largest projected angle over the full region of plane normals
 //! of a case (gnomonic chart: great-circle arcs are straight lines), SVG and PNG.
-use crate::cases::{Case, Ratio};
-use crate::report::angles_at;
+use super::cases::{Case, Ratio};
+use super::sample::angles_at;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;

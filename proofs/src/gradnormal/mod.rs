@@ -1,10 +1,16 @@
 //! `proofs gradnormal`: the certified angle bounds of GradNormal over the full regions
 //! of plane normals (Hass & Trnkova 2020, Thm 1.1, Lemma 4.1, Appendix A).
+pub mod cases;
+pub mod eval;
+pub mod maps;
+pub mod report;
+pub mod sample;
+
 use crate::bnb::{self, CaseCert, Objective, Search, Witness};
-use crate::cases::{exact_cos, midnormal_triangles, Case, Derived, Ratio};
-use crate::eval::TriObj;
 use crate::exact::{angle_at_least, angle_at_most, cos_deg, decimal, deg_hi, deg_lo, rat, Verdict};
 use crate::geometry::{DiagonalRule, LABELS};
+use cases::{exact_cos, midnormal_triangles, Case, Derived, Ratio};
+use eval::TriObj;
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use rayon::prelude::*;
@@ -12,8 +18,13 @@ use serde::{Deserialize, Serialize};
 
 pub const FORMAT: &str = "certmesh-proofs/gradnormal/1";
 
+/// The smallest tolerance accepted (degrees): below it the f64 interval enclosures
+/// (widths of a few ulps of the cosines, and the 1e-12° outward rounding of the degree
+/// display) cannot reach the target, and the search would refine without end.
+pub const MIN_TOL_DEG: f64 = 1e-12;
+
 /// Run parameters.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Config {
     pub ratio: Ratio,
     pub rule: DiagonalRule,
@@ -23,6 +34,8 @@ pub struct Config {
     pub max_depth: u8,
     pub shard: Option<(usize, usize)>,
     pub progress: bool,
+    /// The work budget of the run (boxes, time).
+    pub budget: bnb::Budget,
 }
 
 impl Config {
@@ -37,6 +50,7 @@ impl Config {
             max_depth: if rule == DiagonalRule::Shorter { 9 } else { 40 },
             shard: None,
             progress: false,
+            budget: bnb::Budget::default(),
         }
     }
 }
@@ -102,6 +116,13 @@ pub struct Certificate {
     pub max_depth: u8,
     pub n_cases: usize,
     pub shard: Option<[usize; 2]>,
+    /// True for a shard: a partial result, not a proof of the claims (added field; a
+    /// certificate without it is read as `false`, and `check` requires it to agree with
+    /// `shard`).
+    #[serde(default)]
+    pub partial: bool,
+    /// Wall-clock seconds of the run (informative only: the one field `check` cannot
+    /// recompute).
     pub seconds: f64,
     pub cases: Vec<CaseEntry>,
     /// Present when the certificate covers every case.
@@ -116,16 +137,76 @@ fn objectives(ratio: Ratio, case: &Case) -> Vec<TriObj> {
         .collect()
 }
 
+/// The search parameters of a certificate.
+fn search_of(tol_cos: f64, max_depth: u8) -> Search {
+    Search {
+        tol: tol_cos,
+        max_depth,
+        seed: 9,
+    }
+}
+
+/// Is the tolerance (in cosine) one the search can reach? (Both `run` and `check`.)
+fn check_tol_cos(tol_cos: f64) -> Result<(), String> {
+    let min = 0.5 * MIN_TOL_DEG.to_radians();
+    if !(tol_cos.is_finite() && tol_cos >= min && tol_cos <= 2.0) {
+        return Err(format!(
+            "tol_cos = {tol_cos}: outside [{min:e}, 2] (a tolerance below {MIN_TOL_DEG:e}° is below what f64 interval arithmetic reaches)"
+        ));
+    }
+    Ok(())
+}
+
+/// Is a shard `(i, N)` well formed? `N = 1` is the whole run (not a shard).
+pub fn check_shard(shard: Option<[usize; 2]>) -> Result<(), String> {
+    match shard {
+        Some([i, n]) if n < 2 || i >= n => Err(format!(
+            "shard {i}/{n}: a shard is i/N with 0 <= i < N and N >= 2"
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The cases of a ratio and rule, derived once per process (a pure function of the
+/// tiling data; `check` derives them the first time).
+pub fn cases_of(ratio: Ratio, rule: DiagonalRule) -> Result<std::sync::Arc<Vec<Case>>, String> {
+    use std::collections::HashMap;
+    use std::sync::{Arc, Mutex, OnceLock};
+    type Cache = Mutex<HashMap<(String, String), Arc<Vec<Case>>>>;
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    let key = (ratio.label(), rule.name().to_string());
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    if let Some(c) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+        return Ok(c.clone());
+    }
+    let c = Arc::new(Derived::new(ratio).cases(rule)?);
+    cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(key, c.clone());
+    Ok(c)
+}
+
 /// Run the proof (or one shard of it).
 pub fn run(cfg: &Config) -> Result<Certificate, String> {
     let t0 = std::time::Instant::now();
+    check_tol_cos(cfg.tol_cos)?;
+    if cfg.max_depth > 50 {
+        return Err(format!("max_depth = {}: at most 50", cfg.max_depth));
+    }
+    let shard = match cfg.shard {
+        Some((_, 1)) => None,
+        s => s,
+    };
+    check_shard(shard.map(|(a, b)| [a, b]))?;
+    check_theorem_range(cfg.ratio)?;
     let derived = Derived::new(cfg.ratio);
     let cases = derived.cases(cfg.rule)?;
     let n = cases.len();
     let chosen: Vec<(usize, Case)> = cases
         .into_iter()
         .enumerate()
-        .filter(|(i, _)| cfg.shard.map_or(true, |(k, m)| i % m == k))
+        .filter(|(i, _)| shard.is_none_or(|(k, m)| i % m == k))
         .collect();
     let bar = if cfg.progress {
         indicatif::ProgressBar::new(chosen.len() as u64)
@@ -136,22 +217,22 @@ pub fn run(cfg: &Config) -> Result<Certificate, String> {
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} cases {elapsed} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let search = Search {
-        tol: cfg.tol_cos,
-        max_depth: cfg.max_depth,
-        seed: 9,
-    };
+    let search = search_of(cfg.tol_cos, cfg.max_depth);
     let entries: Result<Vec<CaseEntry>, String> = chosen
         .into_par_iter()
         .map(|(index, case)| {
             let objs = objectives(cfg.ratio, &case);
             let dyns: Vec<&dyn Objective> = objs.iter().map(|o| o as &dyn Objective).collect();
-            let cert = bnb::solve(&dyns, search).map_err(|e| format!("case {}: {e}", case.name))?;
+            let cert = bnb::solve_within(&dyns, search, &cfg.budget)
+                .map_err(|e| format!("case {}: {e}", case.name))?;
             bar.inc(1);
             Ok(CaseEntry { index, case, cert })
         })
         .collect();
     bar.finish_and_clear();
+    if cfg.budget.is_exhausted() {
+        return Err(format!("{}: {}", bnb::BUDGET_ERROR, cfg.budget.message()));
+    }
     let mut cert = Certificate {
         format: FORMAT.into(),
         ratio: cfg.ratio.label(),
@@ -159,7 +240,8 @@ pub fn run(cfg: &Config) -> Result<Certificate, String> {
         tol_cos: cfg.tol_cos,
         max_depth: cfg.max_depth,
         n_cases: n,
-        shard: cfg.shard.map(|(a, b)| [a, b]),
+        shard: shard.map(|(a, b)| [a, b]),
+        partial: shard.is_some(),
         seconds: 0.0,
         cases: entries?,
         summary: None,
@@ -170,11 +252,33 @@ pub fn run(cfg: &Config) -> Result<Certificate, String> {
     Ok(cert)
 }
 
-/// Fill summary and claims when every case is present.
+/// The theorem's range: the case analysis (Hass & Trnkova 2020, Sec. 4.3, Appendix A)
+/// assumes a tiling by tetrahedra with no obtuse dihedral angle (the 90° edges carry the
+/// valence-four configurations). τ's dihedral angle at CD becomes obtuse at
+/// a/e = √2/2 (decided exactly); beyond it the regions no longer describe the mesh.
+pub fn check_theorem_range(ratio: Ratio) -> Result<(), String> {
+    let signs = cases::dihedral_signs(&ratio.squared());
+    for (k, s) in signs.iter().enumerate() {
+        if *s < 0 {
+            let [p, q] = crate::geometry::MIDPOINT_EDGES[k];
+            return Err(format!(
+                "a/e = {}: the dihedral angle of the Goldberg tetrahedron at edge {}{} is obtuse; the GradNormal case analysis (Hass & Trnkova 2020, Sec. 4.3) assumes none is, which holds for 0 < a/e < sqrt(2)/2 = 0.70710678... (--a)",
+                ratio.label(),
+                LABELS[p],
+                LABELS[q]
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Fill summary and claims: only a complete certificate (not a shard) states them.
 fn finish(cert: &mut Certificate) -> Result<(), String> {
     cert.cases.sort_by_key(|c| c.index);
-    let complete = cert.cases.len() == cert.n_cases
+    let complete = cert.shard.is_none()
+        && cert.cases.len() == cert.n_cases
         && cert.cases.iter().enumerate().all(|(i, c)| c.index == i);
+    cert.partial = cert.shard.is_some();
     if complete {
         let ratio = Ratio::parse(&cert.ratio)?;
         let rule: DiagonalRule = cert.rule.parse().map_err(|e| format!("{e}"))?;
@@ -275,7 +379,8 @@ pub fn summarize(ratio: Ratio, rule: DiagonalRule, cases: &[CaseEntry]) -> (Summ
                 let m = witness_normal(ratio, &e.case, &ex.witness);
                 let h = 3f64.sqrt() / 2.0;
                 let mu = [m[0], m[1] * h, m[2] * ratio.f64()];
-                let levels = crate::cases::describe_f64(mu, &Derived::new(ratio).named_points());
+                let levels =
+                    crate::gradnormal::cases::describe_f64(mu, &Derived::new(ratio).named_points());
                 format!(
                     "triangle {} ({}), angle at {}, plane normal m = {} (unit, e = 1; heights along m: {}), projected angle in [{:.9}°, {:.9}°]",
                     e.case.name,
@@ -395,70 +500,93 @@ pub struct CheckReport {
     pub claims: Vec<Claim>,
 }
 
-/// Re-verify a certificate independently of the search.
+/// One per-case part of `check`.
+type CaseCheck<'a> = dyn Fn(&[&dyn Objective], &CaseEntry) -> Result<(), String> + Sync + 'a;
+
+/// Re-verify a certificate independently of the search: every field is recomputed
+/// from the tiling and the leaves (the cases from the tiling data, every leaf and
+/// witness re-evaluated, the stopping rule re-applied, the extremes, unresolved counts,
+/// summary, claims and verdicts recomputed) and the first difference is reported with
+/// its field. Only `seconds` (wall-clock) is not recomputable.
 pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
     if cert.format != FORMAT {
-        return Err(format!("unknown certificate format `{}`", cert.format));
+        return Err(format!(
+            "format: unknown certificate format `{}`",
+            cert.format
+        ));
     }
-    let ratio = Ratio::parse(&cert.ratio)?;
-    let rule: DiagonalRule = cert.rule.parse().map_err(|e| format!("{e}"))?;
-    let derived = Derived::new(ratio);
-    let cases = derived.cases(rule)?;
+    let ratio = Ratio::parse(&cert.ratio).map_err(|e| format!("ratio: {e}"))?;
+    if ratio.label() != cert.ratio {
+        return Err(format!(
+            "ratio: `{}` is not in canonical form `{}`",
+            cert.ratio,
+            ratio.label()
+        ));
+    }
+    check_theorem_range(ratio).map_err(|e| format!("ratio: {e}"))?;
+    let rule: DiagonalRule = cert.rule.parse().map_err(|e| format!("rule: {e}"))?;
+    if rule.name() != cert.rule {
+        return Err(format!("rule: `{}` is not canonical", cert.rule));
+    }
+    check_tol_cos(cert.tol_cos).map_err(|e| format!("tol_cos: {e}"))?;
+    if cert.max_depth > 50 {
+        return Err(format!("max_depth: {} > 50", cert.max_depth));
+    }
+    check_shard(cert.shard).map_err(|e| format!("shard: {e}"))?;
+    if cert.partial != cert.shard.is_some() {
+        return Err(format!(
+            "partial: the certificate states {}, but shard is {:?}",
+            cert.partial, cert.shard
+        ));
+    }
+    let cases = cases_of(ratio, rule)?;
     if cases.len() != cert.n_cases {
         return Err(format!(
-            "the tiling gives {} cases, the certificate says {}",
+            "n_cases: the tiling gives {} cases, the certificate says {}",
             cases.len(),
             cert.n_cases
         ));
     }
-    let mut seen = vec![false; cases.len()];
-    for e in &cert.cases {
-        let c = cases
-            .get(e.index)
-            .ok_or_else(|| format!("case index {} out of range", e.index))?;
-        if std::mem::replace(&mut seen[e.index], true) {
-            return Err(format!("case {} appears twice", e.index));
-        }
-        if *c != e.case {
-            return Err(format!(
-                "case {} ({}) differs from the case derived from the tiling",
-                e.index, e.case.name
-            ));
-        }
-    }
-    let results: Result<Vec<()>, String> = cert
-        .cases
-        .par_iter()
-        .map(|e| {
-            let objs = objectives(ratio, &e.case);
-            let dyns: Vec<&dyn Objective> = objs.iter().map(|o| o as &dyn Objective).collect();
-            bnb::check_case(&dyns, &e.cert)
-                .map_err(|m| format!("case {} ({}): {m}", e.index, e.case.name))?;
-            Ok(())
-        })
+    // Coverage: exactly the cases of the shard (all without one), in index order.
+    let expected: Vec<usize> = (0..cases.len())
+        .filter(|i| cert.shard.is_none_or(|[k, m]| i % m == k))
         .collect();
-    results?;
-    let complete = seen.iter().all(|&s| s);
-    let mut claims = Vec::new();
-    if complete {
-        let mut sorted = cert.cases.clone();
-        sorted.sort_by_key(|c| c.index);
-        let (s, c) = summarize(ratio, rule, &sorted);
-        if cert.summary.as_ref() != Some(&s) {
-            return Err(
-                "the summary differs from the one recomputed from the verified cases".into(),
-            );
-        }
-        if cert.claims != c {
-            return Err(
-                "the claims/verdicts differ from the ones recomputed from the verified cases"
-                    .into(),
-            );
-        }
-        claims = c;
-    } else if cert.summary.is_some() || !cert.claims.is_empty() {
-        return Err("a partial certificate (shard) must not state a summary or claims".into());
+    let got: Vec<usize> = cert.cases.iter().map(|e| e.index).collect();
+    if got != expected {
+        return Err(format!(
+            "cases: indices {got:?}, the tiling and the shard give {expected:?}"
+        ));
     }
+    for (pos, e) in cert.cases.iter().enumerate() {
+        crate::fields::same(&format!("cases[{pos}].case"), &e.case, &cases[e.index])?;
+    }
+    let search = search_of(cert.tol_cos, cert.max_depth);
+    // Cheap checks first (structure, witnesses, stopping rule, derived fields), then the
+    // summary and claims, then the re-evaluation of every leaf.
+    let each = |f: &CaseCheck<'_>| {
+        cert.cases
+            .par_iter()
+            .enumerate()
+            .map(|(pos, e)| {
+                let objs = objectives(ratio, &e.case);
+                let dyns: Vec<&dyn Objective> = objs.iter().map(|o| o as &dyn Objective).collect();
+                f(&dyns, e).map_err(|m| format!("cases[{pos}].cert.{m} (case {})", e.case.name))
+            })
+            .collect::<Result<Vec<()>, String>>()
+    };
+    each(&|d, e| bnb::check_case_derived(d, &e.cert, search))?;
+    let complete = cert.shard.is_none();
+    // The cases are verified complete (no shard) and in index order: the summary and
+    // claims are recomputed from them exactly as `finish` does.
+    let (summary, claims) = if complete {
+        let (s, c) = summarize(ratio, rule, &cert.cases);
+        (Some(s), c)
+    } else {
+        (None, Vec::new())
+    };
+    crate::fields::same("summary", &cert.summary, &summary)?;
+    crate::fields::same("claims", &cert.claims, &claims)?;
+    each(&|d, e| bnb::check_case_leaves(d, &e.cert))?;
     Ok(CheckReport {
         cases: cert.cases.len(),
         leaves: cert
@@ -471,10 +599,18 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
     })
 }
 
-/// Combine shard certificates of the same run.
+/// Combine the shard certificates of one run: the shards must be i/N for every i in
+/// 0..N of one N, each exactly once (complete and disjoint), of the same parameters, and
+/// each must hold exactly its shard's cases.
 pub fn merge(parts: Vec<Certificate>) -> Result<Certificate, String> {
     let mut it = parts.into_iter();
     let mut out = it.next().ok_or("nothing to merge")?;
+    let n = match out.shard {
+        Some([_, n]) if n >= 2 => n,
+        _ => return Err("merge: the first certificate is not a shard".into()),
+    };
+    let mut parts = vec![std::mem::take(&mut out.cases)];
+    let mut shards = vec![out.shard];
     for p in it {
         if p.format != out.format
             || p.ratio != out.ratio
@@ -488,18 +624,35 @@ pub fn merge(parts: Vec<Certificate>) -> Result<Certificate, String> {
             );
         }
         out.seconds += p.seconds;
-        out.cases.extend(p.cases);
+        shards.push(p.shard);
+        parts.push(p.cases);
     }
-    let mut idx: Vec<usize> = out.cases.iter().map(|c| c.index).collect();
-    idx.sort();
-    if idx.windows(2).any(|w| w[0] == w[1]) {
-        return Err("a case appears in two shards".into());
+    let mut got: Vec<usize> = Vec::new();
+    for s in &shards {
+        match s {
+            Some([i, m]) if *m == n && i < m => got.push(*i),
+            _ => return Err(format!("merge: shard {s:?} is not i/{n}")),
+        }
     }
+    let mut sorted = got.clone();
+    sorted.sort_unstable();
+    if sorted != (0..n).collect::<Vec<_>>() {
+        return Err(format!(
+            "merge: the shards {got:?} are not 0..{n}, each exactly once (incomplete or overlapping)"
+        ));
+    }
+    for (&i, cases) in got.iter().zip(&parts) {
+        let idx: Vec<usize> = cases.iter().map(|c| c.index).collect();
+        let expect: Vec<usize> = (0..out.n_cases).filter(|c| c % n == i).collect();
+        if idx != expect {
+            return Err(format!(
+                "merge: shard {i}/{n} holds cases {idx:?}, expected {expect:?}"
+            ));
+        }
+    }
+    out.cases = parts.into_iter().flatten().collect();
     out.shard = None;
     finish(&mut out)?;
-    if out.summary.is_none() {
-        out.shard = Some([0, 0]);
-    }
     Ok(out)
 }
 

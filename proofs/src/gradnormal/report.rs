@@ -1,5 +1,6 @@
 //! PROOF.md, figures, the derived regions and the a/e scan.
-use crate::cases::{Case, Derived, Ratio, Xi};
+use super::cases::{Case, Derived, Ratio};
+use super::sample::angles_at;
 use crate::exact::{deg_hi, deg_lo};
 use crate::geometry::{DiagonalRule, LABELS, MIDPOINT_EDGES, MIDPOINT_NAMES};
 use crate::gradnormal::{self, Certificate, Config};
@@ -76,32 +77,6 @@ pub fn regions_markdown(ratio: Ratio) -> Result<String, String> {
     Ok(s)
 }
 
-/// Sample the three projected angles (degrees, f64, display only) of a case at μ.
-pub fn angles_at(ratio: Ratio, case: &Case, mu: [f64; 3]) -> [f64; 3] {
-    let h = 3f64.sqrt() / 2.0;
-    let r = ratio.f64();
-    let pos = |x: Xi| [x[0] as f64, h * x[1] as f64, r * x[2] as f64];
-    let m = [mu[0], mu[1] / h, mu[2] / r];
-    let p = case.vertices.clone().map(|v| pos(v.xi));
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    [0, 1, 2].map(|k| {
-        let (a, b, c) = (p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
-        let (u, v) = (cross(m, sub(b, a)), cross(m, sub(c, a)));
-        (dot(u, v) / (dot(u, u) * dot(v, v)).sqrt())
-            .clamp(-1.0, 1.0)
-            .acos()
-            .to_degrees()
-    })
-}
-
 /// Angle functions along every boundary arc of a case's region pieces (the paper's
 /// Figs 14, 15, 17, 18): x = arc index + t.
 pub fn boundary_series(
@@ -139,7 +114,7 @@ fn fmt2(x: [f64; 2]) -> String {
 }
 
 /// Run every rule at `ratio`, write the certificates, figures and PROOF.md into `dir`.
-pub fn write_papers(dir: &Path, ratio: Ratio) -> Result<(), String> {
+pub fn write_papers(dir: &Path, ratio: Ratio, budget: &crate::bnb::Budget) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let fig = dir.join("figures");
     std::fs::create_dir_all(&fig).map_err(|e| format!("{}: {e}", fig.display()))?;
@@ -153,6 +128,7 @@ pub fn write_papers(dir: &Path, ratio: Ratio) -> Result<(), String> {
     ] {
         let mut cfg = Config::new(ratio, rule);
         cfg.progress = true;
+        cfg.budget = budget.clone();
         let cert = gradnormal::run(&cfg)?;
         let path = cert_dir.join(format!("gradnormal-{}-{}.json", ratio.label(), rule.name()));
         std::fs::write(
@@ -207,7 +183,7 @@ pub fn write_papers(dir: &Path, ratio: Ratio) -> Result<(), String> {
         &envelope,
     )
     .map_err(|e| e.to_string())?;
-    crate::maps::write_maps(&fig, ratio, &cases, &[0, 8, 10, 4])?;
+    super::maps::write_maps(&fig, ratio, &cases, &[0, 8, 10, 4])?;
 
     let mut s = String::new();
     let _ = writeln!(
@@ -356,9 +332,28 @@ fn envelope_series(
     ]
 }
 
-/// Certified bounds against a/e (coarser tolerance 1e-4°), plotted.
-pub fn scan(rule: DiagonalRule, n: usize, dir: &Path) -> Result<Vec<String>, String> {
-    let n = n.max(2);
+/// The work estimate of one value of a `--scan` (paper rule, 1e-4°: about 170,000
+/// boxes at a/e = √2/4; rounded up).
+pub const SCAN_BOXES_PER_VALUE: u64 = 250_000;
+
+/// Certified bounds against a/e (coarser tolerance 1e-4°), plotted; the runs share
+/// `budget`.
+pub fn scan(
+    rule: DiagonalRule,
+    n: usize,
+    dir: &Path,
+    budget: &crate::bnb::Budget,
+) -> Result<Vec<String>, String> {
+    if n < 2 {
+        return Err(format!("--scan {n}: at least 2 values of a/e"));
+    }
+    let estimate = n as u64 * SCAN_BOXES_PER_VALUE;
+    if estimate > budget.max_boxes() {
+        return Err(format!(
+            "--scan {n}: about {SCAN_BOXES_PER_VALUE} boxes per value of a/e, {estimate} in all, above the work budget of {} boxes (--max-boxes N raises it; or lower --scan)",
+            budget.max_boxes()
+        ));
+    }
     let mut rows = Vec::new();
     let mut smin = Vec::new();
     let mut smax = Vec::new();
@@ -367,6 +362,7 @@ pub fn scan(rule: DiagonalRule, n: usize, dir: &Path) -> Result<Vec<String>, Str
         let mut cfg = Config::new(Ratio::Value(r), rule);
         cfg.tol_cos = 0.5e-4 * std::f64::consts::PI / 180.0;
         cfg.max_depth = 30;
+        cfg.budget = budget.clone();
         let c = gradnormal::run(&cfg)?;
         if let Some(s) = &c.summary {
             rows.push(format!(

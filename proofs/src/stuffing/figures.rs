@@ -3,9 +3,9 @@
 //! the warped vertices' asterisk half-segments; magenta: the central parts of cut
 //! edges), seen along the dihedral edge (so the dihedral angle appears at true size) or
 //! perpendicular to the witness triangle (plane angles at true size). SVG and PNG.
+use super::cases::{output_cases, Kind, DEN};
+use super::eval::What;
 use crate::stuffing::{all_problems, Certificate, BOUNDS};
-use crate::stuffing_cases::{output_cases, Kind, DEN};
-use crate::stuffing_eval::What;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;

@@ -8,8 +8,8 @@
 //! tetrahedron `abcd`, with `u = b − a`, the normals `n_c = u × (c−a)`, `n_d = u × (d−a)`
 //! are the components of `c − a`, `d − a` orthogonal to `u` rotated by 90° about `u`, so
 //! `cos = n_c·n_d / √(|n_c|²|n_d|²)`.
+use super::cases::{Alphas, Case, Kind, Seg, DEN};
 use crate::ival::{iv, pt};
-use crate::stuffing_cases::{Alphas, Case, Kind, Seg, DEN};
 use inari::Interval;
 
 /// Number of independent variables of a dual.
