@@ -260,7 +260,7 @@ struct OptArgs {
     /// Graded variant (isosurface stuffing).
     #[arg(long)]
     graded: bool,
-    /// Budget of box tests of the subdivision meshers (pv, snyder; default 10000000,
+    /// Budget of box tests of the subdivision meshers (pv, snyder; default 1000000,
     /// a few seconds). When it is spent the run stops: the boxes not yet decided are
     /// returned as uncertified regions with the reason "box budget exhausted (raise
     /// --max-boxes)", the stats say refinement_complete: false, the report says that

@@ -206,9 +206,9 @@ pub struct Budget {
     stopped: std::sync::atomic::AtomicBool,
 }
 
-/// Default box budget of the subdivision meshers: about 10⁷ box tests (a few seconds
+/// Default box budget of the subdivision meshers: 10⁶ box tests (seconds
 /// and under 1 GB on the catalog; every smooth catalog entry needs far fewer).
-pub const DEFAULT_MAX_BOXES: u64 = 10_000_000;
+pub const DEFAULT_MAX_BOXES: u64 = 1_000_000;
 
 /// The reason given to boxes left untested when the box budget ran out.
 pub const BOX_BUDGET_REASON: &str = "box budget exhausted (raise --max-boxes)";
