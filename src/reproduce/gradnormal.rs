@@ -3,6 +3,8 @@
 //! Table 1, Figs 1–2, the random-plane experiment with adversarial refinement and the
 //! witnesses of its extremes, the Appendix A arcs of the valence-four square, timings,
 //! and `angles.svg`/`angles.png` (normalised angle histograms as in Fig 4).
+//! (Over 800 lines on purpose: one generator per paper folder, its sections in the
+//! order of the README it writes, so a table and the code that computes it sit together.)
 use crate::error::{Error, Result};
 use crate::gradnormal::tiling::{Goldberg, LABELS, MIDPOINT_EDGES, PAPER_RATIOS};
 use std::fmt::Write as _;

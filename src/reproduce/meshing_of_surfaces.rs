@@ -16,6 +16,8 @@
 //!
 //! `quick` keeps the run to seconds (fewer grids and surfaces, no Snyder depth-14 runs on
 //! the large surfaces); the test suite runs it.
+//! (Over 800 lines on purpose: one generator per paper folder, its sections in the
+//! order of the tables it writes, so a table and the code that computes it sit together.)
 use crate::catalog::{self, Entry};
 use crate::error::{Error, Result};
 use crate::implicit::{Counted, EvalCounts};
