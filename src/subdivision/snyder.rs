@@ -21,9 +21,8 @@ use crate::kernel::geom::Aabb;
 use crate::mesher::options::MesherOptions;
 use crate::mesher::{Mesh, MeshOutput, Mesher, Progress};
 use crate::subdivision::certificate;
-use crate::subdivision::plantinga_vegter::{
-    boundary_failure, check_budget, check_input, PvPairing, UNDEFINED_BOX,
-};
+use crate::subdivision::criteria::{boundary_failure, check_budget, check_input, UNDEFINED_BOX};
+use crate::subdivision::plantinga_vegter::PvPairing;
 use crate::subdivision::{
     assemble, enclose, excludes_zero, no_zero_plus, point_sign, subdivide, tree_stats, Budget,
     Cell, Decision, GenericMotion, Grid, IntervalIsolation, Pairing, TileCrossing, Tree, Verdict,
