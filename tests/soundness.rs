@@ -671,3 +671,33 @@ fn claims_are_typed_and_match_their_text() {
         c => panic!("{c:?}"),
     }
 }
+
+/// A surface that leaves the domain is not certified by either subdivision mesher:
+/// the case a fresh-clone CI run found in tests/subdivision.rs, where an ellipsoid of
+/// semi-axis 0.986 centred at x = -0.157 crossed the face x = -1.129 and the test
+/// had still demanded a certificate. The guard reports the domain boundary.
+#[test]
+fn a_surface_leaving_the_domain_is_not_certified() {
+    use certmesh::mesher::Cause;
+    let f = Formula::surface(
+        "(x - (-0.15698082410445308))^2/0.9857666756195742^2 + y^2/0.3^2 + z^2/0.3^2 - 1",
+    )
+    .unwrap();
+    let o = 0.17143818574257375;
+    let d = Aabb::new([-1.3 + o, -1.25, -1.2 - o], [1.3 + o, 1.2, 1.25]).unwrap();
+    for (name, out) in [("pv", pv(&f, &d, 3, 7)), ("snyder", snyder(&f, &d, 3, 7))] {
+        match &out.certificate {
+            certmesh::Certificate::Uncertified { regions, .. } => assert!(
+                regions.iter().any(|r| r.cause == Cause::DomainBoundary),
+                "{name}: {regions:?}"
+            ),
+            c => panic!("{name} certified a surface that leaves the domain: {c:?}"),
+        }
+    }
+    // The same ellipsoid moved inside the domain certifies (PV).
+    let f = Formula::surface(
+        "(x - (0.1))^2/0.9857666756195742^2 + y^2/0.3^2 + z^2/0.3^2 - 1",
+    )
+    .unwrap();
+    assert!(pv(&f, &d, 3, 7).certificate.is_certified());
+}

@@ -366,8 +366,12 @@ mod props {
     proptest! {
         #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
         #[test]
-        fn pv_random_ellipsoid(a in 0.3f64..1.0, b in 0.3f64..1.0, c in 0.3f64..1.0,
-                               cx in -0.2f64..0.2, o in -0.2f64..0.2) {
+        // The ellipsoid lies strictly inside the domain (x from cx - a ≥ -1.15 to
+        // cx + a ≤ 1.15, the domain from -1.3 + o ≤ -1.2 to 1.3 + o ≥ 1.2): a surface
+        // that leaves the domain must not be certified (tests/soundness.rs), and an
+        // earlier range here (a up to 1, o up to 0.2) let it poke out at x = -1.13.
+        fn pv_random_ellipsoid(a in 0.3f64..0.95, b in 0.3f64..1.0, c in 0.3f64..1.0,
+                               cx in -0.2f64..0.2, o in -0.1f64..0.1) {
             let f = Formula::surface(&format!("(x - ({cx}))^2/{a}^2 + y^2/{b}^2 + z^2/{c}^2 - 1")).unwrap();
             let dom = certmesh::Aabb { min: [-1.3 + o, -1.25, -1.2 - o], max: [1.3 + o, 1.2, 1.25] };
             let out = PlantingaVegter::new(certmesh::subdivision::plantinga_vegter::PvParams::new(3).with_min_depth(1))
