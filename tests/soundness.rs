@@ -695,9 +695,7 @@ fn a_surface_leaving_the_domain_is_not_certified() {
         }
     }
     // The same ellipsoid moved inside the domain certifies (PV).
-    let f = Formula::surface(
-        "(x - (0.1))^2/0.9857666756195742^2 + y^2/0.3^2 + z^2/0.3^2 - 1",
-    )
-    .unwrap();
+    let f =
+        Formula::surface("(x - (0.1))^2/0.9857666756195742^2 + y^2/0.3^2 + z^2/0.3^2 - 1").unwrap();
     assert!(pv(&f, &d, 3, 7).certificate.is_certified());
 }

@@ -1,0 +1,152 @@
+//! The options of `certmesh mesh` and `certmesh curve` (and the mesher options
+//! `compare` shares), as clap parses them.
+use certmesh::error::{Error, Result};
+use certmesh::mesher::options::{Crossing, MesherOptions};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args, Clone)]
+pub(crate) struct MeshArgs {
+    /// A catalog name (see `certmesh surfaces`).
+    pub(crate) name: Option<String>,
+    /// A formula instead of a catalog name; `@FILE` reads it from FILE (for formulas
+    /// longer than the command line allows).
+    #[arg(long, short = 'f', conflicts_with = "formula_file")]
+    pub(crate) formula: Option<String>,
+    /// Read the formula from this file (same as `--formula @FILE`).
+    #[arg(long, value_name = "FILE")]
+    pub(crate) formula_file: Option<PathBuf>,
+    /// Remesh a triangle mesh (obj ply off stl) through its signed distance (exact
+    /// distance, winding-number sign), normalised into the unit cube [0, 1]³ (the domain
+    /// unless --domain is given), as GradNormal's Sec. 5.1. Never certified.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["formula", "formula_file"])]
+    pub(crate) mesh_input: Option<PathBuf>,
+    /// With --mesh-input: margin left on each side of the unit cube.
+    #[arg(long, default_value_t = 0.05, requires = "mesh_input")]
+    pub(crate) margin: f64,
+    /// With --mesh-input: close the mesh's boundary loops (holes) by fans first.
+    #[arg(long, requires = "mesh_input")]
+    pub(crate) fill_holes: bool,
+    /// The domain box: x0,y0,z0,x1,y1,z1 (curves: x0,y0,x1,y1). Default: the catalog's
+    /// box for a catalog name, [-2, 2]³ (curves [-2, 2]²) for a formula, the unit cube
+    /// for --mesh-input. The report says which domain was used.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub(crate) domain: Vec<f64>,
+    /// The algorithm (see `certmesh algos`).
+    #[arg(long)]
+    pub(crate) algo: String,
+    #[command(flatten)]
+    pub(crate) opts: OptArgs,
+    /// Output file; the format follows the extension (surfaces: obj off ply stl, volume
+    /// meshes also vtk mesh; curves: svg csv). Checked before the work starts.
+    #[arg(short, long)]
+    pub(crate) output: Option<PathBuf>,
+    /// For volume meshers: also write the boundary surface here (obj off ply stl).
+    #[arg(long)]
+    pub(crate) boundary: Option<PathBuf>,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+#[derive(Args, Clone, Default)]
+pub(crate) struct OptArgs {
+    /// Grid cells along the longest side of the domain (lattice meshers).
+    #[arg(long)]
+    pub(crate) resolution: Option<usize>,
+    /// Lattice edge length (GradNormal's e, stuffing's spacing).
+    #[arg(long)]
+    pub(crate) scale: Option<f64>,
+    /// Maximum subdivision depth (subdivision meshers).
+    #[arg(long)]
+    pub(crate) max_depth: Option<u32>,
+    /// Minimum subdivision depth.
+    #[arg(long)]
+    pub(crate) min_depth: Option<u32>,
+    /// Move the grid to generic position first (Snyder's remedy for grazing cases).
+    #[arg(long)]
+    pub(crate) generic_shift: bool,
+    /// Edge crossings: linear or bisection.
+    #[arg(long)]
+    pub(crate) crossing: Option<String>,
+    /// Crossing tolerance, relative to the edge length.
+    #[arg(long)]
+    pub(crate) tolerance: Option<f64>,
+    /// Prune empty space with interval arithmetic (marching meshers).
+    #[arg(long)]
+    pub(crate) prune: bool,
+    /// A named parameter set (e.g. an isosurface-stuffing Table 1 row).
+    #[arg(long)]
+    pub(crate) params: Option<String>,
+    /// Graded variant (isosurface stuffing).
+    #[arg(long)]
+    pub(crate) graded: bool,
+    /// Budget of box tests of the subdivision meshers (pv, snyder; default 1000000,
+    /// a few seconds). When it is spent the run stops: the boxes not yet decided are
+    /// returned as uncertified regions with the reason "box budget exhausted (raise
+    /// --max-boxes)", the stats say refinement_complete: false, the report says that
+    /// the run stopped and why, and nothing is certified.
+    #[arg(long, value_name = "N")]
+    pub(crate) max_boxes: Option<u64>,
+    /// Wall-clock limit of the subdivision meshers (pv, snyder), in seconds (default:
+    /// none). A run stopped by it reports "time limit reached (raise --time-limit)",
+    /// refinement_complete: false, and certifies nothing.
+    #[arg(long, value_name = "SECONDS")]
+    pub(crate) time_limit: Option<f64>,
+    /// Algorithm-specific settings, key=value (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub(crate) set: Vec<String>,
+}
+
+impl OptArgs {
+    pub(crate) fn to_options(&self) -> Result<MesherOptions> {
+        let mut o = MesherOptions {
+            resolution: self.resolution,
+            scale: self.scale,
+            max_depth: self.max_depth,
+            min_depth: self.min_depth,
+            generic_shift: self.generic_shift,
+            crossing: self
+                .crossing
+                .as_deref()
+                .map(|s| s.parse::<Crossing>())
+                .transpose()?,
+            tolerance: self.tolerance,
+            prune: self.prune,
+            max_boxes: self.max_boxes,
+            time_limit: self.time_limit,
+            params: self.params.clone(),
+            graded: self.graded,
+            extra: Default::default(),
+        };
+        if let Some(r) = o.resolution {
+            if r == 0 {
+                return Err(Error::Param("--resolution must be at least 1".into()));
+            }
+        }
+        if let Some(s) = o.scale {
+            if !(s.is_finite() && s > 0.0) {
+                return Err(Error::Param(format!(
+                    "--scale must be a positive number, got {s}"
+                )));
+            }
+        }
+        if o.max_boxes == Some(0) {
+            return Err(Error::Param("--max-boxes must be at least 1".into()));
+        }
+        if let Some(t) = o.time_limit {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(Error::Param(format!(
+                    "--time-limit must be a positive number of seconds, got {t}"
+                )));
+            }
+        }
+        for kv in &self.set {
+            let (k, v) = kv
+                .split_once('=')
+                .ok_or_else(|| Error::Param(format!("--set expects KEY=VALUE, got '{kv}'")))?;
+            o.extra.insert(k.trim().to_string(), v.trim().to_string());
+        }
+        Ok(o)
+    }
+}

@@ -1,0 +1,325 @@
+//! The `certmesh` command line. Every subcommand prints a readable report, or JSON with
+//! `--json`. Errors name the problem; with `--json` an error is a JSON object on stdout.
+//!
+//! Exit status: 0 success; 2 usage and input errors (bad option, formula, domain, file,
+//! output path or format: all checked before the work starts); 1 a failure while doing
+//! the work (e.g. an output that could not be written at the end).
+#[macro_use]
+mod errors;
+mod args;
+mod compare_cmd;
+mod input;
+mod mesh_cmd;
+mod progress;
+mod stats_cmd;
+
+use args::*;
+use compare_cmd::*;
+use errors::*;
+use mesh_cmd::*;
+use stats_cmd::*;
+
+use certmesh::catalog::{self};
+use certmesh::mesher::registry as algorithms;
+use clap::{Parser, Subcommand};
+use std::io::Write;
+use std::path::PathBuf;
+
+/// certmesh — certified meshing of implicit curves and surfaces.
+///
+/// A surface is f(x, y, z) = 0 (a curve f(x, y) = 0), given as a catalog name
+/// (`certmesh surfaces`) or a formula (`--formula "x^2 + y^2 + z^2 - 1"`, or
+/// `--formula @FILE` / `--formula-file FILE` for long formulas). Convention: f < 0
+/// inside. Every mesher returns a certificate: `certified` with what interval arithmetic
+/// proved, or `uncertified` with where and why.
+///
+/// Formula language: numbers, x y z, + - * /, ^ with an integer exponent, unary minus,
+/// parentheses, sqrt abs min max, pi; with the `mpfr` feature also sin cos exp ln.
+///
+/// Exit status: 0 success, 2 usage or input error (checked before any work), 1 failure
+/// during the work. With --json an error is printed on stdout as
+/// {"error": MESSAGE, "kind": KIND, "position": COLUMN-or-LINE-or-null}.
+#[derive(Parser)]
+#[command(name = "certmesh", version, about, long_about, max_term_width = 100)]
+struct Cli {
+    /// No progress display on stderr (it is also off when stderr is not a terminal).
+    #[arg(long, short = 'q', global = true)]
+    quiet: bool,
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// List the catalog of test surfaces and curves with their known topology.
+    ///
+    /// Example: certmesh surfaces --json
+    #[command(verbatim_doc_comment)]
+    Surfaces {
+        /// Machine-readable output.
+        #[arg(long)]
+        json: bool,
+    },
+    /// List the meshing algorithms (`--algo` names).
+    ///
+    /// Example: certmesh algos
+    #[command(verbatim_doc_comment)]
+    Algos {
+        #[arg(long)]
+        json: bool,
+    },
+    /// Mesh a surface f(x, y, z) = 0 and write the mesh.
+    ///
+    /// A formula without --domain is meshed in the default domain [-2, 2]³.
+    ///
+    /// Examples:
+    ///   certmesh mesh torus --algo mc --resolution 64 -o torus.obj
+    ///   certmesh mesh --formula "x^2 + y^2 + z^2 - 1" --algo pv -o sphere.obj
+    ///   certmesh mesh -f "x^4 + y^4 + z^4 - 1" --domain -1.2,-1.2,-1.2,1.2,1.2,1.2 --algo mc -o s.ply
+    ///   certmesh mesh --formula 0 --domain -1,-1,-1,1,1,1 --algo pv --max-boxes 2000 -o x.obj
+    #[command(verbatim_doc_comment)]
+    Mesh(MeshArgs),
+    /// Mesh a curve f(x, y) = 0 and write it as SVG or CSV.
+    ///
+    /// A formula without --domain is meshed in the default domain [-2, 2]².
+    ///
+    /// Examples:
+    ///   certmesh curve cassini-2 --algo ms --resolution 32 -o c.svg
+    ///   certmesh curve --formula "x^2 + 4*y^2 - 1" --algo pv -o e.csv
+    #[command(verbatim_doc_comment)]
+    Curve(MeshArgs),
+    /// Statistics of a mesh file: counts, topology, angles; fidelity when a surface is given.
+    ///
+    /// Triangle meshes (obj off ply stl) and tetrahedral meshes (vtk mesh). Fidelity
+    /// distances are sampled estimates ("Hausdorff (est.)"), not bounds; a quantity that
+    /// could not be measured is reported as undefined (null in JSON) with the reason.
+    ///
+    /// Examples:
+    ///   certmesh stats data/spot.obj
+    ///   certmesh stats torus.obj --surface torus --histogram torus-angles
+    #[command(verbatim_doc_comment)]
+    Stats {
+        /// The mesh file.
+        mesh: PathBuf,
+        /// Compare against this catalog surface (fidelity fields, topology verdict).
+        #[arg(long, conflicts_with_all = ["formula", "formula_file"])]
+        surface: Option<String>,
+        /// Compare against this formula (`@FILE` reads it from a file).
+        #[arg(long, conflicts_with = "formula_file")]
+        formula: Option<String>,
+        /// Compare against the formula in this file.
+        #[arg(long, value_name = "FILE")]
+        formula_file: Option<PathBuf>,
+        /// Write an angle histogram (BASE.svg and BASE.png; a .svg or .png ending of
+        /// BASE is dropped, so `h.png` writes h.svg and h.png).
+        #[arg(long, value_name = "BASE")]
+        histogram: Option<PathBuf>,
+        /// Histogram bin width in degrees.
+        #[arg(long, default_value_t = 2.0)]
+        bin: f64,
+        /// Draw rare bins magnified by this factor on top of the true bars (the
+        /// stuffing paper's Figs 1 and 4 use 20); 1 draws the plain histogram.
+        #[arg(long, default_value_t = 1.0, value_name = "K")]
+        emphasis: f64,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Run several algorithms on several catalog entries and compare them side by side.
+    ///
+    /// Prints a markdown table: topology verdict against the catalog, what was found,
+    /// angle range, Hausdorff estimate, time, evaluations of f, certificate.
+    /// Surfaces are meshed by the 3D algorithms, curves by the 2D ones; an algorithm
+    /// that fits none of the entries given is an error.
+    ///
+    /// Example:
+    ///   certmesh compare --surfaces two-spheres,thin-torus --algos mc,pv --resolution 21
+    #[command(verbatim_doc_comment)]
+    Compare {
+        /// Catalog surfaces (comma separated; default: a representative set).
+        #[arg(long, value_delimiter = ',')]
+        surfaces: Vec<String>,
+        /// Catalog curves (comma separated).
+        #[arg(long, value_delimiter = ',')]
+        curves: Vec<String>,
+        /// Algorithms (comma separated; default: all that handle the entry's dimension).
+        #[arg(long, value_delimiter = ',')]
+        algos: Vec<String>,
+        #[command(flatten)]
+        opts: OptArgs,
+        /// Also write the table to this file: .md (markdown), .json (the rows as
+        /// --json prints them) or .csv.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        #[arg(long)]
+        json: bool,
+    },
+    /// The main job on built-in defaults: mesh catalog entries with every algorithm,
+    /// print the comparison, write the meshes and angle histograms to the output folder.
+    ///
+    /// Example: certmesh demo --quick
+    #[command(verbatim_doc_comment)]
+    Demo {
+        #[arg(long, default_value = "out/demo")]
+        out: PathBuf,
+        /// A smaller run (coarser settings, fewer surfaces).
+        #[arg(long)]
+        quick: bool,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Regenerate a paper's reproduction folder (tables and figures) under papers/.
+    ///
+    /// Papers: gradnormal, stuffing, meshing-of-surfaces.
+    ///
+    /// Example: certmesh reproduce meshing-of-surfaces --quick --out papers-quick/meshing-of-surfaces
+    #[command(verbatim_doc_comment)]
+    Reproduce {
+        /// Which paper: gradnormal, stuffing or meshing-of-surfaces.
+        paper: String,
+        /// Output folder (default: papers/<paper>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// A fast, smaller run.
+        #[arg(long)]
+        quick: bool,
+    },
+}
+
+fn main() {
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let json = wants_json(&args);
+    let cli = match Cli::try_parse_from(&args) {
+        Ok(c) => c,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            let informational = matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            );
+            if informational || !json {
+                // clap prints help/version (exit 0) and usage errors (exit 2).
+                e.exit();
+            }
+            let text = e.render().to_string();
+            let first = text
+                .lines()
+                .next()
+                .unwrap_or("")
+                .trim_start_matches("error: ")
+                .to_string();
+            report_error(
+                &CliError {
+                    message: first,
+                    kind: "usage",
+                    position: None,
+                    code: EXIT_INPUT,
+                },
+                true,
+            );
+        }
+    };
+    let quiet = cli.quiet;
+    if let Err(e) = run(cli.cmd, quiet) {
+        report_error(&e, json);
+    }
+}
+
+fn run(cmd: Cmd, quiet: bool) -> CliResult<()> {
+    match cmd {
+        Cmd::Surfaces { json } => {
+            let all = catalog::entries();
+            if json {
+                print_json(&all);
+            } else {
+                out!("| name | kind | formula | domain | components | genus | smooth | note |\n|---|---|---|---|---|---|---|---|");
+                for e in all {
+                    let (c, g) = match e.topology {
+                        Some(t) => (t.components.to_string(), format!("{:?}", t.genus)),
+                        None => ("singular".into(), "–".into()),
+                    };
+                    out!(
+                        "| {} | {} | `{}` | {:?}..{:?} | {} | {} | {} | {} |",
+                        e.name,
+                        if e.dim == 2 { "curve" } else { "surface" },
+                        e.formula,
+                        e.domain.min,
+                        e.domain.max,
+                        c,
+                        g,
+                        e.smooth,
+                        e.note
+                    );
+                }
+            }
+        }
+        Cmd::Algos { json } => {
+            let l = algorithms::list();
+            if json {
+                print_json(&l);
+            } else {
+                for i in l {
+                    out!(
+                        "{:<12} {}D  {:<13} {}",
+                        i.name,
+                        i.dim,
+                        if i.certifying {
+                            "certifying"
+                        } else {
+                            "uncertified"
+                        },
+                        i.summary
+                    );
+                }
+            }
+        }
+        Cmd::Mesh(a) => mesh_cmd(a, 3, quiet)?,
+        Cmd::Curve(a) => mesh_cmd(a, 2, quiet)?,
+        Cmd::Stats {
+            mesh,
+            surface,
+            formula,
+            formula_file,
+            histogram,
+            bin,
+            emphasis,
+            json,
+        } => stats_cmd(
+            StatsArgs {
+                mesh,
+                surface,
+                formula,
+                formula_file,
+                histogram,
+                bin,
+                emphasis,
+                json,
+            },
+            quiet,
+        )?,
+        Cmd::Compare {
+            surfaces,
+            curves,
+            algos,
+            opts,
+            output,
+            json,
+        } => compare_cmd(
+            CompareArgs {
+                surfaces,
+                curves,
+                algos,
+                opts,
+                output,
+                json,
+            },
+            quiet,
+        )?,
+        Cmd::Demo { out, quick, json } => demo_cmd(&out, quick, json, quiet)?,
+        Cmd::Reproduce { paper, out, quick } => {
+            reproduce_cmd(&paper, out.as_deref(), quick, quiet)?
+        }
+    }
+    Ok(())
+}
