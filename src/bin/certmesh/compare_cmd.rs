@@ -11,7 +11,6 @@ use certmesh::mesher::Progress;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-
 pub(crate) fn default_algos(dim: usize) -> Vec<String> {
     algorithms::list()
         .into_iter()

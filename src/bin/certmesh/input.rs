@@ -4,10 +4,10 @@ use crate::args::*;
 use crate::errors::*;
 use certmesh::catalog::{self, Entry};
 use certmesh::error::{Error, Result};
+use certmesh::harness::report::DomainSource;
 use certmesh::implicit::{Formula, Implicit};
 use certmesh::io;
 use certmesh::kernel::geom::Aabb;
-use certmesh::mesher::{self, Certificate};
 use std::path::{Path, PathBuf};
 
 /// Half-width of the default domain of a formula: [-2, 2]³ for surfaces, [-2, 2]² for
@@ -129,7 +129,7 @@ pub(crate) struct Target {
     pub(crate) f: Box<dyn Implicit>,
     pub(crate) domain: Aabb,
     /// Where the domain came from: "catalog", "--domain", "default", "unit cube".
-    pub(crate) domain_source: &'static str,
+    pub(crate) domain_source: DomainSource,
     pub(crate) entry: Option<Entry>,
 }
 
@@ -190,9 +190,9 @@ pub(crate) fn target(a: &MeshArgs, dim: usize) -> CliResult<Target> {
         ),
     };
     let (domain, domain_source) = match (&entry, a.domain.is_empty()) {
-        (_, false) => (domain_from(&a.domain, dim)?, "--domain"),
-        (Some(e), true) => (e.domain, "catalog"),
-        (None, true) => (default_domain(dim), "default"),
+        (_, false) => (domain_from(&a.domain, dim)?, DomainSource::Given),
+        (Some(e), true) => (e.domain, DomainSource::Catalog),
+        (None, true) => (default_domain(dim), DomainSource::Default),
     };
     let s = domain.size();
     if (0..dim).any(|k| s[k] <= 0.0) {
@@ -232,9 +232,9 @@ pub(crate) fn mesh_input_target(a: &MeshArgs, path: &Path, dim: usize) -> CliRes
         );
     }
     let (domain, domain_source) = if a.domain.is_empty() {
-        (Aabb::new([0.0; 3], [1.0; 3])?, "unit cube")
+        (Aabb::new([0.0; 3], [1.0; 3])?, DomainSource::UnitCube)
     } else {
-        (domain_from(&a.domain, 3)?, "--domain")
+        (domain_from(&a.domain, 3)?, DomainSource::Given)
     };
     let name = path
         .file_name()
@@ -247,36 +247,4 @@ pub(crate) fn mesh_input_target(a: &MeshArgs, path: &Path, dim: usize) -> CliRes
         domain_source,
         entry: None,
     })
-}
-
-/// "[-2, 2] × [-2, 2] × [-2, 2]".
-pub(crate) fn fmt_domain(d: &Aabb, dim: usize) -> String {
-    (0..dim)
-        .map(|k| format!("[{}, {}]", d.min[k], d.max[k]))
-        .collect::<Vec<_>>()
-        .join(" × ")
-}
-
-/// Why a run stopped before its refinement was complete (a budget), if it did.
-pub(crate) fn stop_reason(run: &mesher::Run) -> Option<String> {
-    let complete = run
-        .output
-        .stats
-        .get("refinement_complete")
-        .and_then(|v| v.as_bool());
-    if complete != Some(false) {
-        return None;
-    }
-    let budget = [
-        certmesh::subdivision::BOX_BUDGET_REASON,
-        certmesh::subdivision::TIME_LIMIT_REASON,
-    ];
-    let from_regions = match &run.output.certificate {
-        Certificate::Uncertified { regions, .. } => budget
-            .iter()
-            .find(|b| regions.iter().any(|r| r.reason == **b))
-            .map(|b| b.to_string()),
-        _ => None,
-    };
-    Some(from_regions.unwrap_or_else(|| "a work budget was spent".into()))
 }

@@ -10,7 +10,6 @@ use certmesh::{io, metrics};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-
 pub(crate) struct StatsArgs {
     pub(crate) mesh: PathBuf,
     pub(crate) surface: Option<String>,

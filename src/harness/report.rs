@@ -1,0 +1,187 @@
+//! The report of one mesher run (`certmesh mesh`, `certmesh curve`), assembled in one
+//! place: the comparison row ([`compare::evaluate`]: topology verdict, angles,
+//! Hausdorff estimate, time, certificate) plus what a single run adds (the mesher's
+//! statistics, evaluation counts, the domain and where it came from, whether a budget
+//! stopped the run). The command line serialises it (`--json`) or prints
+//! [`MeshReport::text`]; it adds nothing of its own.
+//!
+//! The JSON fields are those of [`compare::Row`] (flattened) and the ones below; they
+//! are part of the interface (tests/cli.rs reads them): add fields, never rename.
+use crate::catalog::Topology;
+use crate::error::Result;
+use crate::harness::compare::{self, Row};
+use crate::implicit::{EvalCounts, Implicit};
+use crate::kernel::geom::Aabb;
+use crate::mesher::{Certificate, Run};
+use serde::Serialize;
+
+/// Where the domain of a run came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DomainSource {
+    /// Given by `--domain` (JSON: "--domain").
+    #[serde(rename = "--domain")]
+    Given,
+    /// The catalog entry's box.
+    Catalog,
+    /// The default box of a formula, [-2, 2]³ or [-2, 2]².
+    Default,
+    /// The unit cube a `--mesh-input` mesh is normalised into.
+    #[serde(rename = "unit cube")]
+    UnitCube,
+}
+
+impl DomainSource {
+    /// The name used in the JSON report.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            DomainSource::Given => "--domain",
+            DomainSource::Catalog => "catalog",
+            DomainSource::Default => "default",
+            DomainSource::UnitCube => "unit cube",
+        }
+    }
+}
+
+/// The report of one run.
+#[derive(Clone, Debug, Serialize)]
+pub struct MeshReport {
+    #[serde(flatten)]
+    pub row: Row,
+    /// Number of uncertified regions (0 when certified).
+    pub uncertified_boxes: usize,
+    /// The certificate's one-line reason when uncertified.
+    pub reason: Option<String>,
+    /// The mesher's own statistics (boxes per depth, criteria, ...).
+    pub stats: serde_json::Map<String, serde_json::Value>,
+    /// Evaluations of f by kind (point, interval, gradient, ...).
+    pub evaluation_counts: EvalCounts,
+    pub domain: Aabb,
+    pub domain_source: DomainSource,
+    /// `false` when a budget stopped the refinement (present only for meshers that
+    /// refine).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refinement_complete: Option<bool>,
+    /// Why the run stopped early, if it did.
+    pub stopped: Option<String>,
+    /// Remarks about the run (an option that had no effect, ...).
+    pub notes: Vec<String>,
+    /// The mesh file written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub output: Option<String>,
+}
+
+/// Why a run stopped before its refinement was complete (a budget), if it did.
+pub fn stop_reason(run: &Run) -> Option<String> {
+    let complete = run
+        .output
+        .stats
+        .get("refinement_complete")
+        .and_then(|v| v.as_bool());
+    if complete != Some(false) {
+        return None;
+    }
+    let budget = [
+        crate::subdivision::BOX_BUDGET_REASON,
+        crate::subdivision::TIME_LIMIT_REASON,
+    ];
+    let from_regions = match &run.output.certificate {
+        Certificate::Uncertified { regions, .. } => budget
+            .iter()
+            .find(|b| regions.iter().any(|r| r.reason == **b))
+            .map(|b| b.to_string()),
+        _ => None,
+    };
+    Some(from_regions.unwrap_or_else(|| "a work budget was spent".into()))
+}
+
+/// Judge a run (the comparison row) and add what a single run reports.
+pub fn mesh_report(
+    surface: &str,
+    f: &dyn Implicit,
+    domain: &Aabb,
+    domain_source: DomainSource,
+    expected: Option<&Topology>,
+    run: &Run,
+) -> Result<MeshReport> {
+    let row = compare::evaluate(surface, f, domain, expected, run)?;
+    let c = &run.output.certificate;
+    Ok(MeshReport {
+        row,
+        uncertified_boxes: match c {
+            Certificate::Uncertified { regions, .. } => regions.len(),
+            _ => 0,
+        },
+        reason: c.reason().map(str::to_string),
+        stats: run.output.stats.clone(),
+        evaluation_counts: run.evaluations,
+        domain: *domain,
+        domain_source,
+        refinement_complete: run
+            .output
+            .stats
+            .get("refinement_complete")
+            .and_then(|v| v.as_bool()),
+        stopped: stop_reason(run),
+        notes: Vec::new(),
+        output: None,
+    })
+}
+
+impl MeshReport {
+    /// The readable report: the comparison row as a one-line table, the domain, why
+    /// the run stopped, up to `max_regions` uncertified regions, the proven claims, the
+    /// notes.
+    pub fn text(&self, max_regions: usize) -> Vec<String> {
+        let mut out = vec![compare::markdown(std::slice::from_ref(&self.row))
+            .trim_end()
+            .to_string()];
+        let dim = self.row.dim;
+        let dom = (0..dim)
+            .map(|k| format!("[{}, {}]", self.domain.min[k], self.domain.max[k]))
+            .collect::<Vec<_>>()
+            .join(" × ");
+        out.push(format!(
+            "domain: {dom}{}",
+            match self.domain_source {
+                DomainSource::Default => " (the default domain of a formula; set --domain)",
+                DomainSource::Catalog => " (the catalog's)",
+                DomainSource::UnitCube => " (the unit cube of --mesh-input)",
+                DomainSource::Given => "",
+            }
+        ));
+        if let Some(why) = &self.stopped {
+            out.push(format!(
+                "stopped before the refinement was complete: {why} (refinement_complete: false); \
+                 the output is partial and nothing is certified"
+            ));
+        }
+        if let Some(n) = &self.row.hausdorff_note {
+            out.push(format!("Hausdorff (est.): {n}"));
+        }
+        if let Certificate::Uncertified { regions, .. } = &self.row.certificate {
+            for r in regions.iter().take(max_regions) {
+                out.push(format!(
+                    "uncertified region {:?}..{:?}: {}",
+                    r.region.min, r.region.max, r.reason
+                ));
+            }
+            if regions.len() > max_regions {
+                out.push(format!(
+                    "... and {} more uncertified regions (see --json)",
+                    regions.len() - max_regions
+                ));
+            }
+        }
+        for c in self.row.certificate.claims() {
+            out.push(format!("proven: {c}"));
+        }
+        for n in &self.notes {
+            out.push(format!("note: {n}"));
+        }
+        if let Some(o) = &self.output {
+            out.push(format!("wrote {o}"));
+        }
+        out
+    }
+}
