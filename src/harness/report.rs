@@ -13,6 +13,7 @@ use crate::harness::compare::{self, Row};
 use crate::implicit::{EvalCounts, Implicit};
 use crate::kernel::geom::Aabb;
 use crate::mesher::{Certificate, Run};
+use crate::metrics::{Stats, Verdict};
 use serde::Serialize;
 
 /// Where the domain of a run came from.
@@ -181,6 +182,105 @@ impl MeshReport {
         }
         if let Some(o) = &self.output {
             out.push(format!("wrote {o}"));
+        }
+        out
+    }
+}
+
+/// What `certmesh stats MESH` reports for a triangle mesh: the statistics and, when the
+/// surface is a catalog entry with a known topology, the verdict against it.
+#[derive(Clone, Debug, Serialize)]
+pub struct StatsReport {
+    #[serde(flatten)]
+    pub stats: Stats,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub topology_verdict: Option<Verdict>,
+}
+
+/// A number for a readable report: scientific with `prec` digits, "undefined" for NaN.
+pub fn num(x: f64, prec: usize) -> String {
+    if x.is_nan() {
+        "undefined".into()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf" } else { "-inf" }.into()
+    } else {
+        format!("{x:.prec$e}")
+    }
+}
+
+impl StatsReport {
+    /// The readable report of the mesh file `name`.
+    pub fn text(&self, name: &str) -> Vec<String> {
+        let s = &self.stats;
+        let mut out = Vec::new();
+        let plural =
+            |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+        let genus = if s.genus.is_empty() {
+            "genus: n/a (no closed orientable component)".to_string()
+        } else {
+            format!("genus per closed component: {:?}", s.genus)
+        };
+        out.push(format!(
+            "{name}: {} vertices ({} used, {} isolated), {} faces, {} edges, χ = {}, {}, closed: {}, manifold: {}, oriented: {}, {}, {}",
+            s.vertices + s.isolated_vertices,
+            s.vertices,
+            s.isolated_vertices,
+            s.faces,
+            s.edges,
+            s.euler_characteristic,
+            plural(s.components, "component", "components"),
+            s.closed,
+            s.manifold,
+            s.consistently_oriented,
+            plural(s.boundary_loops, "boundary loop", "boundary loops"),
+            genus
+        ));
+        if let (Some(x), Some(y)) = (s.min_angle_deg, s.max_angle_deg) {
+            out.push(format!(
+                "angles: [{x:.3}°, {y:.3}°], {} degenerate triangles",
+                s.degenerate_triangles
+            ));
+        }
+        if s.non_manifold_edges + s.non_manifold_vertices + s.degenerate_faces + s.duplicate_faces
+            > 0
+        {
+            out.push(format!(
+                "defects: {} non-manifold edges, {} non-manifold vertices, {} degenerate faces, {} duplicate faces",
+                s.non_manifold_edges, s.non_manifold_vertices, s.degenerate_faces, s.duplicate_faces
+            ));
+        }
+        if let Some(fd) = &s.fidelity {
+            out.push(format!(
+                "fidelity: Hausdorff (est.) ≈ {} (mesh→surface {}, surface→mesh {}), max |f|/|∇f| = {}, normal deviation max {}",
+                num(fd.hausdorff, 3),
+                num(fd.hausdorff_mesh_to_surface, 3),
+                num(fd.hausdorff_surface_to_mesh, 3),
+                num(fd.max_distance_estimate, 3),
+                if fd.normal_dev_max_deg.is_finite() {
+                    format!("{:.2}°", fd.normal_dev_max_deg)
+                } else {
+                    num(fd.normal_dev_max_deg, 2)
+                }
+            ));
+            // The reasons of the measured fields (the means and the two-sided maximum
+            // repeat them; --json has every field).
+            for (field, why) in &fd.fidelity_undefined {
+                if field != "hausdorff"
+                    && !field.starts_with("mean_")
+                    && !field.ends_with("mean_deg")
+                {
+                    out.push(format!("  {field}: {why}"));
+                }
+            }
+        }
+        if let Some(vd) = &self.topology_verdict {
+            out.push(format!(
+                "topology: {} (expected {}, found {}) {}",
+                if vd.ok { "ok" } else { "WRONG" },
+                vd.expected,
+                vd.found,
+                vd.reason
+            ));
         }
         out
     }

@@ -150,3 +150,54 @@ impl OptArgs {
         Ok(o)
     }
 }
+
+/// The arguments of `certmesh stats`.
+#[derive(Args, Clone)]
+pub(crate) struct StatsArgs {
+    /// The mesh file.
+    pub(crate) mesh: PathBuf,
+    /// Compare against this catalog surface (fidelity fields, topology verdict).
+    #[arg(long, conflicts_with_all = ["formula", "formula_file"])]
+    pub(crate) surface: Option<String>,
+    /// Compare against this formula (`@FILE` reads it from a file).
+    #[arg(long, conflicts_with = "formula_file")]
+    pub(crate) formula: Option<String>,
+    /// Compare against the formula in this file.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) formula_file: Option<PathBuf>,
+    /// Write an angle histogram (BASE.svg and BASE.png; a .svg or .png ending of
+    /// BASE is dropped, so `h.png` writes h.svg and h.png).
+    #[arg(long, value_name = "BASE")]
+    pub(crate) histogram: Option<PathBuf>,
+    /// Histogram bin width in degrees.
+    #[arg(long, default_value_t = 2.0)]
+    pub(crate) bin: f64,
+    /// Draw rare bins magnified by this factor on top of the true bars (the
+    /// stuffing paper's Figs 1 and 4 use 20); 1 draws the plain histogram.
+    #[arg(long, default_value_t = 1.0, value_name = "K")]
+    pub(crate) emphasis: f64,
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+/// The arguments of `certmesh compare`.
+#[derive(Args, Clone)]
+pub(crate) struct CompareArgs {
+    /// Catalog surfaces (comma separated; default: a representative set).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) surfaces: Vec<String>,
+    /// Catalog curves (comma separated).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) curves: Vec<String>,
+    /// Algorithms (comma separated; default: all that handle the entry's dimension).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) algos: Vec<String>,
+    #[command(flatten)]
+    pub(crate) opts: OptArgs,
+    /// Also write the table to this file: .md (markdown), .json (the rows as
+    /// --json prints them) or .csv.
+    #[arg(short, long)]
+    pub(crate) output: Option<PathBuf>,
+    #[arg(long)]
+    pub(crate) json: bool,
+}

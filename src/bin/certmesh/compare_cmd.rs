@@ -9,7 +9,7 @@ use certmesh::harness::compare;
 use certmesh::mesher::registry as algorithms;
 use certmesh::mesher::Progress;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 pub(crate) fn default_algos(dim: usize) -> Vec<String> {
     algorithms::list()
@@ -68,15 +68,6 @@ pub(crate) fn table_format(p: &Path) -> CliResult<TableFormat> {
             known: "md json csv".into(),
         })),
     }
-}
-
-pub(crate) struct CompareArgs {
-    pub(crate) surfaces: Vec<String>,
-    pub(crate) curves: Vec<String>,
-    pub(crate) algos: Vec<String>,
-    pub(crate) opts: OptArgs,
-    pub(crate) output: Option<PathBuf>,
-    pub(crate) json: bool,
 }
 
 pub(crate) fn compare_cmd(a: CompareArgs, quiet: bool) -> CliResult<()> {

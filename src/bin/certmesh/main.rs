@@ -98,32 +98,7 @@ enum Cmd {
     ///   certmesh stats data/spot.obj
     ///   certmesh stats torus.obj --surface torus --histogram torus-angles
     #[command(verbatim_doc_comment)]
-    Stats {
-        /// The mesh file.
-        mesh: PathBuf,
-        /// Compare against this catalog surface (fidelity fields, topology verdict).
-        #[arg(long, conflicts_with_all = ["formula", "formula_file"])]
-        surface: Option<String>,
-        /// Compare against this formula (`@FILE` reads it from a file).
-        #[arg(long, conflicts_with = "formula_file")]
-        formula: Option<String>,
-        /// Compare against the formula in this file.
-        #[arg(long, value_name = "FILE")]
-        formula_file: Option<PathBuf>,
-        /// Write an angle histogram (BASE.svg and BASE.png; a .svg or .png ending of
-        /// BASE is dropped, so `h.png` writes h.svg and h.png).
-        #[arg(long, value_name = "BASE")]
-        histogram: Option<PathBuf>,
-        /// Histogram bin width in degrees.
-        #[arg(long, default_value_t = 2.0)]
-        bin: f64,
-        /// Draw rare bins magnified by this factor on top of the true bars (the
-        /// stuffing paper's Figs 1 and 4 use 20); 1 draws the plain histogram.
-        #[arg(long, default_value_t = 1.0, value_name = "K")]
-        emphasis: f64,
-        #[arg(long)]
-        json: bool,
-    },
+    Stats(StatsArgs),
     /// Run several algorithms on several catalog entries and compare them side by side.
     ///
     /// Prints a markdown table: topology verdict against the catalog, what was found,
@@ -134,25 +109,7 @@ enum Cmd {
     /// Example:
     ///   certmesh compare --surfaces two-spheres,thin-torus --algos mc,pv --resolution 21
     #[command(verbatim_doc_comment)]
-    Compare {
-        /// Catalog surfaces (comma separated; default: a representative set).
-        #[arg(long, value_delimiter = ',')]
-        surfaces: Vec<String>,
-        /// Catalog curves (comma separated).
-        #[arg(long, value_delimiter = ',')]
-        curves: Vec<String>,
-        /// Algorithms (comma separated; default: all that handle the entry's dimension).
-        #[arg(long, value_delimiter = ',')]
-        algos: Vec<String>,
-        #[command(flatten)]
-        opts: OptArgs,
-        /// Also write the table to this file: .md (markdown), .json (the rows as
-        /// --json prints them) or .csv.
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-        #[arg(long)]
-        json: bool,
-    },
+    Compare(CompareArgs),
     /// The main job on built-in defaults: mesh catalog entries with every algorithm,
     /// print the comparison, write the meshes and angle histograms to the output folder.
     ///
@@ -276,46 +233,8 @@ fn run(cmd: Cmd, quiet: bool) -> CliResult<()> {
         }
         Cmd::Mesh(a) => mesh_cmd(a, 3, quiet)?,
         Cmd::Curve(a) => mesh_cmd(a, 2, quiet)?,
-        Cmd::Stats {
-            mesh,
-            surface,
-            formula,
-            formula_file,
-            histogram,
-            bin,
-            emphasis,
-            json,
-        } => stats_cmd(
-            StatsArgs {
-                mesh,
-                surface,
-                formula,
-                formula_file,
-                histogram,
-                bin,
-                emphasis,
-                json,
-            },
-            quiet,
-        )?,
-        Cmd::Compare {
-            surfaces,
-            curves,
-            algos,
-            opts,
-            output,
-            json,
-        } => compare_cmd(
-            CompareArgs {
-                surfaces,
-                curves,
-                algos,
-                opts,
-                output,
-                json,
-            },
-            quiet,
-        )?,
+        Cmd::Stats(a) => stats_cmd(a, quiet)?,
+        Cmd::Compare(a) => compare_cmd(a, quiet)?,
         Cmd::Demo { out, quick, json } => demo_cmd(&out, quick, json, quiet)?,
         Cmd::Reproduce { paper, out, quick } => {
             reproduce_cmd(&paper, out.as_deref(), quick, quiet)?

@@ -1,25 +1,16 @@
 //! `certmesh stats`: the quality, topology and fidelity of a mesh file.
+use crate::args::*;
 use crate::errors::*;
 use crate::input::*;
 use crate::progress::Bar;
 use certmesh::catalog::{self};
 use certmesh::error::Error;
+use certmesh::harness::report;
 use certmesh::implicit::Implicit;
 use certmesh::mesher::Progress;
 use certmesh::{io, metrics};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-pub(crate) struct StatsArgs {
-    pub(crate) mesh: PathBuf,
-    pub(crate) surface: Option<String>,
-    pub(crate) formula: Option<String>,
-    pub(crate) formula_file: Option<PathBuf>,
-    pub(crate) histogram: Option<PathBuf>,
-    pub(crate) bin: f64,
-    pub(crate) emphasis: f64,
-    pub(crate) json: bool,
-}
 
 /// The histogram base: a trailing .svg or .png is dropped (both files are written).
 pub(crate) fn histogram_base(h: &Path) -> PathBuf {
@@ -28,17 +19,6 @@ pub(crate) fn histogram_base(h: &Path) -> PathBuf {
             h.with_extension("")
         }
         _ => h.to_path_buf(),
-    }
-}
-
-/// A measured number for text: "undefined" (NaN) and "inf" are said as such.
-pub(crate) fn num(x: f64, prec: usize) -> String {
-    if x.is_nan() {
-        "undefined".into()
-    } else if x.is_infinite() {
-        if x > 0.0 { "inf" } else { "-inf" }.into()
-    } else {
-        format!("{x:.prec$e}")
     }
 }
 
@@ -104,16 +84,7 @@ pub(crate) fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
             let d: Vec<f64> = (0..m.tets.len())
                 .flat_map(|t| metrics::angles::dihedral_angles(&m.corners(t)))
                 .collect();
-            certmesh::reproduce::plot::histogram(
-                h,
-                "dihedral angles",
-                "degrees",
-                "tetrahedra",
-                &certmesh::reproduce::plot::bin(d, a.bin, false),
-                &[],
-                a.emphasis,
-            )
-            .runtime()?;
+            angle_histogram(h, "dihedral angles", "tetrahedra", d, false, &a)?;
         }
         bar.finish();
         print_json(&s);
@@ -140,100 +111,43 @@ pub(crate) fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
             .flatten()
             .flatten()
             .collect();
-        certmesh::reproduce::plot::histogram(
-            h,
-            "triangle angles",
-            "degrees",
-            "density",
-            &certmesh::reproduce::plot::bin(ang, a.bin, true),
-            &[],
-            a.emphasis,
-        )
-        .runtime()?;
+        angle_histogram(h, "triangle angles", "density", ang, true, &a)?;
     }
     bar.finish();
+    let report = report::StatsReport {
+        stats: s,
+        topology_verdict: verdict,
+    };
     if a.json {
-        let mut v = serde_json::to_value(&s).unwrap();
-        if let Some(vd) = &verdict {
-            v.as_object_mut()
-                .unwrap()
-                .insert("topology_verdict".into(), serde_json::to_value(vd).unwrap());
-        }
-        print_json(&v);
+        print_json(&report);
     } else {
-        let plural =
-            |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
-        let genus = if s.genus.is_empty() {
-            "genus: n/a (no closed orientable component)".to_string()
-        } else {
-            format!("genus per closed component: {:?}", s.genus)
-        };
-        out!(
-            "{}: {} vertices ({} used, {} isolated), {} faces, {} edges, χ = {}, {}, closed: {}, manifold: {}, oriented: {}, {}, {}",
-            a.mesh.display(),
-            s.vertices + s.isolated_vertices,
-            s.vertices,
-            s.isolated_vertices,
-            s.faces,
-            s.edges,
-            s.euler_characteristic,
-            plural(s.components, "component", "components"),
-            s.closed,
-            s.manifold,
-            s.consistently_oriented,
-            plural(s.boundary_loops, "boundary loop", "boundary loops"),
-            genus
-        );
-        if let (Some(x), Some(y)) = (s.min_angle_deg, s.max_angle_deg) {
-            out!(
-                "angles: [{x:.3}°, {y:.3}°], {} degenerate triangles",
-                s.degenerate_triangles
-            );
-        }
-        if s.non_manifold_edges + s.non_manifold_vertices + s.degenerate_faces + s.duplicate_faces
-            > 0
-        {
-            out!(
-                "defects: {} non-manifold edges, {} non-manifold vertices, {} degenerate faces, {} duplicate faces",
-                s.non_manifold_edges, s.non_manifold_vertices, s.degenerate_faces, s.duplicate_faces
-            );
-        }
-        if let Some(fd) = &s.fidelity {
-            out!(
-                "fidelity: Hausdorff (est.) ≈ {} (mesh→surface {}, surface→mesh {}), max |f|/|∇f| = {}, normal deviation max {}",
-                num(fd.hausdorff, 3),
-                num(fd.hausdorff_mesh_to_surface, 3),
-                num(fd.hausdorff_surface_to_mesh, 3),
-                num(fd.max_distance_estimate, 3),
-                if fd.normal_dev_max_deg.is_finite() {
-                    format!("{:.2}°", fd.normal_dev_max_deg)
-                } else {
-                    num(fd.normal_dev_max_deg, 2)
-                }
-            );
-            // The reasons of the measured fields (the means and the two-sided maximum
-            // repeat them; --json has every field).
-            for (field, why) in &fd.fidelity_undefined {
-                if field != "hausdorff"
-                    && !field.starts_with("mean_")
-                    && !field.ends_with("mean_deg")
-                {
-                    out!("  {field}: {why}");
-                }
-            }
-        }
-        if let Some(vd) = verdict {
-            out!(
-                "topology: {} (expected {}, found {}) {}",
-                if vd.ok { "ok" } else { "WRONG" },
-                vd.expected,
-                vd.found,
-                vd.reason
-            );
+        for line in report.text(&a.mesh.display().to_string()) {
+            out!("{line}");
         }
         if let Some(h) = &hist {
             out!("wrote {}.svg and {}.png", h.display(), h.display());
         }
     }
     Ok(())
+}
+
+/// The angle histogram of `certmesh stats --histogram` (SVG and PNG).
+fn angle_histogram(
+    h: &Path,
+    title: &str,
+    y_label: &str,
+    angles: Vec<f64>,
+    density: bool,
+    a: &StatsArgs,
+) -> CliResult<()> {
+    certmesh::reproduce::plot::histogram(
+        h,
+        title,
+        "degrees",
+        y_label,
+        &certmesh::reproduce::plot::bin(angles, a.bin, density),
+        &[],
+        a.emphasis,
+    )
+    .runtime()
 }
