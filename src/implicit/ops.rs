@@ -9,7 +9,7 @@
 //! | [`point_sign`] | the sign of f at a point, or "undecided" (0 in the enclosure, or f undefined there) | Snyder, Plantinga–Vegter (grid corners) |
 //! | [`excludes_zero`], [`enclose`] | 0 ∉ □f over a box (natural ∩ mean-value enclosure; the mean-value form only where f is continuous) | Snyder, Plantinga–Vegter, the pruned marching meshers |
 //! | [`IntervalIsolation::isolate`] | all roots of f on a segment, each in its own piece with 0 ∉ □f' (unique), or failure (a grazing root) | Snyder (every box edge) |
-//! | [`locate`], [`crossing`] | the position of one crossing between two points of opposite sign (bisection, or the linear fast path); no certificate | every lattice and subdivision mesher |
+//! | [`locate`], [`crossing_t`] | the position of one crossing between two points of opposite sign (bisection, or the linear fast path); no certificate | every lattice and subdivision mesher |
 //! | [`project`], [`project_steps`] | Newton projection onto f = 0 (no certificate) | GradNormal, MidNormal, the fidelity metrics |
 //! | [`Implicit::regularity`] | f defined, continuous, C^∞ on a box | every certified criterion |
 //!
@@ -173,19 +173,6 @@ pub fn crossing_t(
             })
         }
     }
-}
-
-/// The crossing point itself (see [`crossing_t`]).
-pub fn crossing(
-    f: &dyn Implicit,
-    a: [f64; 3],
-    fa: f64,
-    b: [f64; 3],
-    fb: f64,
-    how: Crossing,
-    tol: f64,
-) -> [f64; 3] {
-    lerp(a, b, crossing_t(f, a, fa, b, fb, how, tol))
 }
 
 /// Locate the crossing of f + ε = 0 between `pa` (sign `sa`) and `pb` by bisection on

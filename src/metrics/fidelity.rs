@@ -380,6 +380,140 @@ fn default_domain(pts: &[[f64; 3]], planar: bool) -> Result<Aabb> {
     Ok(d)
 }
 
+/// What the two fidelity measures differ in (triangles in space, segments in the
+/// plane); [`measure`] does the rest once.
+struct Elements<'a> {
+    /// The vertices used by some element.
+    verts: Vec<[f64; 3]>,
+    /// The measure (area, length) of each element.
+    weights: Vec<f64>,
+    /// Sample `i` of element `e` (a deterministic low-discrepancy point on it).
+    sample: &'a (dyn Fn(usize, usize) -> [f64; 3] + Sync),
+    /// The distance from a point to the mesh.
+    closest: &'a (dyn Fn([f64; 3]) -> Option<f64> + Sync),
+    /// The normal of element `e` and the point where ∇f is compared with it.
+    normal: &'a (dyn Fn(usize) -> Option<([f64; 3], [f64; 3])> + Sync),
+    /// Seed grid when `params.seed_grid` is 0.
+    default_seed_grid: usize,
+    /// A curve in the plane z = 0 (∇f's z component is ignored; no orientation).
+    planar: bool,
+}
+
+/// The fidelity measures of a mesh given by its [`Elements`].
+fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fidelity> {
+    let verts = &el.verts;
+    let domain = match params.domain {
+        Some(d) => d,
+        None => default_domain(verts, el.planar)?,
+    };
+    let tol = 1e-10 * domain.diagonal().max(f64::MIN_POSITIVE);
+    let steps = params.newton_steps;
+
+    let mut undefined = BTreeMap::new();
+    let est: Vec<f64> = verts.par_iter().map(|&p| distance_estimate(f, p)).collect();
+    let (max_est, mean_est) = distance_estimates(&est, &mut undefined);
+
+    // Measure-proportional deterministic samples: stratified along the cumulative
+    // measure.
+    let mut cum = Vec::with_capacity(el.weights.len());
+    let mut acc = 0.0;
+    for w in &el.weights {
+        acc += w;
+        cum.push(acc);
+    }
+    let total = acc;
+    let ns = if total > 0.0 { params.mesh_samples } else { 0 };
+    let samples: Vec<[f64; 3]> = (0..ns)
+        .into_par_iter()
+        .map(|i| {
+            let u = (i as f64 + 0.5) / ns as f64 * total;
+            let e = cum.partition_point(|&c| c < u).min(el.weights.len() - 1);
+            (el.sample)(e, i)
+        })
+        .collect();
+    let m2s: Vec<Option<f64>> = verts
+        .par_iter()
+        .chain(samples.par_iter())
+        .map(|&p| project_sample(f, p, steps, tol).map(|q| geom::dist(p, q)))
+        .collect();
+    let attempted = m2s.len();
+    let unconverged = m2s.iter().filter(|d| d.is_none()).count();
+    let m2s: Vec<f64> = m2s.into_iter().flatten().collect();
+    let (h_ms, mean_ms) = mesh_to_surface(&m2s, attempted, &mut undefined);
+
+    let n = if params.seed_grid == 0 {
+        el.default_seed_grid
+    } else {
+        params.seed_grid
+    };
+    let (spts, candidates) = surface_points_counted(f, &domain, n, steps, tol);
+    let s2m: Vec<f64> = spts.par_iter().filter_map(|&p| (el.closest)(p)).collect();
+    let (h_sm, mean_sm) = surface_to_mesh(&s2m, candidates, spts.len(), &mut undefined);
+
+    // Normal deviation at the projections of the elements' centres (at the centre
+    // itself where Newton fails; if it fails everywhere, the deviation is undefined).
+    let projected = std::sync::atomic::AtomicUsize::new(0);
+    let dev: Vec<f64> = (0..el.weights.len())
+        .into_par_iter()
+        .filter_map(|e| {
+            let (n, cen) = (el.normal)(e)?;
+            if !(geom::norm(n) > 0.0) {
+                return None;
+            }
+            let q = match project_sample(f, cen, steps, tol) {
+                Some(q) => {
+                    projected.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    q
+                }
+                None => cen,
+            };
+            let mut g = f.grad(q).g;
+            if el.planar {
+                g[2] = 0.0;
+            }
+            if !(geom::norm(g) > 0.0) {
+                return None;
+            }
+            Some(
+                geom::norm(geom::cross(n, g))
+                    .atan2(geom::dot(n, g))
+                    .to_degrees(),
+            )
+        })
+        .collect();
+    // A curve's segments carry no orientation: no flipped normals.
+    let flipped = if el.planar {
+        0
+    } else {
+        dev.iter().filter(|&&a| a > 90.0).count()
+    };
+    let unsigned: Vec<f64> = dev.iter().map(|&a| a.min(180.0 - a)).collect();
+    let (dmax, dmean) = normal_deviation(
+        &unsigned,
+        el.weights.len(),
+        projected.into_inner(),
+        &mut undefined,
+    );
+
+    Ok(Fidelity {
+        max_distance_estimate: max_est,
+        mean_distance_estimate: mean_est,
+        hausdorff_mesh_to_surface: h_ms,
+        mean_mesh_to_surface: mean_ms,
+        hausdorff_surface_to_mesh: h_sm,
+        mean_surface_to_mesh: mean_sm,
+        hausdorff: two_sided(h_ms, h_sm, &mut undefined),
+        fidelity_mesh_samples: m2s.len(),
+        fidelity_surface_samples: s2m.len(),
+        fidelity_unconverged: unconverged,
+        normal_dev_max_deg: dmax,
+        normal_dev_mean_deg: dmean,
+        flipped_normals: flipped,
+        hausdorff_kind: HAUSDORFF_KIND,
+        fidelity_undefined: undefined,
+    })
+}
+
 /// Fidelity of a triangle mesh to f = 0.
 pub fn surface_fidelity(
     mesh: &TriMesh,
@@ -403,124 +537,39 @@ pub fn surface_fidelity(
         .filter(|&v| used[v])
         .map(|v| mesh.vertices[v])
         .collect();
-    let domain = match params.domain {
-        Some(d) => d,
-        None => default_domain(&verts, false)?,
-    };
-    let tol = 1e-10 * domain.diagonal().max(f64::MIN_POSITIVE);
-    let steps = params.newton_steps;
-
-    let mut undefined = BTreeMap::new();
-    let est: Vec<f64> = verts.par_iter().map(|&p| distance_estimate(f, p)).collect();
-    let (max_est, mean_est) = distance_estimates(&est, &mut undefined);
-
-    // Area-proportional deterministic samples: stratified along the cumulative area.
-    let areas: Vec<f64> = (0..mesh.triangles.len())
+    let weights: Vec<f64> = (0..mesh.triangles.len())
         .map(|t| {
             let [a, b, c] = mesh.corners(t);
             0.5 * geom::norm(geom::cross(geom::sub(b, a), geom::sub(c, a)))
         })
         .collect();
-    let mut cum = Vec::with_capacity(areas.len());
-    let mut acc = 0.0;
-    for a in &areas {
-        acc += a;
-        cum.push(acc);
-    }
-    let total = acc;
-    let ns = if total > 0.0 { params.mesh_samples } else { 0 };
-    let samples: Vec<[f64; 3]> = (0..ns)
-        .into_par_iter()
-        .map(|i| {
-            let u = (i as f64 + 0.5) / ns as f64 * total;
-            let t = cum.partition_point(|&c| c < u).min(areas.len() - 1);
-            let [a, b, c] = mesh.corners(t);
-            let (r1, r2) = r2(i);
-            let s = r1.sqrt();
-            let (wa, wb, wc) = (1.0 - s, s * (1.0 - r2), s * r2);
-            [0, 1, 2].map(|k| wa * a[k] + wb * b[k] + wc * c[k])
-        })
-        .collect();
-    let m2s: Vec<Option<f64>> = verts
-        .par_iter()
-        .chain(samples.par_iter())
-        .map(|&p| project_sample(f, p, steps, tol).map(|q| geom::dist(p, q)))
-        .collect();
-    let attempted = m2s.len();
-    let unconverged = m2s.iter().filter(|d| d.is_none()).count();
-    let m2s: Vec<f64> = m2s.into_iter().flatten().collect();
-    let (h_ms, mean_ms) = mesh_to_surface(&m2s, attempted, &mut undefined);
-
-    let n = if params.seed_grid == 0 {
-        48
-    } else {
-        params.seed_grid
-    };
-    let (spts, candidates) = surface_points_counted(f, &domain, n, steps, tol);
     let bvh = TriBvh::new(mesh)?;
-    let s2m: Vec<f64> = spts
-        .par_iter()
-        .filter_map(|&p| bvh.closest(p).map(|c| c.dist2.sqrt()))
-        .collect();
-    let (h_sm, mean_sm) = surface_to_mesh(&s2m, candidates, spts.len(), &mut undefined);
-
-    // Normal deviation at the centroids' projections (at the centroid itself where
-    // Newton fails; if it fails everywhere, the deviation is undefined).
-    let projected = std::sync::atomic::AtomicUsize::new(0);
-    let dev: Vec<Option<f64>> = (0..mesh.triangles.len())
-        .into_par_iter()
-        .map(|t| {
-            let [a, b, c] = mesh.corners(t);
-            let n = geom::cross(geom::sub(b, a), geom::sub(c, a));
-            if !(geom::norm(n) > 0.0) {
-                return None;
-            }
-            let cen = geom::scale(geom::add(geom::add(a, b), c), 1.0 / 3.0);
-            let q = match project_sample(f, cen, steps, tol) {
-                Some(q) => {
-                    projected.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    q
-                }
-                None => cen,
-            };
-            let g = f.grad(q).g;
-            if !(geom::norm(g) > 0.0) {
-                return None;
-            }
-            Some(
-                geom::norm(geom::cross(n, g))
-                    .atan2(geom::dot(n, g))
-                    .to_degrees(),
-            )
-        })
-        .collect();
-    let dev: Vec<f64> = dev.into_iter().flatten().collect();
-    let flipped = dev.iter().filter(|&&a| a > 90.0).count();
-    let unsigned: Vec<f64> = dev.iter().map(|&a| a.min(180.0 - a)).collect();
-    let (dmax, dmean) = normal_deviation(
-        &unsigned,
-        mesh.triangles.len(),
-        projected.into_inner(),
-        &mut undefined,
-    );
-
-    Ok(Fidelity {
-        max_distance_estimate: max_est,
-        mean_distance_estimate: mean_est,
-        hausdorff_mesh_to_surface: h_ms,
-        mean_mesh_to_surface: mean_ms,
-        hausdorff_surface_to_mesh: h_sm,
-        mean_surface_to_mesh: mean_sm,
-        hausdorff: two_sided(h_ms, h_sm, &mut undefined),
-        fidelity_mesh_samples: m2s.len(),
-        fidelity_surface_samples: s2m.len(),
-        fidelity_unconverged: unconverged,
-        normal_dev_max_deg: dmax,
-        normal_dev_mean_deg: dmean,
-        flipped_normals: flipped,
-        hausdorff_kind: HAUSDORFF_KIND,
-        fidelity_undefined: undefined,
-    })
+    let sample = |t: usize, i: usize| {
+        let [a, b, c] = mesh.corners(t);
+        let (r1, r2) = r2(i);
+        let s = r1.sqrt();
+        let (wa, wb, wc) = (1.0 - s, s * (1.0 - r2), s * r2);
+        [0, 1, 2].map(|k| wa * a[k] + wb * b[k] + wc * c[k])
+    };
+    let closest = |p: [f64; 3]| bvh.closest(p).map(|c| c.dist2.sqrt());
+    let normal = |t: usize| {
+        let [a, b, c] = mesh.corners(t);
+        let n = geom::cross(geom::sub(b, a), geom::sub(c, a));
+        Some((n, geom::scale(geom::add(geom::add(a, b), c), 1.0 / 3.0)))
+    };
+    measure(
+        f,
+        params,
+        Elements {
+            verts,
+            weights,
+            sample: &sample,
+            closest: &closest,
+            normal: &normal,
+            default_seed_grid: 48,
+            planar: false,
+        },
+    )
 }
 
 /// Fidelity of a planar curve to f(x, y) = 0: the same measures in 2D (segment samples,
@@ -551,111 +600,34 @@ pub fn curve_fidelity(
         .filter(|&v| used[v as usize])
         .map(lift)
         .collect();
-    let domain = match params.domain {
-        Some(d) => d,
-        None => default_domain(&verts, true)?,
-    };
-    let tol = 1e-10 * domain.diagonal().max(f64::MIN_POSITIVE);
-    let steps = params.newton_steps;
-    let mut undefined = BTreeMap::new();
-    let est: Vec<f64> = verts.par_iter().map(|&p| distance_estimate(f, p)).collect();
-    let (max_est, mean_est) = distance_estimates(&est, &mut undefined);
-
-    let lens: Vec<f64> = curve
+    let weights: Vec<f64> = curve
         .segments
         .iter()
         .map(|&[a, b]| geom::dist(lift(a), lift(b)))
         .collect();
-    let mut cum = Vec::with_capacity(lens.len());
-    let mut acc = 0.0;
-    for l in &lens {
-        acc += l;
-        cum.push(acc);
-    }
-    let ns = if acc > 0.0 { params.mesh_samples } else { 0 };
-    let samples: Vec<[f64; 3]> = (0..ns)
-        .into_par_iter()
-        .map(|i| {
-            let u = (i as f64 + 0.5) / ns as f64 * acc;
-            let s = cum.partition_point(|&c| c < u).min(lens.len() - 1);
-            let [a, b] = curve.segments[s];
-            geom::lerp(lift(a), lift(b), r2(i).0)
-        })
-        .collect();
-    let m2s: Vec<Option<f64>> = verts
-        .par_iter()
-        .chain(samples.par_iter())
-        .map(|&p| project_sample(f, p, steps, tol).map(|q| geom::dist(p, q)))
-        .collect();
-    let attempted = m2s.len();
-    let unconverged = m2s.iter().filter(|d| d.is_none()).count();
-    let m2s: Vec<f64> = m2s.into_iter().flatten().collect();
-    let (h_ms, mean_ms) = mesh_to_surface(&m2s, attempted, &mut undefined);
-
-    let n = if params.seed_grid == 0 {
-        256
-    } else {
-        params.seed_grid
-    };
-    let (spts, candidates) = surface_points_counted(f, &domain, n, steps, tol);
     let bvh = SegBvh::new(curve)?;
-    let s2m: Vec<f64> = spts
-        .par_iter()
-        .filter_map(|&p| bvh.closest([p[0], p[1]]).map(|c| c.dist2.sqrt()))
-        .collect();
-    let (h_sm, mean_sm) = surface_to_mesh(&s2m, candidates, spts.len(), &mut undefined);
-
-    let projected = std::sync::atomic::AtomicUsize::new(0);
-    let dev: Vec<f64> = curve
-        .segments
-        .par_iter()
-        .filter_map(|&[a, b]| {
-            let (a, b) = (lift(a), lift(b));
-            let d = geom::sub(b, a);
-            let n = [d[1], -d[0], 0.0];
-            if !(geom::norm(n) > 0.0) {
-                return None;
-            }
-            let mid = geom::lerp(a, b, 0.5);
-            let q = match project_sample(f, mid, steps, tol) {
-                Some(q) => {
-                    projected.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    q
-                }
-                None => mid,
-            };
-            let mut g = f.grad(q).g;
-            g[2] = 0.0;
-            if !(geom::norm(g) > 0.0) {
-                return None;
-            }
-            let th = geom::norm(geom::cross(n, g))
-                .atan2(geom::dot(n, g))
-                .to_degrees();
-            Some(th.min(180.0 - th))
-        })
-        .collect();
-    let (dmax, dmean) = normal_deviation(
-        &dev,
-        curve.segments.len(),
-        projected.into_inner(),
-        &mut undefined,
-    );
-    Ok(Fidelity {
-        max_distance_estimate: max_est,
-        mean_distance_estimate: mean_est,
-        hausdorff_mesh_to_surface: h_ms,
-        mean_mesh_to_surface: mean_ms,
-        hausdorff_surface_to_mesh: h_sm,
-        mean_surface_to_mesh: mean_sm,
-        hausdorff: two_sided(h_ms, h_sm, &mut undefined),
-        fidelity_mesh_samples: m2s.len(),
-        fidelity_surface_samples: s2m.len(),
-        fidelity_unconverged: unconverged,
-        normal_dev_max_deg: dmax,
-        normal_dev_mean_deg: dmean,
-        flipped_normals: 0,
-        hausdorff_kind: HAUSDORFF_KIND,
-        fidelity_undefined: undefined,
-    })
+    let sample = |s: usize, i: usize| {
+        let [a, b] = curve.segments[s];
+        geom::lerp(lift(a), lift(b), r2(i).0)
+    };
+    let closest = |p: [f64; 3]| bvh.closest([p[0], p[1]]).map(|c| c.dist2.sqrt());
+    let normal = |s: usize| {
+        let [a, b] = curve.segments[s];
+        let (a, b) = (lift(a), lift(b));
+        let d = geom::sub(b, a);
+        Some(([d[1], -d[0], 0.0], geom::lerp(a, b, 0.5)))
+    };
+    measure(
+        f,
+        params,
+        Elements {
+            verts,
+            weights,
+            sample: &sample,
+            closest: &closest,
+            normal: &normal,
+            default_seed_grid: 256,
+            planar: true,
+        },
+    )
 }

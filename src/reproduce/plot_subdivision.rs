@@ -21,9 +21,9 @@ fn perr(e: impl std::fmt::Display) -> Error {
 pub fn verdict_color(v: Verdict) -> RGBColor {
     match v {
         Verdict::Empty => RGBColor(235, 235, 235),
-        Verdict::Snv => RGBColor(190, 230, 190),
-        Verdict::Param(0) => RGBColor(190, 210, 245),
-        Verdict::Param(_) => RGBColor(250, 215, 170),
+        Verdict::Proven { axis: None, .. } => RGBColor(190, 230, 190),
+        Verdict::Proven { axis: Some(0), .. } => RGBColor(190, 210, 245),
+        Verdict::Proven { .. } => RGBColor(250, 215, 170),
         Verdict::Failed(_) => RGBColor(240, 90, 90),
     }
 }

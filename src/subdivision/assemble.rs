@@ -231,7 +231,13 @@ pub fn assemble(
         .par_iter()
         .map(|&s| {
             let (pa, pb) = (g.point(unpack(s.a)), g.point(unpack(s.b)));
-            (s, finder.roots(f, pa, signs[&s.a], pb, signs[&s.b], &steps))
+            let e = SignedSegment {
+                a: pa,
+                sa: signs[&s.a],
+                b: pb,
+                sb: signs[&s.b],
+            };
+            (s, finder.roots(f, e, &steps))
         })
         .collect();
     for (s, r) in &roots {

@@ -35,6 +35,7 @@
 //! [`snyder`] (Lemma 2) and [`plantinga_vegter`] (Small Normal Variation).
 pub mod assemble;
 pub mod criteria;
+pub mod engine;
 pub mod generic;
 pub mod plantinga_vegter;
 pub mod roots;

@@ -21,13 +21,14 @@ use crate::error::{Error, Result};
 use crate::implicit::Implicit;
 use crate::kernel::geom::Aabb;
 use crate::mesher::options::{Crossing, MesherOptions};
-use crate::mesher::{Mesh, MeshOutput, Mesher, Progress};
-use crate::subdivision::certificate;
-use crate::subdivision::criteria::{boundary_failure, check_budget, check_input, UNDEFINED_BOX};
+use crate::mesher::{MeshOutput, Progress};
+use crate::subdivision::criteria::{boundary_failure, UNDEFINED_BOX};
+use crate::subdivision::engine::{
+    run_subdivision, Criterion, SubdivisionMesher, SubdivisionParams,
+};
 use crate::subdivision::{
-    assemble, cos_lower_bound, cut_arcs, excludes_zero, mean_value, snv_dot, subdivide, tree_stats,
-    AngleBound, Budget, Decision, Grid, Pairing, SignChange, TileCrossing, Tree, Verdict,
-    DEFAULT_MAX_BOXES, MAX_LEVEL,
+    cos_lower_bound, cut_arcs, excludes_zero, mean_value, snv_dot, AngleBound, Cell, Decision,
+    Grid, Pairing, RootFinder, SignChange, TileCrossing, Tree, Verdict,
 };
 
 /// The theorem a certified run invokes.
@@ -35,128 +36,95 @@ pub const PV_THEOREM: &str = "Plantinga–Vegter";
 /// The claim of a certified run.
 pub const PV_CLAIM: &str = "isotopic to f = 0 inside the domain (Plantinga–Vegter)";
 
-/// Parameters of both Plantinga–Vegter meshers.
+/// The settings of the Plantinga–Vegter criterion (the limits every subdivision mesher
+/// has are in [`SubdivisionParams`]).
 #[derive(Clone, Debug)]
-pub struct PvParams {
-    /// Boxes are split at least to this level (default 2) before a criterion may stop
-    /// them (empty boxes stop earlier). Only refines the output.
-    pub min_depth: u32,
-    /// Depth limit (default 12 for surfaces, 16 for curves); a box still undecided there
-    /// is reported uncertified.
-    pub max_depth: u32,
+pub struct PvCriterion {
     /// How crossings are located (default bisection); topology never depends on it.
     pub crossing: Crossing,
-    /// Bisection tolerance relative to the edge length (default 1e-9).
-    pub tolerance: f64,
     /// Largest angle between two gradients allowed in an accepted box, in degrees
     /// (default 90: Small Normal Variation, eq 1.2). Smaller values refine further
     /// (Exercise 9); `--set max_angle=45`.
     pub max_angle: f64,
     /// The angle bound used when `max_angle < 90` (default sharp); `--set angle_bound=crude|sharp`.
     pub angle_bound: AngleBound,
-    /// Box tests allowed (default [`DEFAULT_MAX_BOXES`]; `--max-boxes`). A run that
-    /// spends them stops, reports `refinement_complete: false` and certifies nothing.
-    pub max_boxes: u64,
-    /// Wall-clock limit of the subdivision in seconds (default none; `--time-limit`).
-    pub time_limit: Option<f64>,
 }
 
-impl PvParams {
-    pub fn new(dim: usize) -> Self {
-        PvParams {
-            min_depth: 2,
-            max_depth: if dim == 2 { 16 } else { 12 },
+impl Default for PvCriterion {
+    fn default() -> Self {
+        PvCriterion {
             crossing: Crossing::Bisection,
-            tolerance: 1e-9,
             max_angle: 90.0,
             angle_bound: AngleBound::Sharp,
-            max_boxes: DEFAULT_MAX_BOXES,
-            time_limit: None,
         }
     }
-    pub fn with_max_boxes(mut self, n: u64) -> Self {
-        self.max_boxes = n;
-        self
-    }
-    pub fn with_time_limit(mut self, seconds: Option<f64>) -> Self {
-        self.time_limit = seconds;
-        self
-    }
-    pub fn with_max_depth(mut self, d: u32) -> Self {
-        self.max_depth = d;
-        self
-    }
-    pub fn with_min_depth(mut self, d: u32) -> Self {
-        self.min_depth = d;
-        self
-    }
+}
+
+/// Parameters of both Plantinga–Vegter meshers: the shared limits (default depth limit
+/// 12 for surfaces, 16 for curves) and [`PvCriterion`].
+pub type PvParams = SubdivisionParams<PvCriterion>;
+
+impl PvParams {
     pub fn with_max_angle(mut self, deg: f64, bound: AngleBound) -> Self {
-        self.max_angle = deg;
-        self.angle_bound = bound;
+        self.criterion.max_angle = deg;
+        self.criterion.angle_bound = bound;
         self
     }
     pub fn with_crossing(mut self, c: Crossing, tol: f64) -> Self {
-        self.crossing = c;
+        self.criterion.crossing = c;
         self.tolerance = tol;
         self
     }
-    /// From the shared options: `max_depth`, `min_depth`, `crossing`, `tolerance`, and
-    /// `--set max_angle=DEG`, `--set angle_bound=crude|sharp`.
-    pub fn from_options(o: &MesherOptions, dim: usize) -> Result<Self> {
-        o.check_keys("pv", &["max_angle", "angle_bound"])?;
-        let mut p = PvParams::new(dim);
-        if let Some(d) = o.max_depth {
-            p.max_depth = d;
+}
+
+impl Criterion for PvCriterion {
+    const ALGO: &'static str = "pv";
+    const THEOREM: &'static str = PV_THEOREM;
+    const SETTINGS: &'static [&'static str] = &["max_angle", "angle_bound"];
+    const BALANCED: bool = true;
+    fn default_max_depth(dim: usize) -> u32 {
+        if dim == 2 {
+            16
+        } else {
+            12
         }
-        if let Some(d) = o.min_depth {
-            p.min_depth = d;
-        }
+    }
+    /// `crossing`, and `--set max_angle=DEG`, `--set angle_bound=crude|sharp`.
+    fn apply_options(p: &mut PvParams, o: &MesherOptions, _dim: usize) -> Result<()> {
         if let Some(c) = o.crossing {
-            p.crossing = c;
+            p.criterion.crossing = c;
         }
-        if let Some(t) = o.tolerance {
-            p.tolerance = t;
-        }
-        if let Some(n) = o.max_boxes {
-            p.max_boxes = n;
-        }
-        p.time_limit = o.time_limit;
         if let Some(a) = o.get::<f64>("max_angle")? {
-            p.max_angle = a;
+            p.criterion.max_angle = a;
         }
         if let Some(b) = o.get::<String>("angle_bound")? {
-            p.angle_bound = parse_bound(&b)?;
+            p.criterion.angle_bound = parse_bound(&b)?;
         }
-        p.validate()?;
-        Ok(p)
+        Ok(())
     }
-    pub fn validate(&self) -> Result<()> {
-        if self.max_depth > MAX_LEVEL {
-            return Err(Error::Param(format!(
-                "max_depth {} exceeds the limit {MAX_LEVEL}",
-                self.max_depth
-            )));
-        }
-        if self.min_depth > self.max_depth {
-            return Err(Error::Param(format!(
-                "min_depth {} exceeds max_depth {}",
-                self.min_depth, self.max_depth
-            )));
-        }
+    fn validate(&self) -> Result<()> {
         if !(self.max_angle > 0.0 && self.max_angle <= 90.0) {
             return Err(Error::Param(format!(
                 "max_angle {} must lie in (0, 90] degrees",
                 self.max_angle
             )));
         }
-        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
-            return Err(Error::Param(format!(
-                "tolerance {} must lie in (0, 1)",
-                self.tolerance
-            )));
-        }
-        check_budget(self.max_boxes, self.time_limit)?;
         Ok(())
+    }
+    fn classify(p: &PvParams, f: &dyn Implicit, g: &Grid, c: Cell) -> Decision {
+        pv_classify(f, g, c, p)
+    }
+    fn root_finder(p: &PvParams) -> Box<dyn RootFinder> {
+        Box::new(SignChange {
+            tol: p.tolerance,
+            linear: p.criterion.crossing == Crossing::Linear,
+        })
+    }
+    fn pairing(&self) -> &dyn Pairing {
+        &PvPairing
+    }
+    fn add_stats(&self, stats: &mut serde_json::Map<String, serde_json::Value>) {
+        stats.insert("max_angle_deg".into(), serde_json::json!(self.max_angle));
     }
 }
 
@@ -173,55 +141,16 @@ pub(crate) fn parse_bound(s: &str) -> Result<AngleBound> {
 }
 
 /// Plantinga–Vegter in dimension `D` (2: curves, quadtree; 3: surfaces, octree): one
-/// type, name `pv`. [`PlantingaVegter`] and [`PlantingaVegter2`] name the two
-/// instances.
-#[derive(Clone, Debug)]
-pub struct PlantingaVegterN<const D: usize> {
-    pub params: PvParams,
-}
+/// type, name `pv`, the engine run with [`PvCriterion`]. [`PlantingaVegter`] and
+/// [`PlantingaVegter2`] name the two instances.
+pub type PlantingaVegterN<const D: usize> = SubdivisionMesher<PvCriterion, D>;
 /// Plantinga–Vegter for surfaces (dim 3).
 pub type PlantingaVegter = PlantingaVegterN<3>;
 /// Plantinga–Vegter for curves (dim 2).
 pub type PlantingaVegter2 = PlantingaVegterN<2>;
 
-impl<const D: usize> Default for PlantingaVegterN<D> {
-    fn default() -> Self {
-        PlantingaVegterN {
-            params: PvParams::new(D),
-        }
-    }
-}
-
-impl<const D: usize> PlantingaVegterN<D> {
-    pub fn new(params: PvParams) -> Self {
-        PlantingaVegterN { params }
-    }
-    pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        Ok(PlantingaVegterN {
-            params: PvParams::from_options(o, D)?,
-        })
-    }
-}
-
-impl<const D: usize> Mesher for PlantingaVegterN<D> {
-    fn name(&self) -> &'static str {
-        "pv"
-    }
-    fn dim(&self) -> usize {
-        D
-    }
-    fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
-        Ok(run_pv(f, domain, &self.params, D, progress)?.1)
-    }
-}
-
 /// The Plantinga–Vegter subdivision test of one box.
-pub(crate) fn pv_classify(
-    f: &dyn Implicit,
-    g: &Grid,
-    c: crate::subdivision::Cell,
-    p: &PvParams,
-) -> Decision {
+pub(crate) fn pv_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &PvParams) -> Decision {
     let ib = g.cell_ibox(c);
     let v = f.eval_interval(&ib);
     if v.is_empty() {
@@ -235,11 +164,11 @@ pub(crate) fn pv_classify(
     if excludes_zero(mean_value(f, &ib, &d)) {
         return Decision::Leaf(Verdict::Empty);
     }
-    let ok = if p.max_angle >= 90.0 {
+    let ok = if p.criterion.max_angle >= 90.0 {
         snv_dot(&d.g, g.dim).inf() > 0.0
     } else {
-        cos_lower_bound(&d.g, g.dim, p.angle_bound)
-            .is_some_and(|c| c >= p.max_angle.to_radians().cos())
+        cos_lower_bound(&d.g, g.dim, p.criterion.angle_bound)
+            .is_some_and(|c| c >= p.criterion.max_angle.to_radians().cos())
     };
     if ok {
         // Theorem 2 needs f ∈ C¹ on the box: an enclosure over a pole "excludes 0"
@@ -250,7 +179,7 @@ pub(crate) fn pv_classify(
         if let Some(d) = boundary_failure(f, g, c) {
             return d;
         }
-        Decision::Leaf(Verdict::Snv)
+        Decision::Leaf(Verdict::SNV)
     } else if (0..g.dim).all(|k| d.g[k].contains(0.0)) {
         Decision::Split("possible singular point: 0 in □f and 0 in □∇f")
     } else {
@@ -266,46 +195,7 @@ pub fn run_pv(
     dim: usize,
     progress: &dyn Progress,
 ) -> Result<(Tree, MeshOutput)> {
-    check_input(f, domain, dim, "pv")?;
-    p.validate()?;
-    let grid = Grid {
-        domain: *domain,
-        dim,
-        depth: p.max_depth,
-    };
-    let budget = Budget::new(p.max_boxes, p.time_limit);
-    budget.check_min_depth(dim, p.min_depth)?;
-    progress.start("subdivision", 0);
-    let mut tree = subdivide(grid, p.min_depth, p.max_depth, &budget, &|g: &Grid, c| {
-        pv_classify(f, g, c, p)
-    });
-    tree.balance(f);
-    tree.collect_points();
-    progress.inc(tree.leaves.len() as u64);
-    progress.finish();
-    let finder = SignChange {
-        tol: p.tolerance,
-        linear: p.crossing == Crossing::Linear,
-    };
-    let asm = assemble(f, &tree, &finder, &PvPairing);
-    let mut stats = tree_stats(&tree, &asm);
-    stats.insert("max_angle_deg".into(), serde_json::json!(p.max_angle));
-    let mut regions = tree.failures();
-    regions.extend(asm.uncertain.iter().cloned());
-    let certificate = certificate(PV_THEOREM, &tree, dim, domain, false, regions);
-    let mesh = if dim == 2 {
-        Mesh::Curve(asm.curve.unwrap_or_default())
-    } else {
-        Mesh::Surface(asm.surface.unwrap_or_default())
-    };
-    Ok((
-        tree,
-        MeshOutput {
-            mesh,
-            certificate,
-            stats,
-        },
-    ))
+    run_subdivision(f, domain, p, dim, progress)
 }
 
 /// The connection rules of §1.2.4.

@@ -22,19 +22,20 @@ pub struct SegRoots {
     pub isolated: bool,
 }
 
+/// An elementary box edge with the signs of f at its ends.
+#[derive(Clone, Copy, Debug)]
+pub struct SignedSegment {
+    pub a: [f64; 3],
+    pub sa: PointSign,
+    pub b: [f64; 3],
+    pub sb: PointSign,
+}
+
 /// How the crossings on a segment are found.
 pub trait RootFinder: Sync {
-    /// Crossings of f + ε = 0 on the segment from `pa` to `pb` (in that order), given the
+    /// Crossings of f + ε = 0 on the segment from `a` to `b` (in that order), given the
     /// end signs. Adds root-isolation steps to `steps`.
-    fn roots(
-        &self,
-        f: &dyn Implicit,
-        pa: [f64; 3],
-        sa: PointSign,
-        pb: [f64; 3],
-        sb: PointSign,
-        steps: &AtomicU64,
-    ) -> SegRoots;
+    fn roots(&self, f: &dyn Implicit, e: SignedSegment, steps: &AtomicU64) -> SegRoots;
 }
 
 /// Plantinga–Vegter crossings: one per sign change (a vertex on every edge whose end
@@ -45,15 +46,13 @@ pub struct SignChange {
 }
 
 impl RootFinder for SignChange {
-    fn roots(
-        &self,
-        f: &dyn Implicit,
-        pa: [f64; 3],
-        sa: PointSign,
-        pb: [f64; 3],
-        sb: PointSign,
-        _steps: &AtomicU64,
-    ) -> SegRoots {
+    fn roots(&self, f: &dyn Implicit, e: SignedSegment, _steps: &AtomicU64) -> SegRoots {
+        let SignedSegment {
+            a: pa,
+            sa,
+            b: pb,
+            sb,
+        } = e;
         let pos = if sa.pos != sb.pos {
             vec![locate(
                 f,
@@ -74,15 +73,13 @@ impl RootFinder for SignChange {
 }
 
 impl RootFinder for IntervalIsolation {
-    fn roots(
-        &self,
-        f: &dyn Implicit,
-        pa: [f64; 3],
-        sa: PointSign,
-        pb: [f64; 3],
-        sb: PointSign,
-        steps: &AtomicU64,
-    ) -> SegRoots {
+    fn roots(&self, f: &dyn Implicit, e: SignedSegment, steps: &AtomicU64) -> SegRoots {
+        let SignedSegment {
+            a: pa,
+            sa,
+            b: pb,
+            sb,
+        } = e;
         match self.isolate(f, pa, sa.pos, pb, sb.pos, steps) {
             Some(pieces) => SegRoots {
                 pos: pieces

@@ -19,14 +19,15 @@ use crate::error::{Error, Result};
 use crate::implicit::Implicit;
 use crate::kernel::geom::Aabb;
 use crate::mesher::options::MesherOptions;
-use crate::mesher::{Mesh, MeshOutput, Mesher, Progress};
-use crate::subdivision::certificate;
-use crate::subdivision::criteria::{boundary_failure, check_budget, check_input, UNDEFINED_BOX};
+use crate::mesher::{MeshOutput, Progress};
+use crate::subdivision::criteria::{boundary_failure, UNDEFINED_BOX};
+use crate::subdivision::engine::{
+    run_subdivision, Criterion, SubdivisionMesher, SubdivisionParams,
+};
 use crate::subdivision::plantinga_vegter::PvPairing;
 use crate::subdivision::{
-    assemble, enclose, excludes_zero, no_zero_plus, point_sign, subdivide, tree_stats, Budget,
-    Cell, Decision, GenericMotion, Grid, IntervalIsolation, Pairing, TileCrossing, Tree, Verdict,
-    DEFAULT_MAX_BOXES, MAX_LEVEL,
+    enclose, excludes_zero, no_zero_plus, point_sign, Cell, Decision, Grid, IntervalIsolation,
+    Pairing, RootFinder, TileCrossing, Tree, Verdict,
 };
 use std::sync::atomic::AtomicU64;
 
@@ -34,156 +35,105 @@ use std::sync::atomic::AtomicU64;
 pub const SNYDER_THEOREM: &str = "Snyder, Lemma 2";
 pub const SNYDER_CLAIM: &str = "isotopic to f = 0 inside the domain (Snyder, Lemma 2)";
 
-/// Parameters of both Snyder meshers.
+/// The settings of Snyder's criterion (the limits every subdivision mesher has are in
+/// [`SubdivisionParams`]).
 #[derive(Clone, Debug)]
-pub struct SnyderParams {
-    /// Minimum level (default 2).
-    pub min_depth: u32,
-    /// Depth limit (default 10 for surfaces, 16 for curves; 14 for surfaces built by
-    /// [`SnyderParams::from_options`] with `generic_shift`, the depth at which every smooth
-    /// catalog surface certifies in generic position).
-    pub max_depth: u32,
+pub struct SnyderCriterion {
     /// Bisections allowed when isolating the roots on one edge (default 40; `--set root_depth=N`).
     pub root_depth: u32,
-    /// Root location tolerance relative to the edge (default 1e-9).
-    pub tolerance: f64,
-    /// Mesh in generic position (default false).
+    /// Mesh in generic position (default false; `--generic-shift`).
     pub generic_shift: bool,
-    /// Box tests allowed (default [`DEFAULT_MAX_BOXES`]; `--max-boxes`).
-    pub max_boxes: u64,
-    /// Wall-clock limit of the subdivision in seconds (default none; `--time-limit`).
-    pub time_limit: Option<f64>,
 }
 
-impl SnyderParams {
-    pub fn new(dim: usize) -> Self {
-        SnyderParams {
-            min_depth: 2,
-            max_depth: if dim == 2 { 16 } else { 10 },
+impl Default for SnyderCriterion {
+    fn default() -> Self {
+        SnyderCriterion {
             root_depth: 40,
-            tolerance: 1e-9,
             generic_shift: false,
-            max_boxes: DEFAULT_MAX_BOXES,
-            time_limit: None,
         }
     }
-    pub fn with_max_boxes(mut self, n: u64) -> Self {
-        self.max_boxes = n;
-        self
-    }
-    pub fn with_time_limit(mut self, seconds: Option<f64>) -> Self {
-        self.time_limit = seconds;
-        self
-    }
-    pub fn with_max_depth(mut self, d: u32) -> Self {
-        self.max_depth = d;
-        self
-    }
-    pub fn with_min_depth(mut self, d: u32) -> Self {
-        self.min_depth = d;
-        self
-    }
+}
+
+/// Parameters of both Snyder meshers: the shared limits (default depth limit 10 for
+/// surfaces, 16 for curves; 14 for surfaces built by [`SnyderParams::from_options`] with
+/// `generic_shift`, the depth at which every smooth catalog surface certifies in generic
+/// position) and [`SnyderCriterion`].
+pub type SnyderParams = SubdivisionParams<SnyderCriterion>;
+
+impl SnyderParams {
     pub fn with_generic_shift(mut self, on: bool) -> Self {
-        self.generic_shift = on;
+        self.criterion.generic_shift = on;
         self
     }
-    /// From the shared options: `max_depth`, `min_depth`, `tolerance`, `generic_shift`,
-    /// and `--set root_depth=N`.
-    pub fn from_options(o: &MesherOptions, dim: usize) -> Result<Self> {
-        o.check_keys("snyder", &["root_depth"])?;
-        let mut p = SnyderParams::new(dim);
+}
+
+impl Criterion for SnyderCriterion {
+    const ALGO: &'static str = "snyder";
+    const THEOREM: &'static str = SNYDER_THEOREM;
+    const SETTINGS: &'static [&'static str] = &["root_depth"];
+    const BALANCED: bool = false;
+    fn default_max_depth(dim: usize) -> u32 {
+        if dim == 2 {
+            16
+        } else {
+            10
+        }
+    }
+    /// `generic_shift` (raising the default depth limit of surfaces to 14), and
+    /// `--set root_depth=N`.
+    fn apply_options(p: &mut SnyderParams, o: &MesherOptions, dim: usize) -> Result<()> {
         if o.generic_shift && dim == 3 {
             p.max_depth = 14;
         }
-        if let Some(d) = o.max_depth {
-            p.max_depth = d;
-        }
-        if let Some(d) = o.min_depth {
-            p.min_depth = d;
-        }
-        if let Some(t) = o.tolerance {
-            p.tolerance = t;
-        }
+        p.criterion.generic_shift = o.generic_shift;
         if let Some(r) = o.get::<u32>("root_depth")? {
-            p.root_depth = r;
+            p.criterion.root_depth = r;
         }
-        if let Some(n) = o.max_boxes {
-            p.max_boxes = n;
-        }
-        p.time_limit = o.time_limit;
-        p.generic_shift = o.generic_shift;
-        p.validate()?;
-        Ok(p)
+        Ok(())
     }
-    pub fn validate(&self) -> Result<()> {
-        if self.max_depth > MAX_LEVEL {
-            return Err(Error::Param(format!(
-                "max_depth {} exceeds the limit {MAX_LEVEL}",
-                self.max_depth
-            )));
-        }
-        if self.min_depth > self.max_depth {
-            return Err(Error::Param(format!(
-                "min_depth {} exceeds max_depth {}",
-                self.min_depth, self.max_depth
-            )));
-        }
+    fn validate(&self) -> Result<()> {
         if self.root_depth == 0 || self.root_depth > 60 {
             return Err(Error::Param(format!(
                 "root_depth {} must lie in 1..=60",
                 self.root_depth
             )));
         }
-        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
-            return Err(Error::Param(format!(
-                "tolerance {} must lie in (0, 1)",
-                self.tolerance
-            )));
-        }
-        check_budget(self.max_boxes, self.time_limit)?;
         Ok(())
+    }
+    fn classify(p: &SnyderParams, f: &dyn Implicit, g: &Grid, c: Cell) -> Decision {
+        snyder_classify(f, g, c, p)
+    }
+    fn root_finder(p: &SnyderParams) -> Box<dyn RootFinder> {
+        Box::new(isolation(p))
+    }
+    fn pairing(&self) -> &dyn Pairing {
+        &SnyderPairing
+    }
+    fn generic_position(&self) -> bool {
+        self.generic_shift
+    }
+    fn add_stats(&self, stats: &mut serde_json::Map<String, serde_json::Value>) {
+        stats.insert(
+            "generic_shift".into(),
+            serde_json::json!(self.generic_shift),
+        );
     }
 }
 
 /// Snyder's mesher in dimension `D` (2: curves, quadtree; 3: surfaces, octree): one
-/// type, name `snyder`. [`Snyder`] and [`Snyder2`] name the two instances.
-#[derive(Clone, Debug)]
-pub struct SnyderN<const D: usize> {
-    pub params: SnyderParams,
-}
+/// type, name `snyder`, the engine run with [`SnyderCriterion`]. [`Snyder`] and
+/// [`Snyder2`] name the two instances.
+pub type SnyderN<const D: usize> = SubdivisionMesher<SnyderCriterion, D>;
 /// Snyder for surfaces (dim 3).
 pub type Snyder = SnyderN<3>;
 /// Snyder for curves (dim 2).
 pub type Snyder2 = SnyderN<2>;
 
-impl<const D: usize> Default for SnyderN<D> {
-    fn default() -> Self {
-        SnyderN {
-            params: SnyderParams::new(D),
-        }
-    }
-}
-
-impl<const D: usize> SnyderN<D> {
-    pub fn new(params: SnyderParams) -> Self {
-        SnyderN { params }
-    }
-    pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        Ok(SnyderN {
-            params: SnyderParams::from_options(o, D)?,
-        })
-    }
-}
-
-impl<const D: usize> Mesher for SnyderN<D> {
-    fn name(&self) -> &'static str {
-        "snyder"
-    }
-    fn dim(&self) -> usize {
-        D
-    }
-    fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
-        Ok(run_snyder(f, domain, &self.params, D, progress)?.1)
+/// The interval root isolation on box edges (Lemma 2's edge condition and the crossings).
+fn isolation(p: &SnyderParams) -> IntervalIsolation {
+    IntervalIsolation {
+        max_depth: p.criterion.root_depth,
+        tol: p.tolerance,
     }
 }
 
@@ -249,7 +199,7 @@ fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Dec
         if !edges_isolated(f, g, lo, hi, p) {
             return Decision::Split("grazing intersection: roots on a box edge not isolated");
         }
-        return Decision::Leaf(Verdict::Param(k as u8));
+        return Decision::Leaf(Verdict::param(k as u8));
     }
     if !any_param {
         // No partial excludes 0: the box may hold a singular point (∇f = 0).
@@ -273,10 +223,7 @@ fn edges_isolated(
     hi: [u32; 3],
     p: &SnyderParams,
 ) -> bool {
-    let iso = IntervalIsolation {
-        max_depth: p.root_depth,
-        tol: p.tolerance,
-    };
+    let iso = isolation(p);
     let steps = AtomicU64::new(0);
     for k in 0..g.dim {
         for m in 0..(1 << (g.dim - 1)) {
@@ -310,72 +257,7 @@ pub fn run_snyder(
     dim: usize,
     progress: &dyn Progress,
 ) -> Result<(Tree, MeshOutput)> {
-    check_input(f, domain, dim, "snyder")?;
-    p.validate()?;
-    let motion = p.generic_shift.then(|| GenericMotion::new(domain, dim));
-    let moved;
-    let (g, dom): (&dyn Implicit, Aabb) = match &motion {
-        Some(m) => {
-            moved = m.apply(f);
-            (&moved, m.domain)
-        }
-        None => (f, *domain),
-    };
-    let grid = Grid {
-        domain: dom,
-        dim,
-        depth: p.max_depth,
-    };
-    let budget = Budget::new(p.max_boxes, p.time_limit);
-    budget.check_min_depth(dim, p.min_depth)?;
-    progress.start("subdivision", 0);
-    let mut tree = subdivide(grid, p.min_depth, p.max_depth, &budget, &|gr: &Grid, c| {
-        snyder_classify(g, gr, c, p)
-    });
-    tree.collect_points();
-    progress.finish();
-    let finder = IntervalIsolation {
-        max_depth: p.root_depth,
-        tol: p.tolerance,
-    };
-    let asm = assemble(g, &tree, &finder, &SnyderPairing);
-    let mut stats = tree_stats(&tree, &asm);
-    stats.insert("generic_shift".into(), serde_json::json!(p.generic_shift));
-    let mut regions = tree.failures();
-    regions.extend(asm.uncertain.iter().cloned());
-    let mut mesh = if dim == 2 {
-        Mesh::Curve(asm.curve.unwrap_or_default())
-    } else {
-        Mesh::Surface(asm.surface.unwrap_or_default())
-    };
-    if let Some(m) = &motion {
-        for r in &mut regions {
-            r.region = m.map_box(&r.region);
-        }
-        match &mut mesh {
-            Mesh::Curve(c) => {
-                for v in &mut c.vertices {
-                    let q = m.map([v[0], v[1], dom.min[2]]);
-                    *v = [q[0], q[1]];
-                }
-            }
-            Mesh::Surface(s) => {
-                for v in &mut s.vertices {
-                    *v = m.map(*v);
-                }
-            }
-            Mesh::Volume { .. } => {}
-        }
-    }
-    let certificate = certificate(SNYDER_THEOREM, &tree, dim, &dom, motion.is_some(), regions);
-    Ok((
-        tree,
-        MeshOutput {
-            mesh,
-            certificate,
-            stats,
-        },
-    ))
+    run_subdivision(f, domain, p, dim, progress)
 }
 
 /// Fig 1.7: on a tile parameterizable in u (□∂f/∂v ∌ 0), the crossings sorted by u pair

@@ -130,31 +130,43 @@ impl Grid {
     }
 }
 
-/// Which criterion ended the subdivision of a leaf.
+/// Which criterion ended the subdivision of a leaf. A criterion names its own proofs
+/// ([`Verdict::Proven`]), so adding a criterion does not change this type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Verdict {
     /// 0 ∉ □f: no zero in the box.
     Empty,
-    /// Small Normal Variation ⟨□∇f, □∇f⟩ > 0 (eq 1.2).
-    Snv,
-    /// Snyder's Lemma 2 with □∂f/∂x_k ∌ 0: parameterizable in the other variables.
-    Param(u8),
+    /// The criterion `by` holds on the box; `axis`: the coordinate it singles out, if
+    /// any (Snyder's Lemma 2 with □∂f/∂x_k ∌ 0: parameterizable in the other variables).
+    Proven { by: &'static str, axis: Option<u8> },
     /// No criterion held before the depth limit; the reason.
     Failed(&'static str),
 }
 
 impl Verdict {
+    /// Small Normal Variation ⟨□∇f, □∇f⟩ > 0 (eq 1.2), Plantinga–Vegter's criterion.
+    pub const SNV: Verdict = Verdict::Proven {
+        by: "SNV",
+        axis: None,
+    };
+    /// Snyder's Lemma 2 with □∂f/∂x_k ∌ 0.
+    pub const fn param(k: u8) -> Verdict {
+        Verdict::Proven {
+            by: "parameterizable",
+            axis: Some(k),
+        }
+    }
     pub fn label(&self, dim: usize) -> String {
         let names = ["x", "y", "z"];
         match self {
             Verdict::Empty => "f != 0".into(),
-            Verdict::Snv => "SNV".into(),
-            Verdict::Param(k) => {
+            Verdict::Proven { by, axis: None } => by.to_string(),
+            Verdict::Proven { by, axis: Some(k) } => {
                 let others: Vec<&str> = (0..dim)
                     .filter(|&j| j != *k as usize)
                     .map(|j| names[j])
                     .collect();
-                format!("parameterizable in {}", others.join(","))
+                format!("{by} in {}", others.join(","))
             }
             Verdict::Failed(r) => format!("uncertified: {r}"),
         }
