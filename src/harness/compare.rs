@@ -114,13 +114,7 @@ pub fn evaluate(
             row.faces = c.segments.len();
             set_hausdorff(&mut row, s.fidelity.as_ref());
             if let Some(t) = expected {
-                let v = metrics::curve_verdict(&s.topology, t);
-                (
-                    row.topology_ok,
-                    row.expected,
-                    row.found,
-                    row.topology_reason,
-                ) = (Some(v.ok), v.expected, v.found, v.reason);
+                set_verdict(&mut row, metrics::curve_verdict(&s.topology, t));
             } else {
                 row.found = components(s.topology.components);
             }
@@ -142,13 +136,7 @@ pub fn evaluate(
             }
             let report = metrics::analyze(surf)?;
             if let Some(t) = expected {
-                let v = metrics::verdict(&report, t);
-                (
-                    row.topology_ok,
-                    row.expected,
-                    row.found,
-                    row.topology_reason,
-                ) = (Some(v.ok), v.expected, v.found, v.reason);
+                set_verdict(&mut row, metrics::verdict(&report, t));
             } else {
                 row.found = format!(
                     "{}, genus {:?}",
@@ -159,6 +147,12 @@ pub fn evaluate(
         }
     }
     Ok(row)
+}
+
+/// The topology verdict of a row.
+fn set_verdict(row: &mut Row, v: metrics::Verdict) {
+    row.topology_ok = Some(v.ok);
+    (row.expected, row.found, row.topology_reason) = (v.expected, v.found, v.reason);
 }
 
 /// The Hausdorff estimate of a row and, when it is not a finite number, why.

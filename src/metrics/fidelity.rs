@@ -380,6 +380,17 @@ fn default_domain(pts: &[[f64; 3]], planar: bool) -> Result<Aabb> {
     Ok(d)
 }
 
+/// The vertices (of `n`) that some element uses, in order.
+fn used_vertices<const K: usize>(n: usize, elements: &[[u32; K]]) -> impl Iterator<Item = u32> {
+    let mut used = vec![false; n];
+    for e in elements {
+        for &v in e {
+            used[v as usize] = true;
+        }
+    }
+    (0..n as u32).filter(move |&v| used[v as usize])
+}
+
 /// What the two fidelity measures differ in (triangles in space, segments in the
 /// plane); [`measure`] does the rest once.
 struct Elements<'a> {
@@ -527,15 +538,8 @@ pub fn surface_fidelity(
             f.dim()
         )));
     }
-    let mut used = vec![false; mesh.vertices.len()];
-    for t in &mesh.triangles {
-        for &v in t {
-            used[v as usize] = true;
-        }
-    }
-    let verts: Vec<[f64; 3]> = (0..mesh.vertices.len())
-        .filter(|&v| used[v])
-        .map(|v| mesh.vertices[v])
+    let verts: Vec<[f64; 3]> = used_vertices(mesh.vertices.len(), &mesh.triangles)
+        .map(|v| mesh.vertices[v as usize])
         .collect();
     let weights: Vec<f64> = (0..mesh.triangles.len())
         .map(|t| {
@@ -590,14 +594,7 @@ pub fn curve_fidelity(
         let [x, y] = curve.vertices[v as usize];
         [x, y, 0.0]
     };
-    let mut used = vec![false; curve.vertices.len()];
-    for s in &curve.segments {
-        for &v in s {
-            used[v as usize] = true;
-        }
-    }
-    let verts: Vec<[f64; 3]> = (0..curve.vertices.len() as u32)
-        .filter(|&v| used[v as usize])
+    let verts: Vec<[f64; 3]> = used_vertices(curve.vertices.len(), &curve.segments)
         .map(lift)
         .collect();
     let weights: Vec<f64> = curve

@@ -344,6 +344,21 @@ pub fn stuff_graded(
     let mut warp: HashMap<Coord, [f64; 3]> = HashMap::new();
     let mut alive: HashSet<(Coord, Coord)> = cuts.keys().copied().collect();
     let mut nwarp = 0;
+    // Warp q to pos: its cut edges die, q lies on the surface.
+    fn snap(
+        q: Coord,
+        pos: [f64; 3],
+        adj: &HashMap<Coord, Vec<(Coord, Coord)>>,
+        alive: &mut HashSet<(Coord, Coord)>,
+        sg: &mut HashMap<Coord, i8>,
+        warp: &mut HashMap<Coord, [f64; 3]>,
+    ) {
+        for e in &adj[&q] {
+            alive.remove(e);
+        }
+        sg.insert(q, 0);
+        warp.insert(q, pos);
+    }
     // Does the cut on edge (a = +, b = −) violate endpoint q? Returns (t from q, other).
     let viol = |q: Coord, (a, b): (Coord, Coord)| -> Option<(f64, Coord)> {
         let t = cuts[&(a, b)];
@@ -377,11 +392,7 @@ pub fn stuff_graded(
     if p.order == super::Order::Arbitrary {
         for q in pts {
             if let Some(pos) = nearest(q, &alive, &|_| true) {
-                for e in &adj[&q] {
-                    alive.remove(e);
-                }
-                sg.insert(q, 0);
-                warp.insert(q, pos);
+                snap(q, pos, &adj, &mut alive, &mut sg, &mut warp);
                 nwarp += 1;
             }
         }
@@ -421,11 +432,7 @@ pub fn stuff_graded(
                     }
                 }
             }
-            for e in &adj[&q] {
-                alive.remove(e);
-            }
-            sg.insert(q, 0);
-            warp.insert(q, pos);
+            snap(q, pos, &adj, &mut alive, &mut sg, &mut warp);
             nwarp += 1;
         }
         for &q in &pts {
@@ -433,11 +440,7 @@ pub fn stuff_graded(
                 continue;
             }
             if let Some(pos) = nearest(q, &alive, &|_| true) {
-                for e in &adj[&q] {
-                    alive.remove(e);
-                }
-                sg.insert(q, 0);
-                warp.insert(q, pos);
+                snap(q, pos, &adj, &mut alive, &mut sg, &mut warp);
                 nwarp += 1;
             }
         }

@@ -10,18 +10,21 @@ use std::collections::{HashMap, HashSet};
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 /// How the crossings on a tile are paired.
+/// A face tile as a [`Pairing`] sees it: its corners, the axis normal to it and its
+/// crossings.
+#[derive(Clone, Copy)]
+pub struct FaceTile<'a> {
+    pub corners: &'a [[f64; 3]; 4],
+    pub normal_axis: usize,
+    pub cross: &'a [TileCrossing],
+}
+
 pub trait Pairing: Sync {
     /// `cross` lists the tile's crossings in counter-clockwise order (seen from outside,
     /// i.e. against the tile normal), each with its position, the side of the tile it
     /// lies on (0..4, sides in the same order) and the sign⁺ just after it. `corners` are
     /// the tile's corners in the same order. Returns pairs of indices into `cross`.
-    fn pair(
-        &self,
-        f: &dyn Implicit,
-        corners: &[[f64; 3]; 4],
-        normal_axis: usize,
-        cross: &[TileCrossing],
-    ) -> Vec<(usize, usize)>;
+    fn pair(&self, f: &dyn Implicit, tile: FaceTile) -> Vec<(usize, usize)>;
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -85,16 +88,16 @@ fn seg_points(points: &HashSet<u64>, a: [u32; 3], b: [u32; 3], out: &mut Vec<[u3
 
 /// A tile: a square in a plane normal to `axis`, corners counter-clockwise seen from
 /// outside the leaf, and its boundary points.
-struct Tile {
+struct GridTile {
     corners: [[u32; 3]; 4],
     axis: usize,
 }
 
-fn leaf_tiles(tree: &Tree, c: Cell) -> Vec<Tile> {
+fn leaf_tiles(tree: &Tree, c: Cell) -> Vec<GridTile> {
     let g = &tree.grid;
     let (lo, hi) = g.cell_lo_hi(c);
     if g.dim == 2 {
-        return vec![Tile {
+        return vec![GridTile {
             corners: [
                 [lo[0], lo[1], 0],
                 [hi[0], lo[1], 0],
@@ -139,7 +142,7 @@ fn leaf_tiles(tree: &Tree, c: Cell) -> Vec<Tile> {
 }
 
 /// Split a face square where a finer neighbour has a corner at its centre.
-fn split_tile(points: &HashSet<u64>, sq: [[u32; 3]; 4], axis: usize, out: &mut Vec<Tile>) {
+fn split_tile(points: &HashSet<u64>, sq: [[u32; 3]; 4], axis: usize, out: &mut Vec<GridTile>) {
     let mid = |a: [u32; 3], b: [u32; 3]| [0, 1, 2].map(|k| (a[k] + b[k]) / 2);
     let c = mid(sq[0], sq[2]);
     let big = (0..3).any(|k| sq[0][k].abs_diff(sq[2][k]) >= 2);
@@ -154,7 +157,7 @@ fn split_tile(points: &HashSet<u64>, sq: [[u32; 3]; 4], axis: usize, out: &mut V
         split_tile(points, [c, m12, sq[2], m23], axis, out);
         split_tile(points, [m30, c, m23, sq[3]], axis, out);
     } else {
-        out.push(Tile { corners: sq, axis });
+        out.push(GridTile { corners: sq, axis });
     }
 }
 
@@ -174,7 +177,7 @@ pub fn assemble(
         .map(|l| l.cell)
         .collect();
     // 1. Tiles and their boundary point lists.
-    type TileData = (Tile, Vec<[u32; 3]>, [usize; 4]);
+    type TileData = (GridTile, Vec<[u32; 3]>, [usize; 4]);
     let tiles: Vec<Vec<TileData>> = active
         .par_iter()
         .map(|&c| {
@@ -291,7 +294,14 @@ pub fn assemble(
                     continue;
                 }
                 let corners = t.corners.map(|p| g.point(p));
-                let pairs = pairing.pair(f, &corners, t.axis, &cross);
+                let pairs = pairing.pair(
+                    f,
+                    FaceTile {
+                        corners: &corners,
+                        normal_axis: t.axis,
+                        cross: &cross,
+                    },
+                );
                 // A chord must join a crossing where f turns negative to one where it
                 // turns positive; otherwise the rule's premise failed on this tile.
                 let consistent = pairs.len() * 2 == cross.len()

@@ -19,16 +19,12 @@
 //! criterion and every grid-point sign was decided by interval arithmetic.
 use crate::error::{Error, Result};
 use crate::implicit::Implicit;
-use crate::kernel::geom::Aabb;
 use crate::mesher::options::{Crossing, MesherOptions};
-use crate::mesher::{MeshOutput, Progress};
 use crate::subdivision::criteria::{boundary_failure, UNDEFINED_BOX};
-use crate::subdivision::engine::{
-    run_subdivision, Criterion, SubdivisionMesher, SubdivisionParams,
-};
+use crate::subdivision::engine::{Criterion, SubdivisionMesher, SubdivisionParams};
 use crate::subdivision::{
     cos_lower_bound, cut_arcs, excludes_zero, mean_value, snv_dot, AngleBound, Cell, Decision,
-    Grid, Pairing, RootFinder, SignChange, TileCrossing, Tree, Verdict,
+    FaceTile, Grid, Pairing, RootFinder, SignChange, Verdict,
 };
 
 /// The theorem a certified run invokes.
@@ -187,28 +183,20 @@ pub(crate) fn pv_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &PvParams) -> 
     }
 }
 
-/// Run Plantinga–Vegter; also returns the tree (for figures and reports).
-pub fn run_pv(
-    f: &dyn Implicit,
-    domain: &Aabb,
-    p: &PvParams,
-    dim: usize,
-    progress: &dyn Progress,
-) -> Result<(Tree, MeshOutput)> {
-    run_subdivision(f, domain, p, dim, progress)
-}
+/// Run Plantinga–Vegter; also returns the tree (in moved coordinates when the criterion asks for
+/// generic position): [`crate::subdivision::engine::run_subdivision`].
+pub use crate::subdivision::engine::run_subdivision as run_pv;
 
 /// The connection rules of §1.2.4.
 pub struct PvPairing;
 
 impl Pairing for PvPairing {
-    fn pair(
-        &self,
-        f: &dyn Implicit,
-        corners: &[[f64; 3]; 4],
-        normal_axis: usize,
-        cross: &[TileCrossing],
-    ) -> Vec<(usize, usize)> {
+    fn pair(&self, f: &dyn Implicit, tile: FaceTile) -> Vec<(usize, usize)> {
+        let FaceTile {
+            corners,
+            normal_axis,
+            cross,
+        } = tile;
         if cross.len() <= 2 {
             return cut_arcs(cross, true);
         }

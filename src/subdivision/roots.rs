@@ -47,21 +47,9 @@ pub struct SignChange {
 
 impl RootFinder for SignChange {
     fn roots(&self, f: &dyn Implicit, e: SignedSegment, _steps: &AtomicU64) -> SegRoots {
-        let SignedSegment {
-            a: pa,
-            sa,
-            b: pb,
-            sb,
-        } = e;
-        let pos = if sa.pos != sb.pos {
-            vec![locate(
-                f,
-                pa,
-                sa.pos,
-                pb,
-                self.tol,
-                self.linear.then_some((sa.value, sb.value)),
-            )]
+        let pos = if e.sa.pos != e.sb.pos {
+            let linear = self.linear.then_some((e.sa.value, e.sb.value));
+            vec![locate(f, e.a, e.sa.pos, e.b, self.tol, linear)]
         } else {
             Vec::new()
         };

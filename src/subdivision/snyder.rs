@@ -17,17 +17,13 @@
 //! ([`GenericMotion`]).
 use crate::error::{Error, Result};
 use crate::implicit::Implicit;
-use crate::kernel::geom::Aabb;
 use crate::mesher::options::MesherOptions;
-use crate::mesher::{MeshOutput, Progress};
 use crate::subdivision::criteria::{boundary_failure, UNDEFINED_BOX};
-use crate::subdivision::engine::{
-    run_subdivision, Criterion, SubdivisionMesher, SubdivisionParams,
-};
+use crate::subdivision::engine::{Criterion, SubdivisionMesher, SubdivisionParams};
 use crate::subdivision::plantinga_vegter::PvPairing;
 use crate::subdivision::{
-    enclose, excludes_zero, no_zero_plus, point_sign, Cell, Decision, Grid, IntervalIsolation,
-    Pairing, RootFinder, TileCrossing, Tree, Verdict,
+    enclose, excludes_zero, no_zero_plus, point_sign, Cell, Decision, FaceTile, Grid,
+    IntervalIsolation, Pairing, RootFinder, Verdict,
 };
 use std::sync::atomic::AtomicU64;
 
@@ -249,16 +245,9 @@ fn edges_isolated(
     true
 }
 
-/// Run Snyder; also returns the tree (in moved coordinates when `generic_shift`).
-pub fn run_snyder(
-    f: &dyn Implicit,
-    domain: &Aabb,
-    p: &SnyderParams,
-    dim: usize,
-    progress: &dyn Progress,
-) -> Result<(Tree, MeshOutput)> {
-    run_subdivision(f, domain, p, dim, progress)
-}
+/// Run Snyder; also returns the tree (in moved coordinates when the criterion asks for
+/// generic position): [`crate::subdivision::engine::run_subdivision`].
+pub use crate::subdivision::engine::run_subdivision as run_snyder;
 
 /// Fig 1.7: on a tile parameterizable in u (□∂f/∂v ∌ 0), the crossings sorted by u pair
 /// up consecutively. A crossing on the side u = u_min sorts before any other at the same
@@ -267,13 +256,12 @@ pub fn run_snyder(
 pub struct SnyderPairing;
 
 impl Pairing for SnyderPairing {
-    fn pair(
-        &self,
-        f: &dyn Implicit,
-        corners: &[[f64; 3]; 4],
-        normal_axis: usize,
-        cross: &[TileCrossing],
-    ) -> Vec<(usize, usize)> {
+    fn pair(&self, f: &dyn Implicit, tile: FaceTile) -> Vec<(usize, usize)> {
+        let FaceTile {
+            corners,
+            normal_axis,
+            cross,
+        } = tile;
         let ib = [0, 1, 2].map(|k| {
             let lo = corners.iter().map(|c| c[k]).fold(f64::INFINITY, f64::min);
             let hi = corners
@@ -292,10 +280,10 @@ impl Pairing for SnyderPairing {
             None
         };
         let Some(u) = sort_axis else {
-            return PvPairing.pair(f, corners, normal_axis, cross);
+            return PvPairing.pair(f, tile);
         };
         if cross.len() % 2 == 1 {
-            return PvPairing.pair(f, corners, normal_axis, cross);
+            return PvPairing.pair(f, tile);
         }
         let (umin, umax) = (ib[u].inf(), ib[u].sup());
         let rank = |side: usize| {
