@@ -1229,3 +1229,54 @@ fn a_run_stopped_by_its_box_budget_says_so() {
     assert_eq!(code, 2, "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// An option the chosen mesher does not read is an error naming both (it used to be
+/// ignored silently); in a comparison each option must be read by one of the meshers
+/// run, and goes only to those that read it.
+#[test]
+fn options_a_mesher_does_not_read_are_errors() {
+    let (code, out, _) = certmesh(&[
+        "mesh",
+        "sphere",
+        "--algo",
+        "pv",
+        "--resolution",
+        "32",
+        "--json",
+    ]);
+    assert_eq!(code, 2, "{out}");
+    let e = json_error(&out);
+    let msg = e["error"].as_str().unwrap();
+    assert!(
+        msg.contains("--resolution") && msg.contains("'pv'"),
+        "{msg}"
+    );
+    let (code, _, err) = certmesh(&["mesh", "sphere", "--algo", "mc", "--max-depth", "5"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--max-depth") && err.contains("'mc'"), "{err}");
+    // Read by one of the two: accepted, and mc still runs at that resolution.
+    let (code, out, err) = certmesh(&[
+        "compare",
+        "--surfaces",
+        "sphere",
+        "--algos",
+        "mc,pv",
+        "--resolution",
+        "12",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let rows: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(rows.as_array().unwrap().len(), 2);
+    // Read by neither.
+    let (code, _, err) = certmesh(&[
+        "compare",
+        "--surfaces",
+        "sphere",
+        "--algos",
+        "mc,pv",
+        "--graded",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--graded"), "{err}");
+}

@@ -203,7 +203,7 @@ pub fn compare_with(
     progress.start("compare", jobs.len() as u64);
     for (e, a) in jobs {
         let f = e.function();
-        let row = algorithms::build(a, e.dim, opts)
+        let row = algorithms::build_shared(a, e.dim, opts)
             .and_then(|m| mesher::run(m.as_ref(), &f, &e.domain, &mesher::NoProgress))
             .and_then(|run| {
                 on_run(e, &run)?;

@@ -64,4 +64,49 @@ impl MesherOptions {
         }
         Ok(())
     }
+    /// The options that are set (a value given, a switch on), by their command-line
+    /// names (`max-depth`, not `max_depth`); `--set` keys are not among them (each
+    /// mesher checks its own with [`MesherOptions::check_keys`]).
+    pub fn given(&self) -> Vec<&'static str> {
+        let mut v = Vec::new();
+        let mut add = |on: bool, name: &'static str| {
+            if on {
+                v.push(name)
+            }
+        };
+        add(self.resolution.is_some(), "resolution");
+        add(self.scale.is_some(), "scale");
+        add(self.max_depth.is_some(), "max-depth");
+        add(self.min_depth.is_some(), "min-depth");
+        add(self.generic_shift, "generic-shift");
+        add(self.crossing.is_some(), "crossing");
+        add(self.tolerance.is_some(), "tolerance");
+        add(self.prune, "prune");
+        add(self.params.is_some(), "params");
+        add(self.graded, "graded");
+        add(self.max_boxes.is_some(), "max-boxes");
+        add(self.time_limit.is_some(), "time-limit");
+        v
+    }
+    /// The same options with every one a mesher does not read (not in `reads`) back at
+    /// its default: how a comparison matrix hands one set of options to meshers that
+    /// read different parts of it.
+    pub fn restricted_to(&self, reads: &[&str]) -> MesherOptions {
+        let r = |name: &str| reads.contains(&name);
+        MesherOptions {
+            resolution: self.resolution.filter(|_| r("resolution")),
+            scale: self.scale.filter(|_| r("scale")),
+            max_depth: self.max_depth.filter(|_| r("max-depth")),
+            min_depth: self.min_depth.filter(|_| r("min-depth")),
+            generic_shift: self.generic_shift && r("generic-shift"),
+            crossing: self.crossing.filter(|_| r("crossing")),
+            tolerance: self.tolerance.filter(|_| r("tolerance")),
+            prune: self.prune && r("prune"),
+            params: self.params.clone().filter(|_| r("params")),
+            graded: self.graded && r("graded"),
+            max_boxes: self.max_boxes.filter(|_| r("max-boxes")),
+            time_limit: self.time_limit.filter(|_| r("time-limit")),
+            extra: self.extra.clone(),
+        }
+    }
 }

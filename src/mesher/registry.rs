@@ -14,18 +14,49 @@ pub struct AlgoInfo {
     /// Can its output carry a certificate?
     pub certifying: bool,
     pub summary: &'static str,
+    /// The shared options it reads, by their command-line names; any other option given
+    /// to it is an error ([`build`]).
+    pub reads: &'static [&'static str],
 }
+
+const MARCHING: &[&str] = &["resolution", "crossing", "tolerance", "prune"];
+const PV: &[&str] = &[
+    "max-depth",
+    "min-depth",
+    "crossing",
+    "tolerance",
+    "max-boxes",
+    "time-limit",
+];
+const SNYDER: &[&str] = &[
+    "max-depth",
+    "min-depth",
+    "tolerance",
+    "generic-shift",
+    "max-boxes",
+    "time-limit",
+];
+const GRADNORMAL: &[&str] = &["resolution", "scale"];
+const STUFFING: &[&str] = &[
+    "resolution",
+    "scale",
+    "crossing",
+    "tolerance",
+    "params",
+    "graded",
+];
 
 type Ctor = fn(&MesherOptions) -> Result<Box<dyn Mesher>>;
 
 macro_rules! entry {
-    ($name:expr, $dim:expr, $cert:expr, $summary:expr, $ty:ty) => {
+    ($name:expr, $dim:expr, $cert:expr, $summary:expr, $ty:ty, $reads:expr) => {
         (
             AlgoInfo {
                 name: $name,
                 dim: $dim,
                 certifying: $cert,
                 summary: $summary,
+                reads: $reads,
             },
             (|o: &MesherOptions| -> Result<Box<dyn Mesher>> {
                 Ok(Box::new(<$ty>::from_options(o)?))
@@ -46,86 +77,127 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             3,
             false,
             "marching cubes on a regular grid (baseline)",
-            MarchingCubes
+            MarchingCubes,
+            MARCHING
         ),
         entry!(
             "mt",
             3,
             false,
             "marching tetrahedra (Kuhn split) on a regular grid (baseline)",
-            MarchingTetrahedra
+            MarchingTetrahedra,
+            MARCHING
         ),
         entry!(
             "pv",
             3,
             true,
             "Plantinga–Vegter octree, small normal variation: certified isotopy",
-            PlantingaVegter
+            PlantingaVegter,
+            PV
         ),
         entry!(
             "snyder",
             3,
             true,
             "Snyder octree, global parameterizability: certified isotopy where it terminates",
-            Snyder
+            Snyder,
+            SNYDER
         ),
         entry!(
             "midnormal",
             3,
             false,
             "MidNormal on the Sommerville/BCC tiling (Hass–Trnkova Alg. 1)",
-            MidNormal
+            MidNormal,
+            GRADNORMAL
         ),
         entry!(
             "gradnormal",
             3,
             false,
             "GradNormal: MidNormal + gradient projection + valence-4 removal (Alg. 2)",
-            GradNormal
+            GradNormal,
+            GRADNORMAL
         ),
         entry!(
             "stuffing",
             3,
             false,
             "isosurface stuffing (Labelle–Shewchuk): tetrahedral mesh of f <= 0",
-            Stuffing
+            Stuffing,
+            STUFFING
         ),
         entry!(
             "ms",
             2,
             false,
             "marching squares on a regular grid (baseline)",
-            MarchingSquares
+            MarchingSquares,
+            MARCHING
         ),
         entry!(
             "pv",
             2,
             true,
             "Plantinga–Vegter quadtree: certified isotopy",
-            PlantingaVegter2
+            PlantingaVegter2,
+            PV
         ),
         entry!(
             "snyder",
             2,
             true,
             "Snyder quadtree: certified isotopy where it terminates",
-            Snyder2
+            Snyder2,
+            SNYDER
         ),
         entry!(
             "midnormal",
             2,
             false,
             "planar MidNormal on the triangle tiling",
-            planar::MidNormal2
+            planar::MidNormal2,
+            GRADNORMAL
         ),
         entry!(
             "gradnormal",
             2,
             false,
             "planar GradNormal (midpoints + projection)",
-            planar::GradNormal2
+            planar::GradNormal2,
+            GRADNORMAL
         ),
     ]
+}
+
+/// Build `name` for a comparison matrix: the options it does not read are dropped
+/// (the matrix checks with [`check_used`] that each option is read by some mesher).
+pub fn build_shared(name: &str, dim: usize, o: &MesherOptions) -> Result<Box<dyn Mesher>> {
+    match table().iter().find(|(i, _)| i.name == name && i.dim == dim) {
+        Some((info, _)) => build(name, dim, &o.restricted_to(info.reads)),
+        None => build(name, dim, o),
+    }
+}
+
+/// Every option given must be read by at least one of the meshers `(name, dim)`.
+pub fn check_used(algos: &[(&str, usize)], o: &MesherOptions) -> Result<()> {
+    let t = table();
+    let infos: Vec<&AlgoInfo> = t
+        .iter()
+        .map(|(i, _)| i)
+        .filter(|i| algos.contains(&(i.name, i.dim)))
+        .collect();
+    for x in o.given() {
+        if !infos.iter().any(|i| i.reads.contains(&x)) {
+            let names: Vec<&str> = infos.iter().map(|i| i.name).collect();
+            return Err(Error::Param(format!(
+                "option --{x} is not used by any of the algorithms run ({})",
+                names.join(", ")
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Every registered algorithm.
@@ -133,10 +205,26 @@ pub fn list() -> Vec<AlgoInfo> {
     table().into_iter().map(|(i, _)| i).collect()
 }
 
-/// Build the mesher `name` for functions of dimension `dim` (2 curve, 3 surface).
+/// Build the mesher `name` for functions of dimension `dim` (2 curve, 3 surface). An
+/// option it does not read is an error naming the option and the mesher.
 pub fn build(name: &str, dim: usize, o: &MesherOptions) -> Result<Box<dyn Mesher>> {
     let t = table();
-    if let Some((_, ctor)) = t.iter().find(|(i, _)| i.name == name && i.dim == dim) {
+    if let Some((info, ctor)) = t.iter().find(|(i, _)| i.name == name && i.dim == dim) {
+        if let Some(x) = o.given().into_iter().find(|x| !info.reads.contains(x)) {
+            return Err(Error::Param(format!(
+                "option --{x} is not used by '{name}' ({}D); it reads {}",
+                dim,
+                if info.reads.is_empty() {
+                    "none".to_string()
+                } else {
+                    info.reads
+                        .iter()
+                        .map(|r| format!("--{r}"))
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                }
+            )));
+        }
         return ctor(o);
     }
     let known: Vec<&str> = t

@@ -122,7 +122,9 @@ pub(crate) fn compare_cmd(a: CompareArgs, quiet: bool) -> CliResult<()> {
         }
         a.algos
     };
-    // Every algorithm option is checked once before the matrix runs.
+    // Every algorithm option is checked once before the matrix runs: each must be
+    // read by one of the meshers run, and each mesher must accept its part.
+    let mut runs: Vec<(&str, usize)> = Vec::new();
     for name in &algos {
         for d in [2, 3] {
             if dims.contains(&d)
@@ -130,9 +132,13 @@ pub(crate) fn compare_cmd(a: CompareArgs, quiet: bool) -> CliResult<()> {
                     .iter()
                     .any(|i| i.name == name && i.dim == d)
             {
-                algorithms::build(name, d, &o)?;
+                runs.push((name.as_str(), d));
             }
         }
+    }
+    algorithms::check_used(&runs, &o)?;
+    for &(name, d) in &runs {
+        algorithms::build_shared(name, d, &o)?;
     }
     let fmt = match &a.output {
         Some(p) => {
