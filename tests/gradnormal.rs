@@ -1,7 +1,12 @@
 //! MidNormal / GradNormal (Hass & Trnkova 2020): tiling, Lemma 4.1, manifoldness and
 //! topology, the valence-four step, the planar version, options.
 use certmesh::catalog;
-use certmesh::gradnormal::check::{angle_range, topology};
+use certmesh::metrics::analyze;
+use certmesh::metrics::angles::angle_range_all as angle_range;
+
+fn topology(m: &certmesh::mesh::TriMesh) -> certmesh::metrics::TopologyReport {
+    analyze(m).unwrap()
+}
 use certmesh::gradnormal::midnormal::extract;
 use certmesh::gradnormal::planar::{GradNormal2, MidNormal2};
 use certmesh::gradnormal::tiling::{
@@ -169,11 +174,11 @@ fn lemma_4_1_spheres_closed_manifold() {
             (1.0f64 / 3.0).acos().to_degrees(),
             90.0,
         ];
-        for x in certmesh::gradnormal::check::angles(m) {
+        for x in certmesh::metrics::angles::all_angles(m) {
             assert!(allowed.iter().any(|y| (x - y).abs() < 1e-9), "{x}");
         }
         let t = topology(m);
-        assert!(t.is_closed_manifold(), "{t:?}");
+        assert!(t.is_closed_oriented_manifold(), "{t:?}");
         assert_eq!((t.components, t.genus.clone()), (1, vec![0]), "{t:?}");
         assert!(!out.certificate.is_certified());
     }
@@ -237,7 +242,7 @@ fn gradnormal_catalog_topology() {
             .unwrap();
         let m = out.mesh.surface().unwrap();
         let t = topology(m);
-        assert!(t.is_closed_manifold(), "{name}: {t:?}");
+        assert!(t.is_closed_oriented_manifold(), "{name}: {t:?}");
         let topo = entry.topology.unwrap();
         assert_eq!(t.components, topo.components, "{name}: {t:?}");
         assert_eq!(t.genus, topo.genus.to_vec(), "{name}: {t:?}");

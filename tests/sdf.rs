@@ -67,8 +67,8 @@ fn sign_survives_a_hole_and_filling_closes_it() {
     let (closed, rep) = fill_holes(&open);
     assert_eq!(rep.filled, 1);
     assert_eq!(rep.open_edges, 0);
-    let t = certmesh::gradnormal::check::topology(&closed);
-    assert!(t.is_closed_manifold(), "{t:?}");
+    let t = certmesh::metrics::analyze(&closed).unwrap();
+    assert!(t.is_closed_oriented_manifold(), "{t:?}");
     assert_eq!(t.genus, vec![0]);
     let g = MeshSdf::new(&closed).unwrap();
     // Closed: the winding number is 1 inside, 0 outside (up to the far-field error of
@@ -257,8 +257,11 @@ fn gradnormal_remeshes_a_mesh_sdf() {
     let certmesh::mesher::Mesh::Surface(s) = &out.mesh else {
         panic!("surface expected")
     };
-    let t = certmesh::gradnormal::check::topology(s);
-    assert!(t.is_closed_manifold() && t.genus == vec![0], "{t:?}");
+    let t = certmesh::metrics::analyze(s).unwrap();
+    assert!(
+        t.is_closed_oriented_manifold() && t.genus == vec![0],
+        "{t:?}"
+    );
     for v in &s.vertices {
         let r = norm(sub(*v, [0.5; 3]));
         assert!((r - 0.4).abs() < 2e-3, "vertex at radius {r}");

@@ -17,7 +17,6 @@
 //! e → 0 and its topology claim (Theorem 1.1(1)) only at a scale the paper does not
 //! quantify, so both meshers report `Uncertified` with the *measured* angle range in
 //! the statistics.
-pub mod check;
 pub mod midnormal;
 pub mod planar;
 pub mod tiling;
@@ -270,24 +269,6 @@ impl GradNormalParams {
     }
 }
 
-fn check_domain(f: &dyn Implicit, domain: &Aabb, dim: usize, name: &str) -> Result<()> {
-    if f.dim() != dim {
-        return Err(Error::Param(format!(
-            "{name} meshes {}D functions, but f is {}D",
-            dim,
-            f.dim()
-        )));
-    }
-    let s = domain.size();
-    if (0..dim).any(|k| s[k] <= 0.0) {
-        return Err(Error::Domain(format!(
-            "{name} needs a domain with positive extent in {dim} axes, got {:?}..{:?}",
-            domain.min, domain.max
-        )));
-    }
-    Ok(())
-}
-
 /// The MidNormal mesher (Algorithm 1): normal surface with midpoint vertices.
 #[derive(Clone, Debug, Default)]
 pub struct MidNormal {
@@ -310,7 +291,7 @@ impl MidNormal {
         domain: &Aabb,
         progress: &dyn Progress,
     ) -> Result<NormalSurface> {
-        check_domain(f, domain, 3, "midnormal")?;
+        crate::mesher::check_input(f, domain, 3, "midnormal")?;
         let g = self.params.goldberg(domain);
         // At the midpoints every quadrilateral of the Sommerville tiling is a square, so
         // `Shorter` ties; it falls back to the paper's diagonals.
@@ -373,7 +354,7 @@ impl Mesher for MidNormal {
         let g = ns.goldberg.unwrap_or_else(|| self.params.goldberg(domain));
         let mut stats = base_stats(&self.params, &g, &ns);
         let mesh = TriMesh::new(ns.vertices, ns.triangles);
-        let (lo, hi) = check::angle_range(&mesh);
+        let (lo, hi) = crate::metrics::angles::angle_range_all(&mesh);
         stats.insert("min_angle_deg".into(), json!(lo));
         stats.insert("max_angle_deg".into(), json!(hi));
         stats.insert(
@@ -430,7 +411,7 @@ impl GradNormal {
         domain: &Aabb,
         progress: &dyn Progress,
     ) -> Result<Stages> {
-        check_domain(f, domain, 3, "gradnormal")?;
+        crate::mesher::check_input(f, domain, 3, "gradnormal")?;
         let p = &self.params;
         let g = p.goldberg(domain);
         let keep_quads = p.quad_rule == DiagonalRule::Shorter;
@@ -544,7 +525,7 @@ impl Mesher for GradNormal {
             ..Default::default()
         };
         let mut stats = base_stats(&self.params, &g, &ns);
-        let (lo, hi) = check::angle_range(&mesh);
+        let (lo, hi) = crate::metrics::angles::angle_range_all(&mesh);
         stats.insert("min_angle_deg".into(), json!(lo));
         stats.insert("max_angle_deg".into(), json!(hi));
         stats.insert(

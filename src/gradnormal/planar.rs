@@ -315,19 +315,8 @@ fn run2(
     steps: usize,
     name: &str,
 ) -> Result<MeshOutput> {
-    if f.dim() != 2 {
-        return Err(Error::Param(format!(
-            "planar {name} meshes curves (dim 2), but f is {}D",
-            f.dim()
-        )));
-    }
+    crate::mesher::check_input(f, domain, 2, name)?;
     let s = domain.size();
-    if s[0] <= 0.0 || s[1] <= 0.0 {
-        return Err(Error::Domain(format!(
-            "planar {name} needs a rectangle with positive extent, got {:?}..{:?}",
-            domain.min, domain.max
-        )));
-    }
     let e = p.scale.unwrap_or(s[0].max(s[1]) / p.resolution as f64);
     let nc = extract2(f, domain, e, 16.max(p.leaf), p.prune)?;
     let mut failures = 0usize;

@@ -589,7 +589,7 @@ impl<C: Cells> Mesher for Marching<C> {
         let p = &self.params;
         let table = C::table();
         p.check()?;
-        check_dim::<C>(f)?;
+        crate::mesher::check_input(f, domain, table.dim(), C::ALGO)?;
         let grid = Grid::new(domain, p.resolution, table.dim())?;
         table.check_size(&grid)?;
         let mut stats = base_stats(&grid, p);
@@ -640,20 +640,5 @@ impl<C: Cells> Mesher for Marching<C> {
             )),
             stats,
         })
-    }
-}
-
-/// Check the function's dimension against the mesher's.
-fn check_dim<C: Cells>(f: &dyn Implicit) -> Result<()> {
-    match (C::table().dim(), f.dim()) {
-        (3, 3) | (2, 2) => Ok(()),
-        (3, _) => Err(Error::Param(format!(
-            "'{}' meshes surfaces f(x, y, z); this function is a curve (use 'ms')",
-            C::TITLE
-        ))),
-        _ => Err(Error::Param(format!(
-            "'{}' meshes curves f(x, y); this function is a surface (use 'mc' or 'mt')",
-            C::ALGO
-        ))),
     }
 }

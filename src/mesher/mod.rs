@@ -180,6 +180,40 @@ pub struct Run {
     pub evaluations: EvalCounts,
 }
 
+/// The input checks every mesher makes, written once: the function's dimension against
+/// the mesher's, and a domain box with finite corners and positive extent along each of
+/// the `dim` axes. [`run`] calls it before the mesher; every mesher's `mesh` calls it
+/// too, for callers that use the library directly.
+pub fn check_input(f: &dyn Implicit, domain: &Aabb, dim: usize, algo: &str) -> Result<()> {
+    let what = |d: usize| {
+        if d == 2 {
+            "curves f(x, y)"
+        } else {
+            "surfaces f(x, y, z)"
+        }
+    };
+    if f.dim() != dim {
+        return Err(crate::error::Error::Param(format!(
+            "'{algo}' meshes {}, but the function is {}D (a {})",
+            what(dim),
+            f.dim(),
+            if f.dim() == 2 { "curve" } else { "surface" }
+        )));
+    }
+    let d = Aabb::new(domain.min, domain.max)?;
+    for k in 0..dim {
+        if !(d.max[k] > d.min[k]) {
+            return Err(crate::error::Error::Domain(format!(
+                "axis {} range [{}, {}] is empty",
+                ["x", "y", "z"][k],
+                d.min[k],
+                d.max[k]
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Run a mesher with timing and counted evaluations.
 pub fn run(
     m: &dyn Mesher,
@@ -187,6 +221,7 @@ pub fn run(
     domain: &Aabb,
     progress: &dyn Progress,
 ) -> Result<Run> {
+    check_input(f, domain, m.dim(), m.name())?;
     let counted = crate::implicit::Counted::new(f);
     let t0 = std::time::Instant::now();
     let output = m.mesh(&counted, domain, progress)?;

@@ -363,3 +363,35 @@ pub fn tet_summary(mesh: &TetMesh, bin_width: f64) -> Result<TetAngles> {
         ),
     })
 }
+
+/// The three angles (degrees) of every triangle, degenerate ones included (their
+/// angles are whatever the float computation gives: 0, 180 or NaN).
+pub fn all_angles(m: &TriMesh) -> Vec<f64> {
+    m.triangles
+        .par_iter()
+        .flat_map_iter(|t| {
+            let [a, b, c] = t.map(|i| m.vertices[i as usize]);
+            triangle_angles(a, b, c)
+        })
+        .collect()
+}
+
+/// Smallest and largest angle (degrees) over every triangle, degenerate ones included
+/// (the GradNormal paper's Table 1 measures all triangles); (NaN, NaN) for an empty mesh.
+/// [`triangle_summary`] leaves degenerate triangles out instead.
+pub fn angle_range_all(m: &TriMesh) -> (f64, f64) {
+    if m.triangles.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
+    m.triangles
+        .par_iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| m.vertices[i as usize]);
+            let x = triangle_angles(a, b, c);
+            (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]))
+        })
+        .reduce(
+            || (f64::INFINITY, f64::NEG_INFINITY),
+            |p, q| (p.0.min(q.0), p.1.max(q.1)),
+        )
+}

@@ -137,6 +137,14 @@ fn link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]]) -> bool {
     sets == 1 && deg.iter().all(|&d| d <= 2)
 }
 
+impl TopologyReport {
+    /// A closed, consistently oriented 2-manifold (no boundary or non-manifold edge, no
+    /// non-manifold vertex, no edge traversed twice in the same direction).
+    pub fn is_closed_oriented_manifold(&self) -> bool {
+        self.closed && self.manifold && self.consistently_oriented
+    }
+}
+
 /// The topology of a triangle mesh. Errors only on out-of-range vertex indices.
 pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
     check_trimesh(mesh)?;

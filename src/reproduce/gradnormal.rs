@@ -79,12 +79,13 @@ pub fn reproduce(out_dir: &Path, quick: bool) -> Result<()> {
 // The reproduction proper.
 
 use crate::catalog;
-use crate::gradnormal::check::{angle_range, angles, topology};
 use crate::gradnormal::{GradNormal, GradNormalParams, GradNormalReport, MidNormal};
 use crate::implicit::{Formula, Implicit};
 use crate::kernel::geom::{dot, Aabb};
 use crate::mesh::TriMesh;
 use crate::mesher::{Mesher, NoProgress};
+use crate::metrics::analyze as topology;
+use crate::metrics::angles::{all_angles as angles, angle_range_all as angle_range};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::time::Instant;
@@ -201,7 +202,7 @@ fn run_row(label: &str, f: &dyn Implicit, domain: &Aabb, e: f64) -> Result<(RunR
         GradNormal::new(GradNormalParams::new().with_scale(e)).run(f, domain, &NoProgress)?;
     let seconds = t0.elapsed().as_secs_f64();
     let (lo, hi) = angle_range(&mesh);
-    let t = topology(&mesh);
+    let t = topology(&mesh)?;
     let k = max_curvature(f, &mesh);
     Ok((
         RunRow {
@@ -212,7 +213,7 @@ fn run_row(label: &str, f: &dyn Implicit, domain: &Aabb, e: f64) -> Result<(RunR
             max_deg: hi,
             vertices: t.vertices,
             faces: t.faces,
-            manifold: t.is_closed_manifold(),
+            manifold: t.is_closed_oriented_manifold(),
             genus: t.genus.clone(),
             seconds,
             crossing: report.extract.crossing_tets,

@@ -13,13 +13,14 @@
 //! distance [`MeshSdf`] (exact distance, winding-number sign). Nothing is certified: the
 //! signed distance is floating point and `MeshSdf::is_rigorous()` is false.
 use crate::error::{Error, Result};
-use crate::gradnormal::check::{angle_range, angles, topology};
 use crate::gradnormal::tiling::{Goldberg, SOMMERVILLE_RATIO};
 use crate::gradnormal::{GradNormal, GradNormalParams};
 use crate::implicit::sdf::{self, MeshSdf};
 use crate::kernel::geom::Aabb;
 use crate::mesh::TriMesh;
 use crate::mesher::NoProgress;
+use crate::metrics::analyze as topology;
+use crate::metrics::angles::{all_angles as angles, angle_range_all as angle_range};
 use crate::reproduce::plot::{self, Series};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -89,7 +90,7 @@ pub fn remesh(
         GradNormal::new(GradNormalParams::new().with_scale(e)).run(f, &domain, &NoProgress)?;
     let seconds = t0.elapsed().as_secs_f64();
     let (lo, hi) = angle_range(&mesh);
-    let t = topology(&mesh);
+    let t = topology(&mesh)?;
     let a = angles(&mesh);
     let bad: Vec<usize> = (0..mesh.triangles.len())
         .filter(|&t| {
@@ -117,7 +118,7 @@ pub fn remesh(
             vertices: t.vertices,
             min_deg: lo,
             max_deg: hi,
-            closed_manifold: t.is_closed_manifold(),
+            closed_manifold: t.is_closed_oriented_manifold(),
             components: t.components,
             genus: t.genus.clone(),
             seconds,

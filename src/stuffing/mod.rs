@@ -596,9 +596,7 @@ impl Mesher for Stuffing {
         3
     }
     fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
-        if f.dim() != 3 {
-            return Err(Error::Param("stuffing meshes surfaces (dim 3) only".into()));
-        }
+        crate::mesher::check_input(f, domain, 3, "stuffing")?;
         let p = &self.params;
         progress.start("stuffing: lattice and cut points", 0);
         let t0 = std::time::Instant::now();

@@ -6,7 +6,6 @@ use super::tree::{Decision, Grid, Verdict};
 use crate::error::{Error, Result};
 use crate::implicit::ops::excludes_zero;
 use crate::implicit::Implicit;
-use crate::kernel::geom::Aabb;
 use inari::Interval;
 
 /// The interval scalar product ⟨□∇f, □∇f⟩ over the first `dim` components (eq 1.2):
@@ -104,28 +103,6 @@ impl SupIv for Interval {
 /// would be vacuous and is almost always a mistake in the formula (x/0).
 pub const UNDEFINED_BOX: &str =
     "f is undefined on this whole box (a division by 0, a root of a negative number)";
-
-/// Check the function's and the domain's dimension against the mesher's.
-pub(crate) fn check_input(f: &dyn Implicit, domain: &Aabb, dim: usize, algo: &str) -> Result<()> {
-    if f.dim() != dim {
-        return Err(Error::Param(format!(
-            "{algo}: this mesher is for {dim}D input but the function is {}D",
-            f.dim()
-        )));
-    }
-    let d = Aabb::new(domain.min, domain.max)?;
-    for k in 0..dim {
-        if !(d.max[k] > d.min[k]) {
-            return Err(Error::Domain(format!(
-                "axis {} range [{}, {}] is empty",
-                ["x", "y", "z"][k],
-                d.min[k],
-                d.max[k]
-            )));
-        }
-    }
-    Ok(())
-}
 
 /// `--max-boxes` at least 1, `--time-limit` positive and finite.
 pub(crate) fn check_budget(max_boxes: u64, time_limit: Option<f64>) -> Result<()> {

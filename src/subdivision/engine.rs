@@ -14,9 +14,10 @@
 use crate::error::{Error, Result};
 use crate::implicit::Implicit;
 use crate::kernel::geom::Aabb;
+use crate::mesher::check_input;
 use crate::mesher::options::MesherOptions;
 use crate::mesher::{Mesh, MeshOutput, Mesher, Progress};
-use crate::subdivision::criteria::{check_budget, check_input};
+use crate::subdivision::criteria::check_budget;
 use crate::subdivision::{
     assemble, certificate, subdivide, tree_stats, Budget, Cell, Decision, GenericMotion, Grid,
     Pairing, RootFinder, Tree, DEFAULT_MAX_BOXES, MAX_LEVEL,
