@@ -1,0 +1,907 @@
+//! Certified critical points by interval Krawczyk subdivision, their Morse indices
+//! from a certified Hessian inertia, and a certified Euler characteristic by Morse
+//! counting: the oracle operation behind restricted-Delaunay seeds (one seed at each
+//! critical point of a generic height function on S reaches every component) and the
+//! Morse census.
+//!
+//! Two problems, one branch-and-bound ([`solve`]):
+//! * [`critical_points_of_f`]: ∇f = 0 in a box (Jacobian: the Hessian);
+//! * [`critical_points_on_surface`]: critical points of the height h(x) = ⟨n, x⟩ on
+//!   S = {f = 0}, i.e. F(x) = (f, ∇f·e₁, ∇f·e₂) = 0 with e₁, e₂ ⊥ n (Jacobian rows ∇f,
+//!   H e₁, H e₂). This is the system f = 0, f_u = f_v = 0 in coordinates (u, v, w)
+//!   rotated so that n is the w axis, written without rotating the box (rotating a
+//!   box inflates it).
+//!
+//! **The frame.** From a unit direction d (default [`DEFAULT_DIRECTION`]) we build
+//! float vectors e₁ ⊥ d, e₂ = d × e₁. They are used as exact reals; the height whose
+//! critical points are computed is h(x) = ⟨n, x⟩ with n = e₁ × e₂ *exactly* (enclosed
+//! in intervals), within a few ulps of d. Then ∇f·e₁ = ∇f·e₂ = 0 ⇔ ∇f ∥ n exactly,
+//! and the tangent plane at a critical point is exactly span(e₁, e₂).
+//!
+//! **Per box X** (each proof needs f C^∞ on a neighbourhood of X, asked of
+//! [`Implicit::regularity`]; a box that is not `Smooth` is never certified, only
+//! excluded by 0 ∉ □f when f is at least continuous there, for the surface problem):
+//! 1. exclusion: 0 ∉ □Fᵢ(X) for some i, natural or centred form Fᵢ(m) + □J_i(X)(X − m);
+//! 2. the Krawczyk operator K(X) = m − Y F(m) + (I − Y J(X))(X − m) with F(m) enclosed
+//!    on the point box, Y the float inverse of mid J(X) ([`linalg::krawczyk`]):
+//!    K(X) ∩ X = ∅ excludes X; K(X) ⊂ int X proves exactly one zero in X, then
+//!    shrunk by iterating X ← K(X) ∩ X; otherwise X is replaced by K(X) ∩ X (every
+//!    zero of X lies there) when that shrinks it, else bisected on its widest side;
+//! 3. a zero on a face between two boxes is never inside either, so once the
+//!    operator contracts (‖I − Y J(X)‖ < ½) a float Newton iterate x̃ from m is tried:
+//!    if K ⊂ int X' for X' = x̃ ± max width(X), X' is an isolating box and every later
+//!    box inside X' is "covered" (its zeros, if any, are X''s one zero).
+//!
+//! Two isolating boxes A, B with enclosures A* ⊂ A, B* ⊂ B of their zeros hold the
+//! same zero if A* ⊂ B (B's zero is unique), different ones if A* ∩ B* = ∅; anything
+//! else is reported as undecided. A zero whose enclosure straddles the domain's
+//! boundary is undecided too. The search is `complete` when every box was excluded,
+//! covered or isolated, and then the list of points is every critical point of the
+//! domain, each exactly once.
+//!
+//! **Morse index of f** at x* in the enclosure E: the interval Hessian over E encloses
+//! H_f(x*); [`linalg::inertia`] (Jacobi's sign rule on leading principal minors, every
+//! symmetric permutation tried) certifies its number of negative eigenvalues.
+//!
+//! **Morse index of the height on S.** Let x* ∈ S with ∇f(x*) = λ n (λ ≠ 0 since the
+//! Jacobian row ∇f of an isolated zero is non-zero), and γ a curve on S with γ(0) = x*,
+//! γ'(0) = t ∈ T = span(e₁, e₂). Differentiating f(γ(s)) = 0 twice:
+//! ⟨∇f, γ''⟩ + tᵀ H_f t = 0, so (h∘γ)''(0) = ⟨n, γ''(0)⟩ = −(1/λ) tᵀ H_f t.
+//! (The γ''-term of a general height would be ⟨∇h, γ''⟩ and vanishes at a critical
+//! point only after this substitution: this is the Lagrange multiplier μ = 1/λ of
+//! h − μ f, whose Hessian −μ H_f is the second fundamental form of the height.)
+//! In the basis E = [e₁ e₂] the Hessian of h|S is −(1/λ) Eᵀ H_f E, and its inertia
+//! (Sylvester's law: independent of the basis and of positive scaling) is that of
+//! −sign(λ)·Eᵀ H_f E, with sign(λ) = sign(∇f·n). In rotated coordinates with n = e_w:
+//! −(1/f_w)·[[f_uu, f_uv], [f_uv, f_vv]]. Example: the unit sphere at its top point
+//! d: ∇f = 2d (λ = 2), EᵀHE = 2I, so −I: index 2, a maximum. Checked against finite
+//! differences of the height on a local graph of S in `tests/critical.rs`.
+//!
+//! **Euler characteristic** ([`euler_characteristic`]): if the surface search is
+//! complete, every critical point has a certified index and 0 ∉ □f on the six faces
+//! of the domain (subdivided), then S ∩ D is a compact surface without boundary
+//! (f continuous on D, S away from ∂D), regular (a point of S with ∇f = 0 solves the
+//! system, and every solution was isolated with a non-singular Jacobian, whose first
+//! row is ∇f), and h|S is a Morse function, so χ(S) = Σ (−1)^index (Milnor, *Morse
+//! Theory*, 1963, §5, Thm 5.2 and its corollary; the chapter "Meshing of Surfaces",
+//! Boissonnat et al., 2007, §1.5).
+use crate::implicit::{IBox, Implicit, Regularity};
+use inari::Interval;
+use linalg::{excludes_zero, pt, IMat};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+pub mod linalg;
+
+/// The default height direction: (1/π, 1/e, 1/√2), normalised. Generic for the
+/// catalog's symmetric surfaces: no coordinate plane or diagonal contains it and its
+/// components are distinct, so no symmetry of the torus, tanglecube or genus-2
+/// surface fixes it (an axis direction gives circles of critical points on a torus
+/// of revolution).
+pub const DEFAULT_DIRECTION: [f64; 3] = [
+    0.318_309_886_183_790_7,
+    0.367_879_441_171_442_3,
+    0.707_106_781_186_547_5,
+];
+
+/// A box as bounds (serialisable).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Bx {
+    pub lo: [f64; 3],
+    pub hi: [f64; 3],
+}
+
+impl Bx {
+    pub fn new(lo: [f64; 3], hi: [f64; 3]) -> Self {
+        Bx { lo, hi }
+    }
+    pub fn from_ibox(b: &IBox) -> Self {
+        Bx {
+            lo: b.map(|x| x.inf()),
+            hi: b.map(|x| x.sup()),
+        }
+    }
+    pub fn to_ibox(&self) -> IBox {
+        [0, 1, 2].map(|k| Interval::try_from((self.lo[k], self.hi[k])).unwrap_or(Interval::ENTIRE))
+    }
+    pub fn contains(&self, p: [f64; 3]) -> bool {
+        (0..3).all(|k| self.lo[k] <= p[k] && p[k] <= self.hi[k])
+    }
+    pub fn mid(&self) -> [f64; 3] {
+        [0, 1, 2].map(|k| 0.5 * (self.lo[k] + self.hi[k]))
+    }
+    pub fn max_width(&self) -> f64 {
+        (0..3).map(|k| self.hi[k] - self.lo[k]).fold(0.0, f64::max)
+    }
+}
+
+impl From<crate::kernel::geom::Aabb> for Bx {
+    fn from(a: crate::kernel::geom::Aabb) -> Self {
+        Bx::new(a.min, a.max)
+    }
+}
+
+/// Limits of the search.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct Budget {
+    /// Bisections along one path (one side per bisection).
+    pub max_depth: u32,
+    /// Boxes processed in all.
+    pub max_boxes: usize,
+    /// Depth at which a box where f is not proven smooth is reported undecided
+    /// instead of being bisected further (localising a pole plane costs 4ᵏ boxes).
+    pub nonsmooth_depth: u32,
+    /// Krawczyk iterations that shrink an isolating box.
+    pub shrink_steps: u32,
+}
+
+impl Default for Budget {
+    fn default() -> Self {
+        Budget {
+            max_depth: 60,
+            max_boxes: 400_000,
+            nonsmooth_depth: 12,
+            shrink_steps: 12,
+        }
+    }
+}
+
+/// Why a region is undecided.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Reason {
+    /// The depth limit was reached with neither exclusion nor isolation.
+    DepthLimit,
+    /// The depth limit was reached and 0 ∈ □det J(X): the box may hold a degenerate
+    /// (non-isolated or non-Morse) critical point.
+    PossiblyDegenerate,
+    /// The box budget ran out before this box was processed.
+    Budget,
+    /// f is continuous but not proven differentiable on the box.
+    NotDifferentiable,
+    /// f is not proven continuous (or defined) on the box: a pole, a domain boundary.
+    NotContinuous,
+    /// An isolated zero whose enclosure meets the domain's boundary.
+    OnDomainBoundary,
+    /// Two isolating boxes whose zeros could be neither identified nor separated.
+    Ambiguous,
+    /// The oracle's interval methods are not rigorous ([`Implicit::is_rigorous`]).
+    NotRigorous,
+}
+
+/// The Morse index of an isolated critical point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "status", rename_all = "kebab-case")]
+pub enum MorseIndex {
+    /// Number of negative eigenvalues of the (restricted) Hessian, certified.
+    Certified { index: u8 },
+    /// 0 ∈ □det of the (restricted) Hessian over the enclosure: possibly degenerate.
+    PossiblyDegenerate,
+    /// The determinant excludes 0 but no ordering of the minors decided the signs
+    /// (or the sign of ∇f·n was not decided).
+    Undecided,
+}
+
+impl MorseIndex {
+    pub fn index(&self) -> Option<u8> {
+        match self {
+            MorseIndex::Certified { index } => Some(*index),
+            _ => None,
+        }
+    }
+}
+
+/// One isolated critical point.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CriticalPoint {
+    /// A small box proven to contain the critical point (iterated Krawczyk).
+    pub enclosure: Bx,
+    /// The box in which it is proven the *only* critical point.
+    pub isolating: Bx,
+    /// The midpoint of the enclosure.
+    pub point: [f64; 3],
+    /// An enclosure of the critical value: f (critical points of f) or the height
+    /// ⟨n, x⟩ (critical points on S).
+    pub value: [f64; 2],
+    pub index: MorseIndex,
+}
+
+/// A region where the search decided nothing.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct UndecidedBox {
+    pub region: Bx,
+    pub reason: Reason,
+    pub depth: u32,
+}
+
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct Stats {
+    /// Boxes processed.
+    pub boxes: usize,
+    /// Boxes excluded (no critical point).
+    pub excluded: usize,
+    /// Boxes inside an isolating box found earlier.
+    pub covered: usize,
+    pub krawczyk_tests: usize,
+    /// Isolating boxes found around a float Newton iterate.
+    pub inflations: usize,
+    pub max_depth: u32,
+    pub millis: f64,
+}
+
+/// Which system was solved.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Problem {
+    /// ∇f = 0.
+    Gradient,
+    /// Critical points of ⟨n, x⟩ on f = 0.
+    Height {
+        /// The requested unit direction d.
+        direction: [f64; 3],
+        /// The tangent frame e₁, e₂ (floats, used as exact reals).
+        e1: [f64; 3],
+        e2: [f64; 3],
+        /// The effective height direction n = e₁ × e₂ (float midpoint; within a few
+        /// ulps of d).
+        normal: [f64; 3],
+    },
+}
+
+/// The result of a search.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CriticalReport {
+    pub problem: Problem,
+    pub domain: Bx,
+    /// True when every box was excluded, covered or isolated: `points` is then every
+    /// critical point in the domain, each once.
+    pub complete: bool,
+    pub points: Vec<CriticalPoint>,
+    pub undecided: Vec<UndecidedBox>,
+    pub stats: Stats,
+}
+
+impl CriticalReport {
+    /// Counts of certified indices 0, 1, 2, 3, and of points without one.
+    pub fn index_counts(&self) -> ([usize; 4], usize) {
+        let mut c = [0; 4];
+        let mut none = 0;
+        for p in &self.points {
+            match p.index.index() {
+                Some(i) => c[i as usize] += 1,
+                None => none += 1,
+            }
+        }
+        (c, none)
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// The systems.
+
+/// A square system F = 0 on boxes: what [`solve`] needs.
+trait System {
+    fn f(&self) -> &dyn Implicit;
+    /// Enclosures of F and J over a box where f is smooth.
+    fn enclose(&self, x: &IBox) -> ([Interval; 3], IMat<3>);
+    /// An enclosure of F at a point.
+    fn at(&self, m: [f64; 3]) -> [Interval; 3];
+    /// F and J at a point in floats (Newton iterates only).
+    fn float(&self, p: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3]);
+    /// Can a box where f is only `reg` be excluded?
+    fn exclude_nonsmooth(&self, x: &IBox, reg: Regularity) -> bool;
+    /// Index and critical value at an isolated zero with enclosure `e`.
+    fn classify(&self, e: &IBox) -> (MorseIndex, Interval);
+}
+
+fn sym(h: &[Interval; 6]) -> IMat<3> {
+    use crate::implicit::number::hidx;
+    std::array::from_fn(|i| std::array::from_fn(|j| h[hidx(i, j)]))
+}
+
+fn symf(h: &[f64; 6]) -> [[f64; 3]; 3] {
+    use crate::implicit::number::hidx;
+    std::array::from_fn(|i| std::array::from_fn(|j| h[hidx(i, j)]))
+}
+
+fn point_box(m: [f64; 3]) -> IBox {
+    m.map(pt)
+}
+
+fn idot(a: &[Interval; 3], b: &[Interval; 3]) -> Interval {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+struct Gradient<'a> {
+    f: &'a dyn Implicit,
+}
+
+impl System for Gradient<'_> {
+    fn f(&self) -> &dyn Implicit {
+        self.f
+    }
+    fn enclose(&self, x: &IBox) -> ([Interval; 3], IMat<3>) {
+        let h = self.f.hessian_interval(x);
+        (h.g, sym(&h.h))
+    }
+    fn at(&self, m: [f64; 3]) -> [Interval; 3] {
+        self.f.grad_interval(&point_box(m)).g
+    }
+    fn float(&self, p: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+        let h = self.f.hessian(p);
+        (h.g, symf(&h.h))
+    }
+    fn exclude_nonsmooth(&self, _x: &IBox, _reg: Regularity) -> bool {
+        false
+    }
+    fn classify(&self, e: &IBox) -> (MorseIndex, Interval) {
+        let h = self.f.hessian_interval(e);
+        let a = sym(&h.h);
+        let index = match linalg::inertia(&a) {
+            Some(k) => MorseIndex::Certified { index: k as u8 },
+            None if !excludes_zero(linalg::det(&a)) => MorseIndex::PossiblyDegenerate,
+            None => MorseIndex::Undecided,
+        };
+        (index, self.f.eval_interval(e))
+    }
+}
+
+/// The tangent frame of a height direction.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct Frame {
+    pub d: [f64; 3],
+    pub e1: [f64; 3],
+    pub e2: [f64; 3],
+}
+
+impl Frame {
+    /// e₁ = normalise(d × a) with a the axis of d's smallest component, e₂ = d × e₁.
+    /// `None` for a zero or non-finite d.
+    pub fn new(d: [f64; 3]) -> Option<Frame> {
+        use crate::kernel::geom::{cross, dot, scale};
+        let n = dot(d, d).sqrt();
+        if !(n.is_finite() && n > 0.0) {
+            return None;
+        }
+        let d = scale(d, 1.0 / n);
+        let k = (0..3).min_by(|&i, &j| d[i].abs().total_cmp(&d[j].abs()))?;
+        let mut a = [0.0; 3];
+        a[k] = 1.0;
+        let e1 = cross(d, a);
+        let e1 = scale(e1, 1.0 / dot(e1, e1).sqrt());
+        let e2 = cross(d, e1);
+        Some(Frame { d, e1, e2 })
+    }
+    /// n = e₁ × e₂, enclosed: the exact height direction.
+    pub fn normal(&self) -> [Interval; 3] {
+        let a = self.e1.map(pt);
+        let b = self.e2.map(pt);
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    }
+    /// Eᵀ H E for E = [e₁ e₂], in floats.
+    pub fn restrict(&self, h: &[[f64; 3]; 3]) -> [[f64; 2]; 2] {
+        let e = [self.e1, self.e2];
+        std::array::from_fn(|a| {
+            std::array::from_fn(|b| {
+                let mut s = 0.0;
+                for i in 0..3 {
+                    for j in 0..3 {
+                        s += e[a][i] * h[i][j] * e[b][j];
+                    }
+                }
+                s
+            })
+        })
+    }
+}
+
+/// The Hessian of the height ⟨n, x⟩ restricted to S at a critical point p, in the
+/// basis e₁, e₂, in floats: −(1/λ) Eᵀ H_f E with λ = ∇f·n/|n|² (see the module doc).
+/// For tests and diagnostics; the certified index uses the interval version.
+pub fn height_hessian_on_surface(f: &dyn Implicit, frame: &Frame, p: [f64; 3]) -> [[f64; 2]; 2] {
+    let h = f.hessian(p);
+    let n = frame.normal().map(|x| x.mid());
+    let lambda = crate::kernel::geom::dot(h.g, n) / crate::kernel::geom::dot(n, n);
+    let m = frame.restrict(&symf(&h.h));
+    m.map(|r| r.map(|x| -x / lambda))
+}
+
+struct Height<'a> {
+    f: &'a dyn Implicit,
+    frame: Frame,
+    e1: [Interval; 3],
+    e2: [Interval; 3],
+    n: [Interval; 3],
+}
+
+impl System for Height<'_> {
+    fn f(&self) -> &dyn Implicit {
+        self.f
+    }
+    fn enclose(&self, x: &IBox) -> ([Interval; 3], IMat<3>) {
+        let h = self.f.hessian_interval(x);
+        let hm = sym(&h.h);
+        let he1 = linalg::mat_vec(&hm, &self.e1);
+        let he2 = linalg::mat_vec(&hm, &self.e2);
+        (
+            [h.v, idot(&h.g, &self.e1), idot(&h.g, &self.e2)],
+            [h.g, he1, he2],
+        )
+    }
+    fn at(&self, m: [f64; 3]) -> [Interval; 3] {
+        let d = self.f.grad_interval(&point_box(m));
+        [d.v, idot(&d.g, &self.e1), idot(&d.g, &self.e2)]
+    }
+    fn float(&self, p: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+        use crate::kernel::geom::dot;
+        let h = self.f.hessian(p);
+        let hm = symf(&h.h);
+        let mv = |e: [f64; 3]| [0, 1, 2].map(|i| dot(hm[i], e));
+        (
+            [h.v, dot(h.g, self.frame.e1), dot(h.g, self.frame.e2)],
+            [h.g, mv(self.frame.e1), mv(self.frame.e2)],
+        )
+    }
+    fn exclude_nonsmooth(&self, x: &IBox, reg: Regularity) -> bool {
+        // f continuous on X and 0 ∉ □f: X holds no point of S.
+        reg >= Regularity::Continuous && excludes_zero(self.f.eval_interval(x))
+    }
+    fn classify(&self, e: &IBox) -> (MorseIndex, Interval) {
+        let h = self.f.hessian_interval(e);
+        let hm = sym(&h.h);
+        let es = [self.e1, self.e2];
+        let m: IMat<2> = std::array::from_fn(|a| {
+            std::array::from_fn(|b| idot(&es[a], &linalg::mat_vec(&hm, &es[b])))
+        });
+        let value = idot(&self.n, e);
+        let Some(s) = linalg::sign(idot(&h.g, &self.n)) else {
+            return (MorseIndex::Undecided, value);
+        };
+        // The restricted Hessian of the height is −(1/λ) M with sign(λ) = s.
+        let a: IMat<2> = m.map(|r| r.map(|x| if s > 0 { -x } else { x }));
+        let index = match linalg::inertia(&a) {
+            Some(k) => MorseIndex::Certified { index: k as u8 },
+            None if !excludes_zero(linalg::det(&a)) => MorseIndex::PossiblyDegenerate,
+            None => MorseIndex::Undecided,
+        };
+        (index, value)
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// Public API.
+
+/// Every critical point of f (∇f = 0) in `domain`, each in an isolating box with its
+/// certified Morse index, or the undecided regions (see the module doc).
+pub fn critical_points_of_f(f: &dyn Implicit, domain: Bx, budget: Budget) -> CriticalReport {
+    let sys = Gradient { f };
+    solve(&sys, Problem::Gradient, domain, budget)
+}
+
+/// Every critical point of the height ⟨n, x⟩ on S = {f = 0} ∩ `domain`, n = e₁ × e₂
+/// from the frame of `direction` (`None`: [`DEFAULT_DIRECTION`]), with the Morse
+/// index of the height on S. A zero or non-finite direction falls back to the default.
+pub fn critical_points_on_surface(
+    f: &dyn Implicit,
+    domain: Bx,
+    direction: Option<[f64; 3]>,
+    budget: Budget,
+) -> CriticalReport {
+    let frame = direction
+        .and_then(Frame::new)
+        .or_else(|| Frame::new(DEFAULT_DIRECTION))
+        .expect("the default direction is a unit vector");
+    let sys = Height {
+        f,
+        frame,
+        e1: frame.e1.map(pt),
+        e2: frame.e2.map(pt),
+        n: frame.normal(),
+    };
+    let problem = Problem::Height {
+        direction: frame.d,
+        e1: frame.e1,
+        e2: frame.e2,
+        normal: sys.n.map(|x| x.mid()),
+    };
+    solve(&sys, problem, domain, budget)
+}
+
+/// The Euler characteristic of S = {f = 0} ∩ `domain` by Morse counting of a height.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct EulerReport {
+    /// χ(S), present only when certified.
+    pub chi: Option<i64>,
+    /// Why χ is not certified (`None` when it is).
+    pub reason: Option<String>,
+    /// Certified minima, saddles, maxima.
+    pub minima: usize,
+    pub saddles: usize,
+    pub maxima: usize,
+    /// 0 ∉ □f proven on the six faces of the domain.
+    pub boundary_clear: bool,
+    pub surface: CriticalReport,
+}
+
+/// χ(S) = #min − #saddle + #max of the height on S, certified only if the search is
+/// complete, every index is certified and S does not meet ∂domain (module doc).
+pub fn euler_characteristic(
+    f: &dyn Implicit,
+    domain: Bx,
+    direction: Option<[f64; 3]>,
+    budget: Budget,
+) -> EulerReport {
+    let surface = critical_points_on_surface(f, domain, direction, budget);
+    let ([minima, saddles, maxima, _], no_index) = surface.index_counts();
+    let boundary_clear = boundary_clear(f, domain, 2 * budget.nonsmooth_depth.max(8));
+    let reason = if !f.is_rigorous() {
+        Some("the oracle's interval methods are not rigorous".to_string())
+    } else if !boundary_clear {
+        Some("the surface meets the domain boundary (or 0 ∈ □f on a boundary face could not be excluded)".to_string())
+    } else if !surface.complete {
+        let mut reasons: Vec<String> = surface
+            .undecided
+            .iter()
+            .map(|u| format!("{:?}", u.reason))
+            .collect();
+        reasons.sort();
+        reasons.dedup();
+        Some(format!(
+            "the critical-point search is incomplete: {} undecided boxes ({})",
+            surface.undecided.len(),
+            reasons.join(", ")
+        ))
+    } else if no_index > 0 {
+        Some(format!("{no_index} critical points without a certified index (possibly degenerate)"))
+    } else {
+        None
+    };
+    let chi = reason
+        .is_none()
+        .then_some(minima as i64 - saddles as i64 + maxima as i64);
+    EulerReport {
+        chi,
+        reason,
+        minima,
+        saddles,
+        maxima,
+        boundary_clear,
+        surface,
+    }
+}
+
+/// Is 0 ∉ □f proven on the six faces of the domain (each face subdivided up to
+/// `max_depth` bisections)?
+pub fn boundary_clear(f: &dyn Implicit, domain: Bx, max_depth: u32) -> bool {
+    for axis in 0..3 {
+        for side in [domain.lo[axis], domain.hi[axis]] {
+            let mut face = domain;
+            face.lo[axis] = side;
+            face.hi[axis] = side;
+            let mut stack = vec![(face.to_ibox(), 0u32)];
+            while let Some((b, depth)) = stack.pop() {
+                let (v, _) = crate::implicit::ops::enclose(f, &b);
+                if excludes_zero(v) {
+                    continue;
+                }
+                if depth >= max_depth {
+                    return false;
+                }
+                let (l, r) = bisect(&b);
+                stack.push((l, depth + 1));
+                stack.push((r, depth + 1));
+            }
+        }
+    }
+    true
+}
+
+// ---------------------------------------------------------------------------------
+// The branch and bound.
+
+fn widths(x: &IBox) -> [f64; 3] {
+    x.map(|i| i.wid())
+}
+
+fn bisect(x: &IBox) -> (IBox, IBox) {
+    let w = widths(x);
+    let k = (0..3).max_by(|&i, &j| w[i].total_cmp(&w[j])).unwrap_or(0);
+    let m = x[k].mid();
+    let mut l = *x;
+    let mut r = *x;
+    l[k] = Interval::try_from((x[k].inf(), m)).unwrap_or(x[k]);
+    r[k] = Interval::try_from((m, x[k].sup())).unwrap_or(x[k]);
+    (l, r)
+}
+
+fn subset(a: &IBox, b: &IBox) -> bool {
+    (0..3).all(|k| a[k].subset(b[k]))
+}
+
+fn intersect(a: &IBox, b: &IBox) -> IBox {
+    [0, 1, 2].map(|k| a[k].intersection(b[k]))
+}
+
+fn is_empty(a: &IBox) -> bool {
+    a.iter().any(|x| x.is_empty())
+}
+
+fn contains_zero(x: Interval) -> bool {
+    !excludes_zero(x) && !x.is_empty()
+}
+
+/// An isolating box and the enclosure of its one zero.
+struct Isolated {
+    iso: IBox,
+    encl: IBox,
+}
+
+struct Search<'s, S: System> {
+    sys: &'s S,
+    domain: IBox,
+    budget: Budget,
+    found: Vec<Isolated>,
+    points: Vec<CriticalPoint>,
+    undecided: Vec<UndecidedBox>,
+    stats: Stats,
+}
+
+/// The Krawczyk step on a smooth box: the operator, or `None` if J(X) has no usable
+/// midpoint inverse.
+fn krawczyk_step<S: System>(sys: &S, x: &IBox, jx: &IMat<3>) -> Option<(IBox, f64)> {
+    let y = linalg::inverse(&linalg::mid_mat(jx))?;
+    let m = [0, 1, 2].map(|k| x[k].mid());
+    let fm = sys.at(m);
+    Some(linalg::krawczyk(x, &m, &fm, jx, &y))
+}
+
+impl<S: System> Search<'_, S> {
+    /// Record an isolating box `iso` (f smooth on it, K(iso) ⊂ int iso) with first
+    /// enclosure `k`.
+    fn isolate(&mut self, iso: IBox, k: IBox, depth: u32) {
+        let mut encl = intersect(&k, &iso);
+        for _ in 0..self.budget.shrink_steps {
+            let (_, j) = self.sys.enclose(&encl);
+            let Some((k2, _)) = krawczyk_step(self.sys, &encl, &j) else {
+                break;
+            };
+            let next = intersect(&k2, &encl);
+            if is_empty(&next) {
+                break; // cannot happen for a box holding a zero; keep the last one
+            }
+            let shrunk = (0..3).any(|i| next[i].wid() < 0.7 * encl[i].wid());
+            encl = next;
+            if !shrunk {
+                break;
+            }
+        }
+        // Same zero as an earlier box, a different one, or undecided.
+        for other in &self.found {
+            if subset(&encl, &other.iso) || subset(&other.encl, &iso) {
+                return; // the same zero, already accounted for
+            }
+        }
+        for other in &self.found {
+            if !is_empty(&intersect(&encl, &other.encl)) {
+                self.undecided.push(UndecidedBox {
+                    region: Bx::from_ibox(&encl),
+                    reason: Reason::Ambiguous,
+                    depth,
+                });
+                self.found.push(Isolated { iso, encl });
+                return;
+            }
+        }
+        let inside = subset(&encl, &self.domain);
+        let outside = is_empty(&intersect(&encl, &self.domain));
+        if inside {
+            let (index, value) = self.sys.classify(&encl);
+            let e = Bx::from_ibox(&encl);
+            self.points.push(CriticalPoint {
+                enclosure: e,
+                isolating: Bx::from_ibox(&iso),
+                point: e.mid(),
+                value: [value.inf(), value.sup()],
+                index,
+            });
+        } else if !outside {
+            self.undecided.push(UndecidedBox {
+                region: Bx::from_ibox(&encl),
+                reason: Reason::OnDomainBoundary,
+                depth,
+            });
+        }
+        self.found.push(Isolated { iso, encl });
+    }
+
+    /// A float Newton iterate from `m`, if it converges.
+    fn newton(&self, m: [f64; 3]) -> Option<[f64; 3]> {
+        let mut p = m;
+        for _ in 0..20 {
+            let (fp, j) = self.sys.float(p);
+            let step = linalg::solve(&j, &fp)?;
+            let q = [0, 1, 2].map(|k| p[k] - step[k]);
+            let len = step.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+            if !len.is_finite() {
+                return None;
+            }
+            p = q;
+            if len <= 1e-14 * (1.0 + p.iter().fold(0.0f64, |s, x| s.max(x.abs()))) {
+                return Some(p);
+            }
+        }
+        None
+    }
+
+    /// Try an isolating box around a Newton iterate from the middle of x.
+    fn inflate(&mut self, x: &IBox, depth: u32) -> bool {
+        let m = [0, 1, 2].map(|k| x[k].mid());
+        let Some(p) = self.newton(m) else {
+            return false;
+        };
+        let w = widths(x);
+        let r = w.iter().fold(0.0f64, |s, &v| s.max(v));
+        // Only a zero near x helps here.
+        if (0..3).any(|k| (p[k] - m[k]).abs() > w[k]) {
+            return false;
+        }
+        let xp: IBox = [0, 1, 2].map(|k| {
+            Interval::try_from((p[k] - r, p[k] + r)).unwrap_or(Interval::ENTIRE)
+        });
+        if self.sys.f().regularity(&xp) != Regularity::Smooth {
+            return false;
+        }
+        let (_, j) = self.sys.enclose(&xp);
+        self.stats.krawczyk_tests += 1;
+        let Some((k, _)) = krawczyk_step(self.sys, &xp, &j) else {
+            return false;
+        };
+        if linalg::strictly_inside(&k, &xp) {
+            self.stats.inflations += 1;
+            self.isolate(xp, k, depth);
+            true
+        } else {
+            false
+        }
+    }
+
+    fn undecided(&mut self, x: &IBox, reason: Reason, depth: u32) {
+        self.undecided.push(UndecidedBox {
+            region: Bx::from_ibox(x),
+            reason,
+            depth,
+        });
+    }
+
+    fn run(&mut self) {
+        let mut stack: Vec<(IBox, u32, bool)> = vec![(self.domain, 0, false)];
+        while let Some((x, depth, parent_smooth)) = stack.pop() {
+            if self.stats.boxes >= self.budget.max_boxes {
+                self.undecided(&x, Reason::Budget, depth);
+                for (y, d, _) in std::mem::take(&mut stack) {
+                    self.undecided(&y, Reason::Budget, d);
+                }
+                break;
+            }
+            self.stats.boxes += 1;
+            self.stats.max_depth = self.stats.max_depth.max(depth);
+            if self.found.iter().any(|c| subset(&x, &c.iso)) {
+                self.stats.covered += 1;
+                continue;
+            }
+            // f is C^∞ near a sub-box of a box where it is C^∞ near.
+            let reg = if parent_smooth {
+                Regularity::Smooth
+            } else {
+                self.sys.f().regularity(&x)
+            };
+            if reg != Regularity::Smooth {
+                if self.sys.exclude_nonsmooth(&x, reg) {
+                    self.stats.excluded += 1;
+                    continue;
+                }
+                if depth >= self.budget.max_depth.min(self.budget.nonsmooth_depth) {
+                    let why = if reg == Regularity::Continuous {
+                        Reason::NotDifferentiable
+                    } else {
+                        Reason::NotContinuous
+                    };
+                    self.undecided(&x, why, depth);
+                } else {
+                    let (l, r) = bisect(&x);
+                    stack.push((l, depth + 1, false));
+                    stack.push((r, depth + 1, false));
+                }
+                continue;
+            }
+            let (fx, jx) = self.sys.enclose(&x);
+            if fx.iter().any(|&v| !contains_zero(v)) {
+                self.stats.excluded += 1;
+                continue;
+            }
+            // Centred form Fᵢ(m) + Jᵢ(X)(X − m).
+            let m = [0, 1, 2].map(|k| x[k].mid());
+            let fm = self.sys.at(m);
+            let xm: [Interval; 3] = [0, 1, 2].map(|k| x[k] - pt(m[k]));
+            let centred = linalg::mat_vec(&jx, &xm);
+            if (0..3).any(|i| !contains_zero(fm[i] + centred[i])) {
+                self.stats.excluded += 1;
+                continue;
+            }
+            let mut next = x;
+            let mut contracts = false;
+            if let Some(y) = linalg::inverse(&linalg::mid_mat(&jx)) {
+                self.stats.krawczyk_tests += 1;
+                let (k, norm) = linalg::krawczyk(&x, &m, &fm, &jx, &y);
+                if linalg::disjoint(&k, &x) {
+                    self.stats.excluded += 1;
+                    continue;
+                }
+                if linalg::strictly_inside(&k, &x) {
+                    self.isolate(x, k, depth);
+                    continue;
+                }
+                contracts = norm < 0.5;
+                // Every zero of x lies in K(x) ∩ x.
+                let kx = intersect(&k, &x);
+                if !is_empty(&kx) {
+                    next = kx;
+                }
+            }
+            if contracts && self.inflate(&x, depth) && self.found.last().is_some_and(|c| subset(&x, &c.iso)) {
+                self.stats.covered += 1;
+                continue;
+            }
+            if depth >= self.budget.max_depth {
+                let reason = if contains_zero(linalg::det(&jx)) {
+                    Reason::PossiblyDegenerate
+                } else {
+                    Reason::DepthLimit
+                };
+                self.undecided(&x, reason, depth);
+                continue;
+            }
+            let (wx, wn) = (widths(&x), widths(&next));
+            let wmax = |w: [f64; 3]| w.iter().fold(0.0f64, |s, &v| s.max(v));
+            if wmax(wn) < 0.7 * wmax(wx) {
+                stack.push((next, depth + 1, true));
+            } else {
+                let (l, r) = bisect(&next);
+                stack.push((l, depth + 1, true));
+                stack.push((r, depth + 1, true));
+            }
+        }
+    }
+}
+
+fn solve<S: System>(sys: &S, problem: Problem, domain: Bx, budget: Budget) -> CriticalReport {
+    let t0 = Instant::now();
+    let mut s = Search {
+        sys,
+        domain: domain.to_ibox(),
+        budget,
+        found: Vec::new(),
+        points: Vec::new(),
+        undecided: Vec::new(),
+        stats: Stats::default(),
+    };
+    if sys.f().is_rigorous() {
+        s.run();
+    } else {
+        let d = s.domain;
+        s.undecided(&d, Reason::NotRigorous, 0);
+    }
+    s.stats.millis = t0.elapsed().as_secs_f64() * 1e3;
+    CriticalReport {
+        problem,
+        domain,
+        complete: s.undecided.is_empty(),
+        points: s.points,
+        undecided: s.undecided,
+        stats: s.stats,
+    }
+}
