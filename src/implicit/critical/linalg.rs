@@ -68,7 +68,8 @@ pub fn mid_mat<const N: usize>(a: &IMat<N>) -> [[f64; N]; N] {
 /// affects how soon the Krawczyk test succeeds, not its correctness.
 pub fn inverse<const N: usize>(a: &[[f64; N]; N]) -> Option<[[f64; N]; N]> {
     let mut m = *a;
-    let mut inv: [[f64; N]; N] = std::array::from_fn(|i| std::array::from_fn(|j| (i == j) as u8 as f64));
+    let mut inv: [[f64; N]; N] =
+        std::array::from_fn(|i| std::array::from_fn(|j| (i == j) as u8 as f64));
     let scale = a.iter().flatten().fold(0.0f64, |s, x| s.max(x.abs()));
     if !(scale.is_finite() && scale > 0.0) {
         return None;
@@ -103,7 +104,9 @@ pub fn inverse<const N: usize>(a: &[[f64; N]; N]) -> Option<[[f64; N]; N]> {
 /// Solve a float linear system by the inverse (for float Newton steps).
 pub fn solve<const N: usize>(a: &[[f64; N]; N], b: &[f64; N]) -> Option<[f64; N]> {
     let y = inverse(a)?;
-    Some(std::array::from_fn(|i| (0..N).map(|j| y[i][j] * b[j]).sum()))
+    Some(std::array::from_fn(|i| {
+        (0..N).map(|j| y[i][j] * b[j]).sum()
+    }))
 }
 
 /// The Krawczyk operator
@@ -130,12 +133,15 @@ pub fn krawczyk<const N: usize>(
 ) -> (IVec<N>, f64) {
     let yi = to_imat(y);
     let yj = mat_mul(&yi, jx);
-    let c: IMat<N> = std::array::from_fn(|i| {
-        std::array::from_fn(|j| pt((i == j) as u8 as f64) - yj[i][j])
-    });
+    let c: IMat<N> =
+        std::array::from_fn(|i| std::array::from_fn(|j| pt((i == j) as u8 as f64) - yj[i][j]));
     let norm = c
         .iter()
-        .map(|r| r.iter().map(|e| if e.is_empty() { f64::INFINITY } else { e.mag() }).sum::<f64>())
+        .map(|r| {
+            r.iter()
+                .map(|e| if e.is_empty() { f64::INFINITY } else { e.mag() })
+                .sum::<f64>()
+        })
         .fold(0.0f64, f64::max);
     let xm: IVec<N> = std::array::from_fn(|k| x[k] - pt(m[k]));
     let yfm = mat_vec(&yi, fm);

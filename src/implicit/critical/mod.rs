@@ -556,7 +556,9 @@ pub fn euler_characteristic(
             reasons.join(", ")
         ))
     } else if no_index > 0 {
-        Some(format!("{no_index} critical points without a certified index (possibly degenerate)"))
+        Some(format!(
+            "{no_index} critical points without a certified index (possibly degenerate)"
+        ))
     } else {
         None
     };
@@ -749,9 +751,8 @@ impl<S: System> Search<'_, S> {
         if (0..3).any(|k| (p[k] - m[k]).abs() > w[k]) {
             return false;
         }
-        let xp: IBox = [0, 1, 2].map(|k| {
-            Interval::try_from((p[k] - r, p[k] + r)).unwrap_or(Interval::ENTIRE)
-        });
+        let xp: IBox =
+            [0, 1, 2].map(|k| Interval::try_from((p[k] - r, p[k] + r)).unwrap_or(Interval::ENTIRE));
         if self.sys.f().regularity(&xp) != Regularity::Smooth {
             return false;
         }
@@ -852,7 +853,10 @@ impl<S: System> Search<'_, S> {
                     next = kx;
                 }
             }
-            if contracts && self.inflate(&x, depth) && self.found.last().is_some_and(|c| subset(&x, &c.iso)) {
+            if contracts
+                && self.inflate(&x, depth)
+                && self.found.last().is_some_and(|c| subset(&x, &c.iso))
+            {
                 self.stats.covered += 1;
                 continue;
             }
