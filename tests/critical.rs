@@ -493,3 +493,58 @@ fn catalog_census() {
         }
     }
 }
+
+/// f = xy + z²: ∇f = (y, x, 2z), zero only at the origin; H = [[0,1,0],[1,0,0],[0,0,2]]
+/// has eigenvalues −1, 1, 2 (index 1) and a zero leading minor in every ordering of the
+/// variables, so Jacobi's rule alone cannot decide it: the congruence must.
+#[test]
+fn saddle_with_zero_diagonal() {
+    let f = formula("x*y + z^2");
+    let r = critical_points_of_f(
+        &f,
+        Bx::new([-1.0, -0.7, -1.3], [1.1, 1.0, 0.9]),
+        Budget::default(),
+    );
+    assert!(r.complete, "{:?}", r.undecided);
+    assert_eq!(r.points.len(), 1);
+    assert!(r.points[0].enclosure.contains([0.0; 3]));
+    assert_eq!(r.points[0].index, MorseIndex::Certified { index: 1 });
+    check_by_newton(&f, &r);
+}
+
+/// f = x⁴ + y² + z²: one critical point, the origin, degenerate (H = diag(0, 2, 2)).
+/// The Jacobian is singular there, so no Krawczyk test can succeed: the search must
+/// end with undecided "possibly degenerate" boxes around the origin and certify
+/// nothing.
+#[test]
+fn degenerate_minimum_is_reported() {
+    let f = formula("x^4 + y^2 + z^2");
+    let r = critical_points_of_f(
+        &f,
+        Bx::new([-1.0, -0.9, -1.1], [1.2, 1.0, 0.8]),
+        Budget {
+            max_depth: 30,
+            ..Budget::default()
+        },
+    );
+    println!("{}", summary("x^4 + y^2 + z^2", &r));
+    assert!(r.points.is_empty(), "{:?}", r.points);
+    assert!(!r.complete);
+    assert!(r
+        .undecided
+        .iter()
+        .all(|u| u.reason == Reason::PossiblyDegenerate));
+    for u in &r.undecided {
+        let b = u.region;
+        // Each undecided box is near the origin (at most its own diameter away).
+        let diam = (0..3)
+            .map(|k| (b.hi[k] - b.lo[k]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let c = b.mid();
+        assert!(
+            (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt() <= diam + 0.2,
+            "{b:?}"
+        );
+    }
+}
