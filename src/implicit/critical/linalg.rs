@@ -376,8 +376,11 @@ mod tests {
 
     #[test]
     fn inertia_by_jacobi() {
-        // [[0, 1], [1, 0]]: D₁ = 0 in both orders: undecided, correctly.
-        assert_eq!(inertia(&to_imat(&[[0.0, 1.0], [1.0, 0.0]])), None);
+        // [[0, 1], [1, 0]] (eigenvalues ±1): D₁ = 0 in both orders, so Jacobi's rule
+        // alone is undecided; the congruence decides index 1.
+        let s = to_imat(&[[0.0, 1.0], [1.0, 0.0]]);
+        assert_eq!(jacobi_count(&s, &[0, 1]), None);
+        assert_eq!(inertia(&s), Some(1));
         // diag(−1, 2, −3): two negative eigenvalues.
         let d = to_imat(&[[-1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, -3.0]]);
         assert_eq!(inertia(&d), Some(2));
