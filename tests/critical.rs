@@ -378,6 +378,25 @@ fn euler_tanglecube() {
     assert_eq!(chi_of("tanglecube", Budget::default()).0, Some(-8));
 }
 
+/// Two spheres 0.02 apart: two components, χ = 2 + 2 (the seeds' hard case).
+#[test]
+fn euler_two_spheres() {
+    assert_eq!(chi_of("two-spheres", Budget::default()).0, Some(4));
+}
+
+/// Genus 5 thickened disk: χ = 2 − 10 = −8 (about 0.6 s, 45k boxes).
+#[test]
+fn euler_genus5() {
+    assert_eq!(chi_of("genus5", Budget::default()).0, Some(-8));
+}
+
+/// The double cone x² + y² − z² is singular at the origin and meets the domain
+/// boundary: never a χ.
+#[test]
+fn double_cone_is_not_certified() {
+    assert_eq!(chi_of("double-cone", Budget::default()).0, None);
+}
+
 /// The axis of the torus of revolution as height direction: the top and bottom
 /// circles (z = ±r) are circles of critical points. No χ may be certified.
 #[test]
@@ -426,6 +445,29 @@ impl GenericFn for Quadric {
             }
         }
         s
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+    /// A random ellipsoid with a random height direction: a sphere, χ = 2, with one
+    /// minimum and one maximum (an ellipsoid's height has no saddles).
+    #[test]
+    fn random_ellipsoids_chi_2(
+        ax in prop::array::uniform3(0.3f64..1.0),
+        c in prop::array::uniform3(-0.3f64..0.3),
+        d in prop::array::uniform3(-1.0f64..1.0),
+    ) {
+        let dn = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        prop_assume!(dn > 0.1);
+        let f = formula(&format!(
+            "(x - {})^2/{} + (y - {})^2/{} + (z - {})^2/{} - 1",
+            c[0], ax[0] * ax[0], c[1], ax[1] * ax[1], c[2], ax[2] * ax[2]
+        ));
+        let r = euler_characteristic(&f, cube(1.5), Some(d), Budget::default());
+        prop_assert_eq!(r.chi, Some(2), "{:?}", r.reason);
+        prop_assert_eq!((r.minima, r.saddles, r.maxima), (1, 0, 1));
+        check_by_newton(&f, &r.surface);
     }
 }
 
