@@ -25,7 +25,7 @@ pub fn mat_vec<const N: usize>(a: &IMat<N>, x: &IVec<N>) -> IVec<N> {
     std::array::from_fn(|i| {
         let mut s = pt(0.0);
         for j in 0..N {
-            s = s + a[i][j] * x[j];
+            s += a[i][j] * x[j];
         }
         s
     })
@@ -37,7 +37,7 @@ pub fn mat_mul<const N: usize>(a: &IMat<N>, b: &IMat<N>) -> IMat<N> {
         std::array::from_fn(|j| {
             let mut s = pt(0.0);
             for k in 0..N {
-                s = s + a[i][k] * b[k][j];
+                s += a[i][k] * b[k][j];
             }
             s
         })
@@ -76,7 +76,7 @@ pub fn inverse<const N: usize>(a: &[[f64; N]; N]) -> Option<[[f64; N]; N]> {
     }
     for c in 0..N {
         let p = (c..N).max_by(|&i, &j| m[i][c].abs().total_cmp(&m[j][c].abs()))?;
-        if !(m[p][c].abs() > 1e-13 * scale) {
+        if m[p][c].is_nan() || m[p][c].abs() <= 1e-13 * scale {
             return None;
         }
         m.swap(p, c);
@@ -273,6 +273,7 @@ pub fn inertia<const N: usize>(a: &IMat<N>) -> Option<usize> {
 
 /// Float eigenvectors (columns) of a symmetric matrix by cyclic Jacobi rotations.
 /// Only a change of basis for [`inertia`]: its accuracy is never relied on.
+#[allow(clippy::needless_range_loop)]
 pub fn eigenvectors<const N: usize>(a: &[[f64; N]; N]) -> [[f64; N]; N] {
     let mut m = *a;
     let mut v: [[f64; N]; N] =

@@ -73,15 +73,15 @@ use std::time::Instant;
 
 pub mod linalg;
 
-/// The default height direction: (1/π, 1/e, 1/√2), normalised. Generic for the
-/// catalog's symmetric surfaces: no coordinate plane or diagonal contains it and its
-/// components are distinct, so no symmetry of the torus, tanglecube or genus-2
-/// surface fixes it (an axis direction gives circles of critical points on a torus
-/// of revolution).
+/// The default height direction, (1/π, 1/e, 1/√2) before normalisation (the frame
+/// normalises it). Generic for the catalog's symmetric surfaces: no coordinate plane
+/// or diagonal contains it and its components are distinct, so no symmetry of the
+/// torus, tanglecube or genus-2 surface fixes it (an axis direction gives circles of
+/// critical points on a torus of revolution).
 pub const DEFAULT_DIRECTION: [f64; 3] = [
-    0.318_309_886_183_790_7,
+    std::f64::consts::FRAC_1_PI,
     0.367_879_441_171_442_3,
-    0.707_106_781_186_547_5,
+    std::f64::consts::FRAC_1_SQRT_2,
 ];
 
 /// A box as bounds (serialisable).
