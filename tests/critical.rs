@@ -590,3 +590,23 @@ fn degenerate_minimum_is_reported() {
         );
     }
 }
+
+/// Curves, degenerate domains and non-rigorous oracles are refused, never certified;
+/// a report survives a JSON round trip.
+#[test]
+fn refusals_and_serde() {
+    let c = Formula::curve("x^2 + y^2 - 1").unwrap();
+    let r = critical_points_of_f(&c, cube(1.5), Budget::default());
+    assert!(!r.complete && r.points.is_empty());
+    assert_eq!(r.undecided[0].reason, Reason::Unsupported);
+    let f = formula("x^2 + y^2 + z^2 - 1");
+    let flat = Bx::new([-1.0, -1.0, 0.0], [1.0, 1.0, 0.0]);
+    let r = critical_points_on_surface(&f, flat, None, Budget::default());
+    assert_eq!(r.undecided[0].reason, Reason::Unsupported);
+    let r = euler_characteristic(&f, cube(1.5), None, Budget::default());
+    let text = serde_json::to_string(&r).unwrap();
+    let back: certmesh::implicit::critical::EulerReport = serde_json::from_str(&text).unwrap();
+    assert_eq!(back.chi, Some(2));
+    assert_eq!(back.surface.points.len(), 2);
+    assert_eq!(back.surface.points[0].index, r.surface.points[0].index);
+}
