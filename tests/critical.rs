@@ -467,6 +467,10 @@ proptest! {
         let r = euler_characteristic(&f, cube(1.5), Some(d), Budget::default());
         prop_assert_eq!(r.chi, Some(2), "{:?}", r.reason);
         prop_assert_eq!((r.minima, r.saddles, r.maxima), (1, 0, 1));
+        // The minimum of the height lies below its maximum (catches a sign error in
+        // the restricted Hessian, which χ alone cannot: it swaps 0 and 2).
+        let v = |i: u8| r.surface.points.iter().find(|p| p.index.index() == Some(i)).unwrap().value;
+        prop_assert!(v(0)[1] < v(2)[0], "{:?} {:?}", v(0), v(2));
         check_by_newton(&f, &r.surface);
     }
 }
