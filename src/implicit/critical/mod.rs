@@ -349,7 +349,12 @@ pub fn euler_characteristic(
 ) -> EulerReport {
     let surface = critical_points_on_surface(f, domain, direction, budget);
     let ([minima, saddles, maxima, _], no_index) = surface.index_counts();
-    let boundary_clear = boundary_clear(f, domain, 2 * budget.nonsmooth_depth.max(8));
+    let boundary_clear = boundary_clear(
+        f,
+        domain,
+        2 * budget.nonsmooth_depth.max(8),
+        budget.max_boxes,
+    );
     let reason = if !f.is_rigorous() {
         Some("the oracle's interval methods are not rigorous".to_string())
     } else if !boundary_clear {
@@ -389,8 +394,9 @@ pub fn euler_characteristic(
 }
 
 /// Is 0 ∉ □f proven on the six faces of the domain (each face subdivided up to
-/// `max_depth` bisections)?
-pub fn boundary_clear(f: &dyn Implicit, domain: Bx, max_depth: u32) -> bool {
+/// `max_depth` bisections, `max_boxes` boxes in all)?
+pub fn boundary_clear(f: &dyn Implicit, domain: Bx, max_depth: u32, max_boxes: usize) -> bool {
+    let mut boxes = 0usize;
     for axis in 0..3 {
         for side in [domain.lo[axis], domain.hi[axis]] {
             let mut face = domain;
@@ -398,6 +404,10 @@ pub fn boundary_clear(f: &dyn Implicit, domain: Bx, max_depth: u32) -> bool {
             face.hi[axis] = side;
             let mut stack = vec![(face.to_ibox(), 0u32)];
             while let Some((b, depth)) = stack.pop() {
+                boxes += 1;
+                if boxes > max_boxes {
+                    return false;
+                }
                 let (v, _) = crate::implicit::ops::enclose(f, &b);
                 if excludes_zero(v) {
                     continue;

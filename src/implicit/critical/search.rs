@@ -103,7 +103,9 @@ impl<S: System> Search<'_, S> {
         // Same zero as an earlier box, a different one, or undecided.
         for other in &self.found {
             if subset(&encl, &other.iso) || subset(&other.encl, &iso) {
-                return; // the same zero, already accounted for
+                // The same zero, already accounted for; iso still covers boxes.
+                self.found.push(Isolated { iso, encl });
+                return;
             }
         }
         for other in &self.found {
