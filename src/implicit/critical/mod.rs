@@ -4,7 +4,7 @@
 //! critical point of a generic height function on S reaches every component) and the
 //! Morse census.
 //!
-//! Two problems, one branch-and-bound ([`solve`]):
+//! Two problems, one branch-and-bound (`search.rs`):
 //! * [`critical_points_of_f`]: ∇f = 0 in a box (Jacobian: the Hessian);
 //! * [`critical_points_on_surface`]: critical points of the height h(x) = ⟨n, x⟩ on
 //!   S = {f = 0}, i.e. F(x) = (f, ∇f·e₁, ∇f·e₂) = 0 with e₁, e₂ ⊥ n (Jacobian rows ∇f,
