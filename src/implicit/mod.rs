@@ -7,6 +7,7 @@
 //! * [`FromGeneric`]: Rust code generic over [`Num`] (every mode, rigorous);
 //! * [`PointFn`]: a plain `Fn([f64;3]) -> f64` with a Lipschitz bound (intervals from
 //!   the bound; used for signed distance to a mesh).
+pub mod critical;
 pub mod directed;
 pub mod expr;
 pub mod number;

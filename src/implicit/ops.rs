@@ -12,6 +12,7 @@
 //! | [`locate`], [`crossing_t`] | the position of one crossing between two points of opposite sign (bisection, or the linear fast path); no certificate | every lattice and subdivision mesher |
 //! | [`project`], [`project_steps`] | Newton projection onto f = 0 (no certificate) | GradNormal, MidNormal, the fidelity metrics |
 //! | [`Implicit::regularity`] | f defined, continuous, C^∞ on a box | every certified criterion |
+//! | [`critical_points_of_f`](crate::implicit::critical::critical_points_of_f), [`critical_points_on_surface`](crate::implicit::critical::critical_points_on_surface), [`euler_characteristic`](crate::implicit::critical::euler_characteristic) | every critical point of f (∇f = 0), or of a height ⟨n, x⟩ on f = 0, in its own existence-and-uniqueness box (interval Krawczyk), every other box excluded or reported undecided; the Morse index from a certified Hessian inertia; χ(S) by Morse counting | restricted-Delaunay seeds, the Morse census |
 //!
 //! Certified critical points of f on a box face or segment (interval Newton /
 //! Krawczyk) belong here too; the Delaunay-refinement and Morse methods that need them
