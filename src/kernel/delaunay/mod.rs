@@ -218,8 +218,46 @@ impl Delaunay {
                 Err(e) => unreachable!("bulk insertion of point {i}: {e}"),
             }
         }
-        bulk.duplicates.sort_unstable();
+        t.first_occurrence_wins(&mut bulk);
         Ok((t, bulk))
+    }
+
+    /// The insertion order is random, so a later copy of a point may have been
+    /// inserted first: relabel so that the smallest input index of each point is the
+    /// inserted vertex and the others are reported as its duplicates.
+    fn first_occurrence_wins(&mut self, bulk: &mut Bulk) {
+        use std::collections::HashMap;
+        let mut groups: HashMap<usize, usize> = HashMap::new(); // inserted -> min index
+        for &(i, w) in &bulk.duplicates {
+            let m = groups.entry(w).or_insert(w);
+            *m = (*m).min(i);
+        }
+        let relabel: HashMap<u32, u32> = groups
+            .iter()
+            .filter(|(w, m)| m < w)
+            .map(|(&w, &m)| (FAR + w as u32, FAR + m as u32))
+            .collect();
+        if !relabel.is_empty() {
+            for c in self.cells.iter_mut().filter(|c| c.v[0] != DEAD) {
+                for v in c.v.iter_mut() {
+                    if let Some(&m) = relabel.get(v) {
+                        *v = m;
+                    }
+                }
+            }
+            for (&w, &m) in &relabel {
+                self.vcell[m as usize] = self.vcell[w as usize];
+                self.vcell[w as usize] = NONE;
+            }
+        }
+        for d in bulk.duplicates.iter_mut() {
+            let m = groups[&d.1];
+            if d.0 == m {
+                d.0 = d.1; // the one inserted first is now the duplicate
+            }
+            d.1 = m;
+        }
+        bulk.duplicates.sort_unstable();
     }
 
     /// Insert `p`, walking from the last created cell. Returns the new vertex, or the
