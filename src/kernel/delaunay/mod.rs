@@ -47,8 +47,10 @@ mod report;
 pub use check::CheckReport;
 pub use report::{build_report, circumcentre, random_points, tet_mesh, write_vtk, DelaunayReport, ReportOptions, Sampler};
 
-/// Index of a vertex: 0..8 are the far corners, then vertices in the order they were
-/// added ([`Delaunay::from_points`] gives input point `i` the id `FAR + i`).
+/// Index of a vertex: 0..8 are the far corners, then the bulk input in insertion order
+/// (use [`Delaunay::vertex_of_input`] / [`Delaunay::input_index`]; storing points in
+/// their spatially sorted insertion order keeps coordinate reads cache-local), then
+/// vertices added by [`Delaunay::insert`] in the order they were added.
 pub type VertexId = u32;
 /// Index of a cell slot.
 pub type CellId = u32;
@@ -121,6 +123,10 @@ pub struct Delaunay {
     pub(crate) rng: u64,
     pub(crate) last: u32,
     pub(crate) live: usize,
+    /// Bulk input: vertex `FAR + r` is input point `input_of[r]`.
+    pub(crate) input_of: Vec<u32>,
+    /// Bulk input: input point `i` is vertex `vertex_of[i]`.
+    pub(crate) vertex_of: Vec<u32>,
     /// Far box: lower and upper corner.
     pub lo: [f64; 3],
     pub hi: [f64; 3],
@@ -164,6 +170,8 @@ impl Delaunay {
             rng: seed ^ 0x5DEE_CE66_D1CE_0001,
             last: 0,
             live: 0,
+            input_of: Vec::new(),
+            vertex_of: Vec::new(),
             lo: flo,
             hi: fhi,
         };
@@ -177,8 +185,9 @@ impl Delaunay {
     }
 
     /// Build the triangulation of `points` (BRIO + Hilbert order from `seed`). Input
-    /// point `i` becomes vertex `FAR + i`; duplicates are listed in [`Bulk`] and not
-    /// inserted. Errors on a non-finite coordinate, naming the point.
+    /// point `i` becomes vertex [`Delaunay::vertex_of_input`]`(i)`; duplicates are
+    /// listed in [`Bulk`] and not inserted (the first occurrence is). Errors on a
+    /// non-finite coordinate, naming the point.
     pub fn from_points(points: &[[f64; 3]], seed: u64) -> Result<(Self, Bulk), crate::error::Error> {
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
@@ -201,21 +210,27 @@ impl Delaunay {
             return Err(crate::error::Error::TooLarge(format!("{} points", points.len())));
         }
         let mut t = Self::with_domain(lo, hi, seed)?;
+        let order = order::brio_order(points, seed);
         t.pts.reserve(points.len());
-        t.pts.extend_from_slice(points);
+        t.pts.extend(order.iter().map(|&i| points[i as usize]));
         t.vcell.resize(t.pts.len(), NONE);
+        t.vertex_of = vec![0; points.len()];
+        for (r, &i) in order.iter().enumerate() {
+            t.vertex_of[i as usize] = FAR + r as u32;
+        }
+        t.input_of = order;
         // About 6.5 cells per vertex for random points.
         t.cells.reserve(points.len() * 13 / 2 + 64);
         t.stamp.reserve(points.len() * 13 / 2 + 64);
         let mut bulk = Bulk::default();
-        for i in order::brio_order(points, seed) {
-            let v = FAR + i;
+        for r in 0..points.len() as u32 {
+            let v = FAR + r;
             match t.insert_vertex(v, t.last) {
                 Ok(()) => {}
-                Err(InsertError::Duplicate(w)) => {
-                    bulk.duplicates.push((i as usize, (w - FAR) as usize))
-                }
-                Err(e) => unreachable!("bulk insertion of point {i}: {e}"),
+                Err(InsertError::Duplicate(w)) => bulk
+                    .duplicates
+                    .push((t.input_of[r as usize] as usize, t.input_of[(w - FAR) as usize] as usize)),
+                Err(e) => unreachable!("bulk insertion of point {}: {e}", t.input_of[r as usize]),
             }
         }
         t.first_occurrence_wins(&mut bulk);
@@ -223,8 +238,8 @@ impl Delaunay {
     }
 
     /// The insertion order is random, so a later copy of a point may have been
-    /// inserted first: relabel so that the smallest input index of each point is the
-    /// inserted vertex and the others are reported as its duplicates.
+    /// inserted first: swap the input labels so that the smallest input index of each
+    /// point is the inserted vertex and the others are reported as its duplicates.
     fn first_occurrence_wins(&mut self, bulk: &mut Bulk) {
         use std::collections::HashMap;
         let mut groups: HashMap<usize, usize> = HashMap::new(); // inserted -> min index
@@ -232,22 +247,13 @@ impl Delaunay {
             let m = groups.entry(w).or_insert(w);
             *m = (*m).min(i);
         }
-        let relabel: HashMap<u32, u32> = groups
-            .iter()
-            .filter(|(w, m)| m < w)
-            .map(|(&w, &m)| (FAR + w as u32, FAR + m as u32))
-            .collect();
-        if !relabel.is_empty() {
-            for c in self.cells.iter_mut().filter(|c| c.v[0] != DEAD) {
-                for v in c.v.iter_mut() {
-                    if let Some(&m) = relabel.get(v) {
-                        *v = m;
-                    }
-                }
-            }
-            for (&w, &m) in &relabel {
-                self.vcell[m as usize] = self.vcell[w as usize];
-                self.vcell[w as usize] = NONE;
+        for (&w, &m) in &groups {
+            if m < w {
+                let (vw, vm) = (self.vertex_of[w], self.vertex_of[m]);
+                self.vertex_of[w] = vm;
+                self.vertex_of[m] = vw;
+                self.input_of[(vw - FAR) as usize] = m as u32;
+                self.input_of[(vm - FAR) as usize] = w as u32;
             }
         }
         for d in bulk.duplicates.iter_mut() {
@@ -321,6 +327,21 @@ impl Delaunay {
     }
     pub fn point(&self, v: VertexId) -> [f64; 3] {
         self.pts[v as usize]
+    }
+    /// The vertex holding bulk input point `i` (inserted, or its duplicate slot).
+    pub fn vertex_of_input(&self, i: usize) -> VertexId {
+        self.vertex_of[i]
+    }
+    /// The bulk input index of vertex `v`; `None` for far vertices and for vertices
+    /// added by [`Delaunay::insert`].
+    pub fn input_index(&self, v: VertexId) -> Option<usize> {
+        v.checked_sub(FAR)
+            .and_then(|r| self.input_of.get(r as usize))
+            .map(|&i| i as usize)
+    }
+    /// Number of bulk input points.
+    pub fn num_inputs(&self) -> usize {
+        self.input_of.len()
     }
     pub fn is_far(&self, v: VertexId) -> bool {
         v < FAR
@@ -401,6 +422,8 @@ impl Delaunay {
             + self.stamp.capacity() * 4
             + self.vcell.capacity() * 4
             + self.free.capacity() * 4
+            + self.input_of.capacity() * 4
+            + self.vertex_of.capacity() * 4
             + self.cavity.capacity() * 4
             + self.bnd.capacity() * std::mem::size_of::<Boundary>()
             + self.table.capacity() * std::mem::size_of::<Slot>()

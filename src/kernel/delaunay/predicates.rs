@@ -145,6 +145,88 @@ pub fn insphere(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 3])
     if det > bound || -det > bound {
         return -det;
     }
+    insphere_stage2(a, b, c, d, e, perm)
+}
+
+// Second stage: double-double arithmetic. The differences are exact (two_diff), each
+// product and sum carries a relative/absolute error of a few ε² of its operands'
+// magnitudes, so the error of the whole evaluation is below a few hundred ε²·perm.
+// DD_BOUND = 2^-80·perm is 2^26 ε²·perm: a margin of over 10^5. Outside the exponent
+// range where that analysis holds (underflow of the low parts, overflow), and when the
+// value does not clear the bound, the exact adaptive predicate decides.
+const DD_BOUND: f64 = 8.271806125530277e-25; // 2^-80
+const DD_MIN_PERM: f64 = 1.1830521861667747e-271; // about 2^-900
+const DD_MAX_PERM: f64 = 1.0715086071862673e301; // 2^1000
+
+#[derive(Clone, Copy)]
+struct Dd(f64, f64);
+
+#[inline(always)]
+fn two_diff(a: f64, b: f64) -> Dd {
+    let s = a - b;
+    let bb = s - a;
+    let e = (a - (s - bb)) - (b + bb);
+    Dd(s, e)
+}
+#[inline(always)]
+fn quick_two_sum(a: f64, b: f64) -> Dd {
+    let s = a + b;
+    Dd(s, b - (s - a))
+}
+#[inline(always)]
+fn mul(x: Dd, y: Dd) -> Dd {
+    let p = x.0 * y.0;
+    let e = x.0.mul_add(y.0, -p) + (x.0 * y.1 + x.1 * y.0);
+    quick_two_sum(p, e)
+}
+#[inline(always)]
+fn add(x: Dd, y: Dd) -> Dd {
+    let s = x.0 + y.0;
+    let bb = s - x.0;
+    let e = (x.0 - (s - bb)) + (y.0 - bb) + (x.1 + y.1);
+    quick_two_sum(s, e)
+}
+#[inline(always)]
+fn sub(x: Dd, y: Dd) -> Dd {
+    add(x, Dd(-y.0, -y.1))
+}
+
+#[inline(never)]
+fn insphere_stage2(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 3], perm: f64) -> f64 {
+    if perm > DD_MIN_PERM && perm < DD_MAX_PERM {
+        let aex = two_diff(a[0], e[0]);
+        let bex = two_diff(b[0], e[0]);
+        let cex = two_diff(c[0], e[0]);
+        let dex = two_diff(d[0], e[0]);
+        let aey = two_diff(a[1], e[1]);
+        let bey = two_diff(b[1], e[1]);
+        let cey = two_diff(c[1], e[1]);
+        let dey = two_diff(d[1], e[1]);
+        let aez = two_diff(a[2], e[2]);
+        let bez = two_diff(b[2], e[2]);
+        let cez = two_diff(c[2], e[2]);
+        let dez = two_diff(d[2], e[2]);
+        let ab = sub(mul(aex, bey), mul(bex, aey));
+        let bc = sub(mul(bex, cey), mul(cex, bey));
+        let cd = sub(mul(cex, dey), mul(dex, cey));
+        let da = sub(mul(dex, aey), mul(aex, dey));
+        let ac = sub(mul(aex, cey), mul(cex, aey));
+        let bd = sub(mul(bex, dey), mul(dex, bey));
+        let abc = add(sub(mul(aez, bc), mul(bez, ac)), mul(cez, ab));
+        let bcd = add(sub(mul(bez, cd), mul(cez, bd)), mul(dez, bc));
+        let cda = add(add(mul(cez, da), mul(dez, ac)), mul(aez, cd));
+        let dab = add(add(mul(dez, ab), mul(aez, bd)), mul(bez, da));
+        let alift = add(add(mul(aex, aex), mul(aey, aey)), mul(aez, aez));
+        let blift = add(add(mul(bex, bex), mul(bey, bey)), mul(bez, bez));
+        let clift = add(add(mul(cex, cex), mul(cey, cey)), mul(cez, cez));
+        let dlift = add(add(mul(dex, dex), mul(dey, dey)), mul(dez, dez));
+        let det = add(sub(mul(dlift, abc), mul(clift, dab)), sub(mul(blift, cda), mul(alift, bcd)));
+        let v = det.0 + det.1;
+        let bound = DD_BOUND * perm;
+        if v > bound || -v > bound {
+            return -v;
+        }
+    }
     -robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e))
 }
 

@@ -109,12 +109,23 @@ pub fn build_report(points: &[[f64; 3]], opts: ReportOptions) -> Result<(Delauna
     Ok((t, report))
 }
 
-/// The tetrahedra with no far vertex, over the input points (vertex `i` = input point
-/// `i`; duplicates are unreferenced vertices).
+/// The tetrahedra with no far vertex. Mesh vertex `i` is bulk input point `i`
+/// (duplicates are unreferenced vertices), then come the points added by
+/// [`Delaunay::insert`] in the order they were added.
 pub fn tet_mesh(t: &Delaunay) -> TetMesh {
+    let n = t.num_inputs();
+    let index = |v: u32| match t.input_index(v) {
+        Some(i) => i as u32,
+        None => v - FAR,
+    };
+    let mut vertices = vec![[0.0; 3]; t.points().len() - FAR as usize];
+    for v in FAR..t.points().len() as u32 {
+        vertices[index(v) as usize] = t.point(v);
+    }
+    debug_assert!(vertices.len() >= n);
     TetMesh {
-        vertices: t.points()[FAR as usize..].to_vec(),
-        tets: t.finite_cells().map(|c| t.cell_vertices(c).map(|v| v - FAR)).collect(),
+        vertices,
+        tets: t.finite_cells().map(|c| t.cell_vertices(c).map(index)).collect(),
     }
 }
 
