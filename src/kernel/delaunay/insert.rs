@@ -81,7 +81,8 @@ impl Delaunay {
     #[inline]
     pub(crate) fn in_conflict(&self, c: u32, p: [f64; 3]) -> bool {
         let v = self.cells[c as usize].v;
-        let q = v.map(|v| self.pts[v as usize]);
+        let pts = &self.pts[..];
+        let q = [pts[v[0] as usize], pts[v[1] as usize], pts[v[2] as usize], pts[v[3] as usize]];
         insphere_sos(q[0], q[1], q[2], q[3], p) > 0
     }
 
@@ -142,8 +143,9 @@ impl Delaunay {
             self.free.push(cc);
         }
         self.live -= cavity.len();
-        // Gluing table: power of two ≥ 2 × (3 × boundary facets / 2).
-        let need = (bnd.len() * 3).next_power_of_two().max(64);
+        // Gluing table: power of two ≥ 4 × (3 × boundary facets / 2) entries, so
+        // linear probing stays short.
+        let need = (bnd.len() * 6).next_power_of_two().max(128);
         if self.table.len() < need {
             self.table = vec![Slot::default(); need];
             self.gen = 0;
@@ -155,6 +157,7 @@ impl Delaunay {
         }
         let gen = self.gen;
         let mask = self.table.len() - 1;
+        let shift = 64 - self.table.len().trailing_zeros();
         let mut last = NONE;
         for b in &bnd {
             let i = b.i as usize;
@@ -178,8 +181,8 @@ impl Delaunay {
                     }
                 }
                 let (a, bb) = if e[0] < e[1] { (e[0], e[1]) } else { (e[1], e[0]) };
-                let mut h = ((a as u64).wrapping_mul(0x9E37_79B1) ^ (bb as u64).wrapping_mul(0x85EB_CA77)) as usize
-                    & mask;
+                // Multiplicative hashing: the top bits of the product.
+                let mut h = ((((a as u64) << 32) | bb as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> shift) as usize;
                 let code = id * 4 + j as u32;
                 loop {
                     let s = &mut self.table[h];
