@@ -147,3 +147,59 @@ pub fn check(t: &Delaunay) -> CheckReport {
     r.valid = r.first_problem.is_none();
     r
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::delaunay::{random_points, Sampler, DEAD};
+
+    fn base() -> Delaunay {
+        Delaunay::from_points(&random_points(200, Sampler::Uniform, 5), 1).unwrap().0
+    }
+
+    /// The check is not vacuous: each kind of corruption is caught.
+    #[test]
+    fn corruptions_are_detected() {
+        let t = base();
+        assert!(t.check().valid);
+        let c = t.finite_cells().next().unwrap() as usize;
+
+        let mut u = t.clone();
+        u.cells[c].v.swap(0, 1); // negative orientation (and neighbours now mismatched)
+        let r = u.check();
+        assert!(!r.valid && r.non_positive_cells >= 1, "{r:?}");
+
+        let mut u = t.clone();
+        let n = u.cells[c].n[0];
+        u.cells[c].n[0] = u.cells[c].n[1];
+        u.cells[c].n[1] = n;
+        let r = u.check();
+        assert!(!r.valid && r.asymmetric_neighbours >= 1, "{r:?}");
+
+        let mut u = t.clone();
+        u.vcell[u.cells[c].v[0] as usize] = NONE;
+        assert!(!u.check().valid);
+
+        // A non-Delaunay but otherwise valid triangulation: move a vertex slightly
+        // (keeping orientations) so that some facet is no longer locally Delaunay.
+        let mut found = false;
+        for v in FAR_START..t.pts.len() {
+            let mut u = t.clone();
+            let p = u.pts[v];
+            u.pts[v] = [p[0] * 1.05, p[1] * 1.05, p[2] * 1.05];
+            let r = u.check();
+            if r.non_positive_cells == 0 && r.non_delaunay_facets > 0 {
+                assert!(!r.valid);
+                found = true;
+                break;
+            }
+        }
+        assert!(found);
+
+        let mut u = t.clone();
+        u.cells[c].v[0] = DEAD; // a cell vanishes: hole
+        assert!(!u.check().valid);
+    }
+
+    const FAR_START: usize = crate::kernel::delaunay::FAR as usize;
+}
