@@ -27,11 +27,15 @@ fn main() {
                     buf.extend_from_slice(&x.to_le_bytes());
                 }
             }
-            std::fs::File::create(&a[4]).and_then(|mut f| f.write_all(&buf)).expect("write");
+            std::fs::File::create(&a[4])
+                .and_then(|mut f| f.write_all(&buf))
+                .expect("write");
         }
         Some("run") => {
             let mut data = Vec::new();
-            std::fs::File::open(&a[1]).and_then(|mut f| f.read_to_end(&mut data)).expect("read");
+            std::fs::File::open(&a[1])
+                .and_then(|mut f| f.read_to_end(&mut data))
+                .expect("read");
             let n = u64::from_le_bytes(data[..8].try_into().unwrap()) as usize;
             let pts: Vec<[f64; 3]> = (0..n)
                 .map(|i| {
@@ -56,6 +60,8 @@ fn main() {
                 println!("valid {} {:?}", r.valid, r.first_problem);
             }
         }
-        _ => eprintln!("usage: delaunay write N uniform|sphere|torus SEED FILE | run FILE [--check]"),
+        _ => {
+            eprintln!("usage: delaunay write N uniform|sphere|torus SEED FILE | run FILE [--check]")
+        }
     }
 }

@@ -34,7 +34,9 @@ fn coord_cells(t: &Delaunay) -> BTreeSet<[[u64; 3]; 4]> {
 /// All 4-sets of the triangulation's inserted vertices whose (perturbed) circumsphere
 /// is empty: the Delaunay tetrahedra of the perturbed point set.
 fn brute_force(t: &Delaunay) -> BTreeSet<Tet> {
-    let ids: Vec<u32> = (0..t.points().len() as u32).filter(|&v| t.is_inserted(v)).collect();
+    let ids: Vec<u32> = (0..t.points().len() as u32)
+        .filter(|&v| t.is_inserted(v))
+        .collect();
     let p = |v: u32| t.point(v);
     let mut out = BTreeSet::new();
     let n = ids.len();
@@ -50,9 +52,10 @@ fn brute_force(t: &Delaunay) -> BTreeSet<Tet> {
                     if o < 0.0 {
                         q.swap(0, 1);
                     }
-                    let empty = ids.iter().filter(|e| !q.contains(e)).all(|&e| {
-                        insphere_sos(p(q[0]), p(q[1]), p(q[2]), p(q[3]), p(e)) < 0
-                    });
+                    let empty = ids
+                        .iter()
+                        .filter(|e| !q.contains(e))
+                        .all(|&e| insphere_sos(p(q[0]), p(q[1]), p(q[2]), p(q[3]), p(e)) < 0);
                     if empty {
                         out.insert(sorted(q));
                     }
@@ -72,7 +75,8 @@ fn assert_valid(t: &Delaunay) {
 fn volume6(t: &Delaunay, c: u32) -> f64 {
     let p = t.cell_vertices(c).map(|v| t.point(v));
     let d: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|k| p[i + 1][k] - p[0][k]));
-    (d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0])
+    (d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1])
+        - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0])
         + d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]))
 }
 
@@ -222,7 +226,10 @@ fn duplicates_are_reported_not_inserted() {
     assert_eq!(t.input_index(v42), Some(42));
     assert_eq!(t.insert(pts[42]), Err(InsertError::Duplicate(v42)));
     let c = t.incident_cell(v42).unwrap();
-    assert_eq!(t.insert_in_conflict_with(pts[42], c), Err(InsertError::Duplicate(v42)));
+    assert_eq!(
+        t.insert_in_conflict_with(pts[42], c),
+        Err(InsertError::Duplicate(v42))
+    );
     assert_eq!(t.insert([0.0, f64::NAN, 0.0]), Err(InsertError::NonFinite));
     assert_eq!(t.insert([1e9, 0.0, 0.0]), Err(InsertError::OutsideDomain));
     assert_valid(&t);
@@ -257,7 +264,11 @@ fn insert_in_conflict_with_circumcentres() {
         if z.iter().any(|x| x.abs() > 1.5) {
             continue;
         }
-        let hint = if inserted % 3 == 0 { t.cells().next().unwrap() } else { c };
+        let hint = if inserted % 3 == 0 {
+            t.cells().next().unwrap()
+        } else {
+            c
+        };
         let v = t.insert_in_conflict_with(z, hint).unwrap();
         assert_eq!(t.point(v), z);
         inserted += 1;
@@ -279,7 +290,9 @@ fn accessors_facets_and_vtk() {
         assert_eq!(t.neighbor(d, j), Some((c, i)));
     }
     for (c, i, _, _) in t.facets(true) {
-        assert!((0..4).filter(|&k| k != i).all(|k| !t.is_far(t.cell_vertices(c)[k])));
+        assert!((0..4)
+            .filter(|&k| k != i)
+            .all(|k| !t.is_far(t.cell_vertices(c)[k])));
     }
     // Circumcentre is equidistant from the 4 vertices.
     for c in t.finite_cells().take(100) {
@@ -287,7 +300,12 @@ fn accessors_facets_and_vtk() {
         let d: Vec<f64> = t
             .cell_vertices(c)
             .iter()
-            .map(|&v| (0..3).map(|k| (t.point(v)[k] - z[k]).powi(2)).sum::<f64>().sqrt())
+            .map(|&v| {
+                (0..3)
+                    .map(|k| (t.point(v)[k] - z[k]).powi(2))
+                    .sum::<f64>()
+                    .sqrt()
+            })
             .collect();
         assert!(d.iter().all(|x| (x - d[0]).abs() <= 1e-6 * d[0]), "{d:?}");
     }
@@ -301,13 +319,24 @@ fn accessors_facets_and_vtk() {
 #[test]
 fn hundred_thousand_random_points() {
     let pts = random_points(100_000, Sampler::Uniform, 1);
-    let (t, rep) = build_report(&pts, ReportOptions { seed: 3, check: true }).unwrap();
+    let (t, rep) = build_report(
+        &pts,
+        ReportOptions {
+            seed: 3,
+            check: true,
+        },
+    )
+    .unwrap();
     let r = rep.check.clone().unwrap();
     assert!(r.valid, "{r:?}");
     assert_eq!(r.vertices_in_cells, 100_008);
     assert_eq!(rep.n_inserted, 100_000);
     // Random points: about 6.7 tetrahedra per point.
-    assert!((6.0..7.5).contains(&(t.num_cells() as f64 / 1e5)), "{}", t.num_cells());
+    assert!(
+        (6.0..7.5).contains(&(t.num_cells() as f64 / 1e5)),
+        "{}",
+        t.num_cells()
+    );
     let json = serde_json::to_string(&rep).unwrap();
     assert!(json.contains("\"points_per_second\""));
 }

@@ -53,13 +53,13 @@ pub fn check(t: &Delaunay) -> CheckReport {
         if cell.v.iter().any(|&v| v as usize >= t.pts.len()) {
             r.non_positive_cells += 1;
             let msg = format!("cell {c} has vertex ids {:?} out of range", cell.v);
-        note(&mut r, msg);
+            note(&mut r, msg);
             continue;
         }
         if orient3d(p[0], p[1], p[2], p[3]) <= 0.0 {
             r.non_positive_cells += 1;
             let msg = format!("cell {c} {:?} is not positively oriented", cell.v);
-        note(&mut r, msg);
+            note(&mut r, msg);
         }
         for a in 0..4 {
             in_cells[cell.v[a] as usize] = true;
@@ -79,23 +79,34 @@ pub fn check(t: &Delaunay) -> CheckReport {
             let (d, j) = (n >> 2, (n & 3) as usize);
             if !t.is_live(d) || t.cells[d as usize].n[j] != c * 4 + i as u32 {
                 r.asymmetric_neighbours += 1;
-                note(&mut r, format!("cell {c} facet {i}: neighbour code {n} does not point back"));
+                note(
+                    &mut r,
+                    format!("cell {c} facet {i}: neighbour code {n} does not point back"),
+                );
                 continue;
             }
             let other = t.cells[d as usize];
-            let shared = (0..4).filter(|&k| k != i).all(|k| other.v.contains(&cell.v[k]))
+            let shared = (0..4)
+                .filter(|&k| k != i)
+                .all(|k| other.v.contains(&cell.v[k]))
                 && !cell.v.contains(&other.v[j]);
             if !shared {
                 r.asymmetric_neighbours += 1;
-                note(&mut r, format!("cells {c} and {d} do not share facet {i}'s vertices"));
+                note(
+                    &mut r,
+                    format!("cells {c} and {d} do not share facet {i}'s vertices"),
+                );
                 continue;
             }
             if c < d {
                 let w = t.pts[other.v[j] as usize];
                 if insphere_sos(p[0], p[1], p[2], p[3], w) >= 0 {
                     r.non_delaunay_facets += 1;
-                    let msg = format!("facet {i} of cell {c}: vertex {} of cell {d} is inside its circumsphere", other.v[j]);
-        note(&mut r, msg);
+                    let msg = format!(
+                        "facet {i} of cell {c}: vertex {} of cell {d} is inside its circumsphere",
+                        other.v[j]
+                    );
+                    note(&mut r, msg);
                 }
             }
         }
@@ -103,19 +114,26 @@ pub fn check(t: &Delaunay) -> CheckReport {
     r.edges = edges.len();
     r.vertices_in_cells = in_cells.iter().filter(|&&b| b).count();
     let faces = faces2 / 2;
-    r.euler_characteristic = r.vertices_in_cells as i64 - r.edges as i64 + faces as i64 - r.cells as i64;
+    r.euler_characteristic =
+        r.vertices_in_cells as i64 - r.edges as i64 + faces as i64 - r.cells as i64;
     for (v, &c) in t.vcell.iter().enumerate() {
         if c == NONE {
             if in_cells[v] {
                 r.bad_incident_cells += 1;
-                note(&mut r, format!("vertex {v} is in a cell but marked not inserted"));
+                note(
+                    &mut r,
+                    format!("vertex {v} is in a cell but marked not inserted"),
+                );
             }
             continue;
         }
         r.inserted_vertices += 1;
         if !t.is_live(c) || !t.cells[c as usize].v.contains(&(v as u32)) {
             r.bad_incident_cells += 1;
-            note(&mut r, format!("vertex {v}: incident cell {c} does not hold it"));
+            note(
+                &mut r,
+                format!("vertex {v}: incident cell {c} does not hold it"),
+            );
         }
     }
     let mut pos: Vec<[u64; 3]> = (0..t.pts.len())
@@ -133,11 +151,17 @@ pub fn check(t: &Delaunay) -> CheckReport {
         note(&mut r, msg);
     }
     if r.euler_characteristic != 1 {
-        let msg = format!("Euler characteristic {} (expected 1)", r.euler_characteristic);
+        let msg = format!(
+            "Euler characteristic {} (expected 1)",
+            r.euler_characteristic
+        );
         note(&mut r, msg);
     }
     if r.inserted_vertices != r.vertices_in_cells {
-        let msg = format!("{} inserted vertices but {} in cells", r.inserted_vertices, r.vertices_in_cells);
+        let msg = format!(
+            "{} inserted vertices but {} in cells",
+            r.inserted_vertices, r.vertices_in_cells
+        );
         note(&mut r, msg);
     }
     if r.cells != t.live {
@@ -154,7 +178,9 @@ mod tests {
     use crate::kernel::delaunay::{random_points, Sampler, DEAD};
 
     fn base() -> Delaunay {
-        Delaunay::from_points(&random_points(200, Sampler::Uniform, 5), 1).unwrap().0
+        Delaunay::from_points(&random_points(200, Sampler::Uniform, 5), 1)
+            .unwrap()
+            .0
     }
 
     /// The check is not vacuous: each kind of corruption is caught.

@@ -28,9 +28,9 @@ impl Delaunay {
                             t.swap(0, 1);
                         }
                         let p = t.map(|v| self.pts[v as usize]);
-                        let empty = (0..8u32)
-                            .filter(|e| !t.contains(e))
-                            .all(|e| insphere_sos(p[0], p[1], p[2], p[3], self.pts[e as usize]) < 0);
+                        let empty = (0..8u32).filter(|e| !t.contains(e)).all(|e| {
+                            insphere_sos(p[0], p[1], p[2], p[3], self.pts[e as usize]) < 0
+                        });
                         if empty {
                             tets.push(t);
                         }
@@ -82,7 +82,12 @@ impl Delaunay {
     pub(crate) fn in_conflict(&self, c: u32, p: [f64; 3]) -> bool {
         let v = self.cells[c as usize].v;
         let pts = &self.pts[..];
-        let q = [pts[v[0] as usize], pts[v[1] as usize], pts[v[2] as usize], pts[v[3] as usize]];
+        let q = [
+            pts[v[0] as usize],
+            pts[v[1] as usize],
+            pts[v[2] as usize],
+            pts[v[3] as usize],
+        ];
         insphere_sos(q[0], q[1], q[2], q[3], p) > 0
     }
 
@@ -134,7 +139,11 @@ impl Delaunay {
                 }
                 let mut nv = cell.v;
                 nv[i] = v;
-                bnd.push(Boundary { v: nv, i: i as u32, outer: n });
+                bnd.push(Boundary {
+                    v: nv,
+                    i: i as u32,
+                    outer: n,
+                });
             }
         }
         // Free the cavity.
@@ -161,7 +170,10 @@ impl Delaunay {
         let mut last = NONE;
         for b in &bnd {
             let i = b.i as usize;
-            let id = self.push_cell(Cell { v: b.v, n: [NONE; 4] });
+            let id = self.push_cell(Cell {
+                v: b.v,
+                n: [NONE; 4],
+            });
             let idu = id as usize;
             self.cells[idu].n[i] = b.outer;
             if b.outer != NONE {
@@ -180,14 +192,24 @@ impl Delaunay {
                         m += 1;
                     }
                 }
-                let (a, bb) = if e[0] < e[1] { (e[0], e[1]) } else { (e[1], e[0]) };
+                let (a, bb) = if e[0] < e[1] {
+                    (e[0], e[1])
+                } else {
+                    (e[1], e[0])
+                };
                 // Multiplicative hashing: the top bits of the product.
-                let mut h = ((((a as u64) << 32) | bb as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> shift) as usize;
+                let mut h = ((((a as u64) << 32) | bb as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+                    >> shift) as usize;
                 let code = id * 4 + j as u32;
                 loop {
                     let s = &mut self.table[h];
                     if s.gen != gen {
-                        *s = Slot { gen, a, b: bb, code };
+                        *s = Slot {
+                            gen,
+                            a,
+                            b: bb,
+                            code,
+                        };
                         break;
                     }
                     if s.a == a && s.b == bb {

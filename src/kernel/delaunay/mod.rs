@@ -45,7 +45,10 @@ pub mod predicates;
 mod report;
 
 pub use check::CheckReport;
-pub use report::{build_report, circumcentre, random_points, tet_mesh, write_vtk, DelaunayReport, ReportOptions, Sampler};
+pub use report::{
+    build_report, circumcentre, random_points, tet_mesh, write_vtk, DelaunayReport, ReportOptions,
+    Sampler,
+};
 
 /// Index of a vertex: 0..8 are the far corners, then the bulk input in insertion order
 /// (use [`Delaunay::vertex_of_input`] / [`Delaunay::input_index`]; storing points in
@@ -150,11 +153,17 @@ impl Delaunay {
         }
         let c: [f64; 3] = std::array::from_fn(|k| 0.5 * (lo[k] + hi[k]));
         let r = ((0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>()).sqrt() * 0.5;
-        let h = if r > 0.0 { 10.0 * r } else { 1.0f64.max(c.iter().fold(0.0f64, |m, x| m.max(x.abs())) * 1e-3) };
+        let h = if r > 0.0 {
+            10.0 * r
+        } else {
+            1.0f64.max(c.iter().fold(0.0f64, |m, x| m.max(x.abs())) * 1e-3)
+        };
         let flo = c.map(|x| x - h);
         let fhi = c.map(|x| x + h);
         if !flo.iter().chain(fhi.iter()).all(|x| x.is_finite()) {
-            return Err(crate::error::Error::Domain("delaunay far box overflows".into()));
+            return Err(crate::error::Error::Domain(
+                "delaunay far box overflows".into(),
+            ));
         }
         let mut t = Delaunay {
             pts: Vec::new(),
@@ -188,7 +197,10 @@ impl Delaunay {
     /// point `i` becomes vertex [`Delaunay::vertex_of_input`]`(i)`; duplicates are
     /// listed in [`Bulk`] and not inserted (the first occurrence is). Errors on a
     /// non-finite coordinate, naming the point.
-    pub fn from_points(points: &[[f64; 3]], seed: u64) -> Result<(Self, Bulk), crate::error::Error> {
+    pub fn from_points(
+        points: &[[f64; 3]],
+        seed: u64,
+    ) -> Result<(Self, Bulk), crate::error::Error> {
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
         for (i, p) in points.iter().enumerate() {
@@ -207,7 +219,10 @@ impl Delaunay {
             hi = [0.0; 3];
         }
         if points.len() as u64 + FAR as u64 >= (1u64 << 30) {
-            return Err(crate::error::Error::TooLarge(format!("{} points", points.len())));
+            return Err(crate::error::Error::TooLarge(format!(
+                "{} points",
+                points.len()
+            )));
         }
         let mut t = Self::with_domain(lo, hi, seed)?;
         let order = order::brio_order(points, seed);
@@ -227,9 +242,10 @@ impl Delaunay {
             let v = FAR + r;
             match t.insert_vertex(v, t.last) {
                 Ok(()) => {}
-                Err(InsertError::Duplicate(w)) => bulk
-                    .duplicates
-                    .push((t.input_of[r as usize] as usize, t.input_of[(w - FAR) as usize] as usize)),
+                Err(InsertError::Duplicate(w)) => bulk.duplicates.push((
+                    t.input_of[r as usize] as usize,
+                    t.input_of[(w - FAR) as usize] as usize,
+                )),
                 Err(e) => unreachable!("bulk insertion of point {}: {e}", t.input_of[r as usize]),
             }
         }
@@ -277,11 +293,20 @@ impl Delaunay {
     /// known to contain `p` (e.g. `p` on the Voronoi edge dual to one of its facets):
     /// no walk. If the hint is not a live cell in conflict with `p`, falls back to a
     /// walk from the hint.
-    pub fn insert_in_conflict_with(&mut self, p: [f64; 3], cell_hint: CellId) -> Result<VertexId, InsertError> {
+    pub fn insert_in_conflict_with(
+        &mut self,
+        p: [f64; 3],
+        cell_hint: CellId,
+    ) -> Result<VertexId, InsertError> {
         self.insert_from(p, cell_hint, true)
     }
 
-    fn insert_from(&mut self, p: [f64; 3], hint: CellId, conflict_hint: bool) -> Result<VertexId, InsertError> {
+    fn insert_from(
+        &mut self,
+        p: [f64; 3],
+        hint: CellId,
+        conflict_hint: bool,
+    ) -> Result<VertexId, InsertError> {
         if !p.iter().all(|x| x.is_finite()) {
             return Err(InsertError::NonFinite);
         }
@@ -317,7 +342,10 @@ impl Delaunay {
     }
 
     pub(crate) fn vertex_of(&self, c: u32, p: [f64; 3]) -> Option<u32> {
-        self.cells[c as usize].v.into_iter().find(|&w| self.pts[w as usize] == p)
+        self.cells[c as usize]
+            .v
+            .into_iter()
+            .find(|&w| self.pts[w as usize] == p)
     }
 
     /// All vertex positions (far corners first); ids of points not inserted
@@ -367,7 +395,11 @@ impl Delaunay {
     }
     /// The ids of live cells.
     pub fn cells(&self) -> impl Iterator<Item = CellId> + '_ {
-        self.cells.iter().enumerate().filter(|(_, c)| c.v[0] != DEAD).map(|(i, _)| i as u32)
+        self.cells
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.v[0] != DEAD)
+            .map(|(i, _)| i as u32)
     }
     /// Live cells with no far vertex.
     pub fn finite_cells(&self) -> impl Iterator<Item = CellId> + '_ {
@@ -400,7 +432,10 @@ impl Delaunay {
     }
     /// Each interior facet once, as `(cell, facet, other cell, its facet)` with
     /// `cell < other`; `finite_only` skips facets with a far vertex.
-    pub fn facets(&self, finite_only: bool) -> impl Iterator<Item = (CellId, usize, CellId, usize)> + '_ {
+    pub fn facets(
+        &self,
+        finite_only: bool,
+    ) -> impl Iterator<Item = (CellId, usize, CellId, usize)> + '_ {
         self.cells().flat_map(move |c| {
             let cell = self.cells[c as usize];
             (0..4).filter_map(move |i| {

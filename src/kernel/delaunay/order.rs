@@ -145,7 +145,9 @@ mod tests {
     #[test]
     fn brio_is_a_permutation() {
         let mut r = SplitMix(3);
-        let pts: Vec<[f64; 3]> = (0..1000).map(|_| [r.next_f64(), r.next_f64(), r.next_f64()]).collect();
+        let pts: Vec<[f64; 3]> = (0..1000)
+            .map(|_| [r.next_f64(), r.next_f64(), r.next_f64()])
+            .collect();
         let mut o = brio_order(&pts, 1);
         o.sort();
         assert!(o.iter().enumerate().all(|(i, &v)| v as usize == i));

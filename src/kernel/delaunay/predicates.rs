@@ -129,17 +129,11 @@ pub fn insphere(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 3])
         + (dexbeyp + bexdeyp) * cezp
         + (bexceyp + cexbeyp) * dezp)
         * alift
-        + ((dexaeyp + aexdeyp) * cezp
-            + (aexceyp + cexaeyp) * dezp
-            + (cexdeyp + dexceyp) * aezp)
+        + ((dexaeyp + aexdeyp) * cezp + (aexceyp + cexaeyp) * dezp + (cexdeyp + dexceyp) * aezp)
             * blift
-        + ((aexbeyp + bexaeyp) * dezp
-            + (bexdeyp + dexbeyp) * aezp
-            + (dexaeyp + aexdeyp) * bezp)
+        + ((aexbeyp + bexaeyp) * dezp + (bexdeyp + dexbeyp) * aezp + (dexaeyp + aexdeyp) * bezp)
             * clift
-        + ((bexceyp + cexbeyp) * aezp
-            + (cexaeyp + aexceyp) * bezp
-            + (aexbeyp + bexaeyp) * cezp)
+        + ((bexceyp + cexbeyp) * aezp + (cexaeyp + aexceyp) * bezp + (aexbeyp + bexaeyp) * cezp)
             * dlift;
     let bound = ISP_BOUND * perm;
     if det > bound || -det > bound {
@@ -192,7 +186,14 @@ fn sub(x: Dd, y: Dd) -> Dd {
 }
 
 #[inline(never)]
-fn insphere_stage2(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 3], perm: f64) -> f64 {
+fn insphere_stage2(
+    a: [f64; 3],
+    b: [f64; 3],
+    c: [f64; 3],
+    d: [f64; 3],
+    e: [f64; 3],
+    perm: f64,
+) -> f64 {
     if perm > DD_MIN_PERM && perm < DD_MAX_PERM {
         let aex = two_diff(a[0], e[0]);
         let bex = two_diff(b[0], e[0]);
@@ -220,7 +221,10 @@ fn insphere_stage2(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 
         let blift = add(add(mul(bex, bex), mul(bey, bey)), mul(bez, bez));
         let clift = add(add(mul(cex, cex), mul(cey, cey)), mul(cez, cez));
         let dlift = add(add(mul(dex, dex), mul(dey, dey)), mul(dez, dez));
-        let det = add(sub(mul(dlift, abc), mul(clift, dab)), sub(mul(blift, cda), mul(alift, bcd)));
+        let det = add(
+            sub(mul(dlift, abc), mul(clift, dab)),
+            sub(mul(blift, cda), mul(alift, bcd)),
+        );
         let v = det.0 + det.1;
         let bound = DD_BOUND * perm;
         if v > bound || -v > bound {

@@ -60,7 +60,10 @@ pub struct ReportOptions {
 
 impl Default for ReportOptions {
     fn default() -> Self {
-        ReportOptions { seed: 1, check: true }
+        ReportOptions {
+            seed: 1,
+            check: true,
+        }
     }
 }
 
@@ -88,7 +91,10 @@ pub struct DelaunayReport {
 
 /// Build the triangulation of `points`, time it, and optionally check it. Errors on a
 /// non-finite coordinate, naming the point.
-pub fn build_report(points: &[[f64; 3]], opts: ReportOptions) -> Result<(Delaunay, DelaunayReport)> {
+pub fn build_report(
+    points: &[[f64; 3]],
+    opts: ReportOptions,
+) -> Result<(Delaunay, DelaunayReport)> {
     let t0 = std::time::Instant::now();
     let (t, bulk) = Delaunay::from_points(points, opts.seed)?;
     let seconds = t0.elapsed().as_secs_f64();
@@ -101,7 +107,11 @@ pub fn build_report(points: &[[f64; 3]], opts: ReportOptions) -> Result<(Delauna
         cells: t.num_cells(),
         finite_cells: t.finite_cells().count(),
         seconds,
-        points_per_second: if seconds > 0.0 { points.len() as f64 / seconds } else { 0.0 },
+        points_per_second: if seconds > 0.0 {
+            points.len() as f64 / seconds
+        } else {
+            0.0
+        },
         memory_bytes: t.memory_bytes(),
         valid: check.as_ref().map(|c| c.valid),
         check,
@@ -125,7 +135,10 @@ pub fn tet_mesh(t: &Delaunay) -> TetMesh {
     debug_assert!(vertices.len() >= n);
     TetMesh {
         vertices,
-        tets: t.finite_cells().map(|c| t.cell_vertices(c).map(index)).collect(),
+        tets: t
+            .finite_cells()
+            .map(|c| t.cell_vertices(c).map(index))
+            .collect(),
     }
 }
 
@@ -138,7 +151,13 @@ pub fn write_vtk(w: impl std::io::Write, t: &Delaunay) -> Result<()> {
 pub fn circumcentre(p: [[f64; 3]; 4]) -> [f64; 3] {
     let d: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|k| p[i + 1][k] - p[0][k]));
     let l: [f64; 3] = d.map(|v| v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    let cross = |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
     let c12 = cross(d[1], d[2]);
     let c20 = cross(d[2], d[0]);
     let c01 = cross(d[0], d[1]);
