@@ -18,7 +18,7 @@ fn bench(c: &mut Criterion) {
     ] {
         let pts = random_points(n, on, 1);
         g.throughput(Throughput::Elements(n as u64));
-        g.measurement_time(Duration::from_secs(if n > 100_000 { 60 } else { 10 }));
+        g.measurement_time(Duration::from_secs(if n > 100_000 { 80 } else { 10 }));
         g.bench_function(name, |b| {
             b.iter(|| Delaunay::from_points(&pts, 1).unwrap().0.num_cells())
         });

@@ -83,8 +83,7 @@ pub struct DelaunayReport {
     pub points_per_second: f64,
     /// Estimated heap bytes of the triangulation.
     pub memory_bytes: usize,
-    /// The check's verdict (true when the check was not run? no: `None` check ⇒ false
-    /// is never claimed; see `check`).
+    /// The check's verdict; `None` when the check was not asked for.
     pub valid: Option<bool>,
     pub check: Option<CheckReport>,
 }
