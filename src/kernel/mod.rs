@@ -2,5 +2,6 @@
 //! orientation predicates ([`predicates`]), and the bounding-volume hierarchy for
 //! closest points and winding numbers ([`bvh`]).
 pub mod bvh;
+pub mod delaunay;
 pub mod geom;
 pub mod predicates;
