@@ -1,8 +1,8 @@
 //! The command line as a user meets it: clear errors with positions, JSON fields.
 //!
-//! Over 800 lines on purpose: one test binary for every subcommand keeps the release
-//! binary built once for the whole file (a binary per subcommand would link it six
-//! times); each test is independent and grouped by subcommand.
+//! Over 800 lines on purpose: every subcommand's tests in one test executable (one
+//! compile and link instead of one per subcommand); each test is independent, and
+//! they are grouped by subcommand.
 use std::process::Command;
 
 fn certmesh(args: &[&str]) -> (i32, String, String) {
