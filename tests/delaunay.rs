@@ -3,7 +3,7 @@
 //! refinement-style insertion, and at scale.
 use certmesh::kernel::delaunay::predicates::{insphere_sos, orient3d};
 use certmesh::kernel::delaunay::{
-    build_report, random_points, Delaunay, InsertError, ReportOptions, Sampler, FAR,
+    build_report, random_points, Delaunay, InsertError, ReportOptions, Sampler,
 };
 use proptest::prelude::*;
 use std::collections::BTreeSet;
@@ -75,9 +75,9 @@ fn assert_valid(t: &Delaunay) {
 fn volume6(t: &Delaunay, c: u32) -> f64 {
     let p = t.cell_vertices(c).map(|v| t.point(v));
     let d: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|k| p[i + 1][k] - p[0][k]));
-    (d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1])
+    d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1])
         - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0])
-        + d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]))
+        + d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0])
 }
 
 proptest! {

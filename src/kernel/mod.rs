@@ -5,3 +5,4 @@ pub mod bvh;
 pub mod delaunay;
 pub mod geom;
 pub mod predicates;
+pub mod rng;

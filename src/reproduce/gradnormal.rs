@@ -117,39 +117,8 @@ pub const PAPER_TABLE1: [(usize, f64, f64, f64, usize, usize); 12] = [
     (5, 0.1, 33.4, 104.4, 471_696, 943_408),
 ];
 
-/// A small deterministic PRNG (splitmix64), so the experiment is reproducible.
-pub struct Rng(u64);
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    pub fn normal(&mut self) -> f64 {
-        let u = self.uniform().max(1e-300);
-        let v = self.uniform();
-        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-    }
-    /// A uniformly distributed unit vector.
-    pub fn unit(&mut self) -> [f64; 3] {
-        loop {
-            let v = [self.normal(), self.normal(), self.normal()];
-            let n = dot(v, v).sqrt();
-            if n > 1e-6 {
-                return [v[0] / n, v[1] / n, v[2] / n];
-            }
-        }
-    }
-}
+/// The experiment's generator (splitmix64, seeded, reproducible).
+pub use crate::kernel::rng::Rng;
 
 /// Largest principal curvature over the mesh vertices (they lie on or near f = 0):
 /// the eigenvalues of the shape operator P H P / |∇f|, P = I − n nᵀ.

@@ -5,25 +5,7 @@
 //! incremental construction. The Hilbert index follows Skilling, "Programming the
 //! Hilbert curve", 2004 (transpose form).
 
-/// SplitMix64: a small, seedable generator for reproducible orders and walks.
-#[derive(Clone, Debug)]
-pub struct SplitMix(pub u64);
-
-impl SplitMix {
-    #[inline]
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    #[inline]
-    pub fn next_f64(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-}
+pub use crate::kernel::rng::Rng as SplitMix;
 
 const BITS: u32 = 21;
 
@@ -146,7 +128,7 @@ mod tests {
     fn brio_is_a_permutation() {
         let mut r = SplitMix(3);
         let pts: Vec<[f64; 3]> = (0..1000)
-            .map(|_| [r.next_f64(), r.next_f64(), r.next_f64()])
+            .map(|_| [r.uniform(), r.uniform(), r.uniform()])
             .collect();
         let mut o = brio_order(&pts, 1);
         o.sort();

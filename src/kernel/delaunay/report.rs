@@ -24,10 +24,10 @@ pub fn random_points(n: usize, on: Sampler, seed: u64) -> Vec<[f64; 3]> {
     while out.len() < n {
         match on {
             Sampler::Uniform => {
-                out.push([0; 3].map(|_| 2.0 * r.next_f64() - 1.0));
+                out.push([0; 3].map(|_| 2.0 * r.uniform() - 1.0));
             }
             Sampler::Sphere => {
-                let q = [0; 3].map(|_| 2.0 * r.next_f64() - 1.0);
+                let q = [0; 3].map(|_| 2.0 * r.uniform() - 1.0);
                 let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
                 if n2 > 1e-6 && n2 <= 1.0 {
                     let s = 1.0 / n2.sqrt();
@@ -36,10 +36,10 @@ pub fn random_points(n: usize, on: Sampler, seed: u64) -> Vec<[f64; 3]> {
             }
             Sampler::Torus => {
                 let (big, small) = (1.0, 0.35);
-                let u = std::f64::consts::TAU * r.next_f64();
-                let v = std::f64::consts::TAU * r.next_f64();
+                let u = std::f64::consts::TAU * r.uniform();
+                let v = std::f64::consts::TAU * r.uniform();
                 // Area element ∝ (R + r cos v): rejection.
-                if r.next_f64() * (big + small) <= big + small * v.cos() {
+                if r.uniform() * (big + small) <= big + small * v.cos() {
                     let w = big + small * v.cos();
                     out.push([w * u.cos(), w * u.sin(), small * v.sin()]);
                 }
