@@ -683,3 +683,56 @@ fn slices_of_meshes() {
         Some(2)
     );
 }
+
+/// The `stats` map is the typed `SubdivisionStats` serialised field by field: it reads
+/// back as the struct, and its counts agree with each other and with the mesh.
+#[test]
+fn subdivision_stats_read_back_as_the_typed_struct() {
+    use certmesh::subdivision::SubdivisionStats;
+    let mut runs: Vec<(&str, MeshOutput)> = Vec::new();
+    let torus = catalog::get("torus").unwrap();
+    let t = torus.function();
+    runs.push((
+        "pv torus",
+        PlantingaVegter::default()
+            .mesh(&t, &torus.domain, &NoProgress)
+            .unwrap(),
+    ));
+    runs.push((
+        "snyder torus",
+        Snyder::default()
+            .mesh(&t, &torus.domain, &NoProgress)
+            .unwrap(),
+    ));
+    let lem = catalog::get("lemniscate").unwrap();
+    let l = lem.function();
+    runs.push((
+        "pv lemniscate",
+        PlantingaVegter2::default()
+            .mesh(&l, &lem.domain, &NoProgress)
+            .unwrap(),
+    ));
+    for (name, out) in runs {
+        let s: SubdivisionStats =
+            serde_json::from_value(serde_json::Value::Object(out.stats.clone()))
+                .unwrap_or_else(|e| panic!("{name}: stats do not read back: {e}"));
+        assert_eq!(s.boxes, s.leaves + s.internal_boxes, "{name}");
+        assert_eq!(
+            s.leaves_by_depth.values().sum::<usize>(),
+            s.leaves,
+            "{name}"
+        );
+        assert_eq!(
+            s.leaves_by_criterion.values().sum::<usize>(),
+            s.leaves,
+            "{name}"
+        );
+        assert_eq!(s.boxes_by_depth.values().sum::<usize>(), s.boxes, "{name}");
+        assert!(s.uncertified_regions >= s.uncertified_boxes, "{name}");
+        assert_eq!(
+            out.certificate.is_certified(),
+            s.uncertified_regions == 0 && s.refinement_complete,
+            "{name}: certified iff nothing is left undecided"
+        );
+    }
+}

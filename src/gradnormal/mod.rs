@@ -33,7 +33,6 @@ use crate::mesh::TriMesh;
 use crate::mesher::options::MesherOptions;
 use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use rayon::prelude::*;
-use serde_json::{json, Map, Value};
 
 /// How a quadrilateral (an elementary normal quadrilateral, or the square left by a
 /// valence-four removal) is split into two triangles.
@@ -313,32 +312,88 @@ impl MidNormal {
     }
 }
 
-fn base_stats(p: &GradNormalParams, g: &Goldberg, ns: &NormalSurface) -> Map<String, Value> {
-    let mut s = Map::new();
-    s.insert("e".into(), json!(g.e));
-    s.insert("a".into(), json!(g.a));
-    s.insert("a_ratio".into(), json!(p.a_ratio));
-    s.insert("quad_rule".into(), json!(p.quad_rule.name()));
-    s.insert("tets_total".into(), json!(ns.stats.tets_total));
-    s.insert("tets_visited".into(), json!(ns.stats.tets_visited));
-    s.insert("crossing_tets".into(), json!(ns.stats.crossing_tets));
-    s.insert("leaf_blocks".into(), json!(ns.stats.leaves));
-    s.insert("interval_evals".into(), json!(ns.stats.interval_evals));
-    s.insert("vertex_evals".into(), json!(ns.stats.point_evals));
-    s
+/// What a MidNormal or GradNormal run did (the part both share), serialised field by
+/// field into the report's `stats` map.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct NormalSurfaceStats {
+    /// The Goldberg tiling's scale e and its parameter a.
+    pub e: f64,
+    pub a: f64,
+    /// a / e as given by `--a`.
+    pub a_ratio: f64,
+    /// The diagonal rule for quadrilaterals.
+    pub quad_rule: &'static str,
+    pub tets_total: u64,
+    pub tets_visited: u64,
+    pub crossing_tets: u64,
+    /// Leaf blocks of the interval pruning.
+    pub leaf_blocks: u64,
+    pub interval_evals: u64,
+    pub vertex_evals: u64,
+    /// The measured triangle angles of the output.
+    pub min_angle_deg: f64,
+    pub max_angle_deg: f64,
+    /// What the paper guarantees about the angles, and when.
+    pub angle_guarantee: &'static str,
+    /// Always false: Theorem 1.1(1) needs an unquantified small e.
+    pub topology_certified: bool,
+    pub topology_note: &'static str,
+}
+
+impl NormalSurfaceStats {
+    fn new(
+        p: &GradNormalParams,
+        g: &Goldberg,
+        x: &midnormal::ExtractStats,
+        mesh: &TriMesh,
+        guarantee: &'static str,
+    ) -> Self {
+        let (lo, hi) = crate::metrics::angles::angle_range_all(mesh);
+        NormalSurfaceStats {
+            e: g.e,
+            a: g.a,
+            a_ratio: p.a_ratio,
+            quad_rule: p.quad_rule.name(),
+            tets_total: x.tets_total,
+            tets_visited: x.tets_visited,
+            crossing_tets: x.crossing_tets,
+            leaf_blocks: x.leaves,
+            interval_evals: x.interval_evals,
+            vertex_evals: x.point_evals,
+            min_angle_deg: lo,
+            max_angle_deg: hi,
+            angle_guarantee: guarantee,
+            topology_certified: false,
+            topology_note: "Theorem 1.1(1) gives the topology of f = 0 only for e small enough, \
+                            which is not quantified",
+        }
+    }
+}
+
+/// GradNormal's statistics: the shared ones and what Algorithm 2 adds.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct GradNormalStats {
+    #[serde(flatten)]
+    pub surface: NormalSurfaceStats,
+    /// The diagonal rule after removing valence-4 vertices.
+    pub v4_rule: &'static str,
+    pub newton_steps: usize,
+    /// Valence-4 vertices: found, removed, removed by the fallback, skipped.
+    pub valence4_found: usize,
+    pub valence4_removed: usize,
+    pub valence4_fallback: usize,
+    pub valence4_skipped: usize,
+    /// Vertices whose Newton projection onto f = 0 failed.
+    pub projection_failures: usize,
+    /// The largest projection displacement, in units of e.
+    pub max_displacement_over_e: f64,
+    /// The largest |f| at a projected vertex.
+    pub max_residual: f64,
 }
 
 /// Nothing is proven: the angle bound is asymptotic and the topology claim holds only
 /// below an unquantified scale (recorded in the statistics, never as a claim).
-fn uncertified(stats: &mut Map<String, Value>) -> Certificate {
-    stats.insert("topology_certified".into(), json!(false));
-    stats.insert(
-        "topology_note".into(),
-        json!(
-            "Theorem 1.1(1) gives the topology of f = 0 only for e small enough, \
-             which is not quantified"
-        ),
-    );
+fn uncertified() -> Certificate {
     Certificate::none("angle bound is asymptotic (e → 0): measured range reported")
 }
 
@@ -352,19 +407,18 @@ impl Mesher for MidNormal {
     fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
         let ns = self.surface(f, domain, progress)?;
         let g = ns.goldberg.unwrap_or_else(|| self.params.goldberg(domain));
-        let mut stats = base_stats(&self.params, &g, &ns);
         let mesh = TriMesh::new(ns.vertices, ns.triangles);
-        let (lo, hi) = crate::metrics::angles::angle_range_all(&mesh);
-        stats.insert("min_angle_deg".into(), json!(lo));
-        stats.insert("max_angle_deg".into(), json!(hi));
-        stats.insert(
-            "angle_guarantee".into(),
-            json!("Lemma 4.1: [45°, 90°] for the Sommerville tiling (exact at the midpoints)"),
+        let stats = NormalSurfaceStats::new(
+            &self.params,
+            &g,
+            &ns.stats,
+            &mesh,
+            "Lemma 4.1: [45°, 90°] for the Sommerville tiling (exact at the midpoints)",
         );
         Ok(MeshOutput {
             mesh: Mesh::Surface(mesh),
-            certificate: uncertified(&mut stats),
-            stats,
+            certificate: uncertified(),
+            stats: crate::mesher::stats_map(&stats),
         })
     }
 }
@@ -520,31 +574,28 @@ impl Mesher for GradNormal {
     fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
         let (mesh, r) = self.run(f, domain, progress)?;
         let g = r.goldberg.unwrap_or_else(|| self.params.goldberg(domain));
-        let ns = NormalSurface {
-            stats: r.extract.clone(),
-            ..Default::default()
+        let stats = GradNormalStats {
+            surface: NormalSurfaceStats::new(
+                &self.params,
+                &g,
+                &r.extract,
+                &mesh,
+                "Theorem 1.1(3): [35.2°, 101.5°] only as e → 0; not certified at this e",
+            ),
+            v4_rule: self.params.v4_rule.name(),
+            newton_steps: self.params.newton_steps,
+            valence4_found: r.valence4.found,
+            valence4_removed: r.valence4.removed,
+            valence4_fallback: r.valence4.fallback,
+            valence4_skipped: r.valence4.skipped,
+            projection_failures: r.projection_failures,
+            max_displacement_over_e: r.max_displacement,
+            max_residual: r.max_residual,
         };
-        let mut stats = base_stats(&self.params, &g, &ns);
-        let (lo, hi) = crate::metrics::angles::angle_range_all(&mesh);
-        stats.insert("min_angle_deg".into(), json!(lo));
-        stats.insert("max_angle_deg".into(), json!(hi));
-        stats.insert(
-            "angle_guarantee".into(),
-            json!("Theorem 1.1(3): [35.2°, 101.5°] only as e → 0; not certified at this e"),
-        );
-        stats.insert("v4_rule".into(), json!(self.params.v4_rule.name()));
-        stats.insert("newton_steps".into(), json!(self.params.newton_steps));
-        stats.insert("valence4_found".into(), json!(r.valence4.found));
-        stats.insert("valence4_removed".into(), json!(r.valence4.removed));
-        stats.insert("valence4_fallback".into(), json!(r.valence4.fallback));
-        stats.insert("valence4_skipped".into(), json!(r.valence4.skipped));
-        stats.insert("projection_failures".into(), json!(r.projection_failures));
-        stats.insert("max_displacement_over_e".into(), json!(r.max_displacement));
-        stats.insert("max_residual".into(), json!(r.max_residual));
         Ok(MeshOutput {
             mesh: Mesh::Surface(mesh),
-            certificate: uncertified(&mut stats),
-            stats,
+            certificate: uncertified(),
+            stats: crate::mesher::stats_map(&stats),
         })
     }
 }

@@ -15,7 +15,6 @@ use crate::mesh::Curve2;
 use crate::mesher::options::MesherOptions;
 use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use rayon::prelude::*;
-use serde_json::{json, Map};
 
 const H: f64 = 0.866_025_403_784_438_6;
 
@@ -362,14 +361,15 @@ fn run2(
         .iter()
         .map(|v| f.eval([v[0], v[1], 0.0]).abs())
         .fold(0.0, f64::max);
-    let mut stats = Map::new();
-    stats.insert("e".into(), json!(e));
-    stats.insert("triangles_visited".into(), json!(nc.triangles_visited));
-    stats.insert("crossing_triangles".into(), json!(nc.crossing_triangles));
-    stats.insert("min_segment_over_e".into(), json!(min_len));
-    stats.insert("max_segment_over_e".into(), json!(max_len));
-    stats.insert("max_residual".into(), json!(max_residual));
-    stats.insert("projection_failures".into(), json!(failures));
+    let stats = PlanarStats {
+        e,
+        triangles_visited: nc.triangles_visited,
+        crossing_triangles: nc.crossing_triangles,
+        min_segment_over_e: min_len,
+        max_segment_over_e: max_len,
+        max_residual,
+        projection_failures: failures,
+    };
     Ok(MeshOutput {
         mesh: Mesh::Curve(Curve2 {
             vertices,
@@ -378,8 +378,25 @@ fn run2(
         certificate: Certificate::none(
             "planar MidNormal/GradNormal: topology holds only for e small enough (not quantified)",
         ),
-        stats,
+        stats: crate::mesher::stats_map(&stats),
     })
+}
+
+/// What a planar MidNormal/GradNormal run did, serialised field by field into the
+/// report's `stats` map.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct PlanarStats {
+    /// The triangle tiling's scale.
+    pub e: f64,
+    pub triangles_visited: u64,
+    pub crossing_triangles: u64,
+    /// The shortest and longest output segment, in units of e.
+    pub min_segment_over_e: f64,
+    pub max_segment_over_e: f64,
+    /// The largest |f| at an output vertex.
+    pub max_residual: f64,
+    /// Vertices whose projection onto f = 0 failed (GradNormal only).
+    pub projection_failures: usize,
 }
 
 impl Mesher for MidNormal2 {

@@ -60,7 +60,6 @@ use crate::mesh::TriMesh;
 use crate::mesher::options::{Crossing, MesherOptions};
 use crate::mesher::{Certificate, Mesh, MeshOutput, Mesher, Progress};
 use rayon::prelude::*;
-use serde_json::{json, Map, Value};
 use std::marker::PhantomData;
 
 /// Default cells along the longest side of the domain.
@@ -446,20 +445,35 @@ impl Place<'_> {
 }
 
 /// The statistics every grid mesher reports.
-pub(crate) fn base_stats(grid: &Grid, p: &GridParams) -> Map<String, Value> {
-    let mut s = Map::new();
-    s.insert("grid_cells".into(), json!(grid.cells()));
-    s.insert("grid_vertices".into(), json!(grid.num_vertices()));
-    s.insert("cells".into(), json!(grid.num_cells()));
-    s.insert(
-        "crossing".into(),
-        json!(match p.crossing {
-            Crossing::Linear => "linear",
-            Crossing::Bisection => "bisection",
-        }),
-    );
-    s.insert("pruned".into(), json!(p.prune));
-    s
+/// What a marching run did, serialised field by field into the report's `stats` map.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct MarchingStats {
+    /// Cells per axis.
+    pub grid_cells: [usize; 3],
+    /// Lattice vertices of the grid.
+    pub grid_vertices: usize,
+    /// Cells of the grid.
+    pub cells: usize,
+    /// Where a crossing is placed on a sign-change edge: `linear` or `bisection`.
+    pub crossing: &'static str,
+    /// Was empty space pruned by interval arithmetic (`--prune`)?
+    pub pruned: bool,
+    /// Cells proven free of f = 0 by the pruning (0 without it).
+    pub cells_pruned: u64,
+    /// Interval evaluations spent pruning.
+    pub interval_evaluations: u64,
+    /// Evaluations of f at lattice vertices.
+    pub point_evaluations: u64,
+    /// Cells kept by the pruning (surfaces with `--prune` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cells_kept: Option<u64>,
+    /// Leaf size of the pruning octree (surfaces with `--prune` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub prune_leaf: Option<usize>,
+    /// Cells the extractor visited.
+    pub cells_visited: u64,
+    /// Evaluations of f spent placing crossings (bisection only; 0 for linear).
+    pub crossing_evaluations: u64,
 }
 
 /// What makes a grid mesher marching cubes, tetrahedra or squares: its cell table and
@@ -592,7 +606,6 @@ impl<C: Cells> Mesher for Marching<C> {
         crate::mesher::check_input(f, domain, table.dim(), C::ALGO)?;
         let grid = Grid::new(domain, p.resolution, table.dim())?;
         table.check_size(&grid)?;
-        let mut stats = base_stats(&grid, p);
         let bis = Counted::new(f);
         let place = match p.crossing {
             Crossing::Linear => Place::Linear,
@@ -601,25 +614,36 @@ impl<C: Cells> Mesher for Marching<C> {
         // The surface extractors also report the pruning's kept cells and leaf size, and
         // extraction as a progress phase; marching squares reports neither (as before).
         let surface = table.dim() == 3;
+        let mut stats = MarchingStats {
+            grid_cells: grid.cells(),
+            grid_vertices: grid.num_vertices(),
+            cells: grid.num_cells(),
+            crossing: match p.crossing {
+                Crossing::Linear => "linear",
+                Crossing::Bisection => "bisection",
+            },
+            pruned: p.prune,
+            cells_pruned: 0,
+            interval_evaluations: 0,
+            point_evaluations: grid.num_vertices() as u64,
+            cells_kept: None,
+            prune_leaf: None,
+            cells_visited: 0,
+            crossing_evaluations: 0,
+        };
         let (mesh, visited) = if p.prune {
             let (s, st) = octree::sample_pruned_with(f, &grid, p.leaf, progress)?;
-            stats.insert("cells_pruned".into(), json!(st.cells_pruned));
-            stats.insert(
-                "interval_evaluations".into(),
-                json!(st.interval_evaluations),
-            );
-            stats.insert("point_evaluations".into(), json!(st.point_evaluations));
+            stats.cells_pruned = st.cells_pruned;
+            stats.interval_evaluations = st.interval_evaluations;
+            stats.point_evaluations = st.point_evaluations;
             if surface {
-                stats.insert("cells_kept".into(), json!(st.cells_kept));
-                stats.insert("prune_leaf".into(), json!(p.leaf));
+                stats.cells_kept = Some(st.cells_kept);
+                stats.prune_leaf = Some(p.leaf);
                 progress.start("extracting", 0);
             }
             table.extract(&s, place)?
         } else {
             let s = Samples::sample(f, &grid, progress)?;
-            stats.insert("cells_pruned".into(), json!(0));
-            stats.insert("interval_evaluations".into(), json!(0));
-            stats.insert("point_evaluations".into(), json!(grid.num_vertices()));
             if surface {
                 progress.start("extracting", 0);
             }
@@ -628,8 +652,9 @@ impl<C: Cells> Mesher for Marching<C> {
         if surface {
             progress.finish();
         }
-        stats.insert("cells_visited".into(), json!(visited));
-        stats.insert("crossing_evaluations".into(), json!(bis.counts().points));
+        stats.cells_visited = visited;
+        stats.crossing_evaluations = bis.counts().points;
+        let stats = crate::mesher::stats_map(&stats);
         Ok(MeshOutput {
             mesh,
             certificate: Certificate::none(format!(

@@ -147,6 +147,16 @@ pub struct MeshOutput {
     pub stats: serde_json::Map<String, serde_json::Value>,
 }
 
+/// A mesher's typed statistics (a `Serialize` struct: `SubdivisionStats`,
+/// `MarchingStats`, `StuffingStats`, `GradNormalStats`) as the report's `stats` map,
+/// one entry per field. A struct that does not serialise to a JSON object is a bug.
+pub fn stats_map<T: Serialize>(s: &T) -> serde_json::Map<String, serde_json::Value> {
+    match serde_json::to_value(s) {
+        Ok(serde_json::Value::Object(m)) => m,
+        other => panic!("mesher statistics must serialise to a JSON object, got {other:?}"),
+    }
+}
+
 /// Progress reporting from long runs (the CLI shows an indicatif bar; the library
 /// default does nothing).
 pub trait Progress: Sync {

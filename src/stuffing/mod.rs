@@ -48,7 +48,6 @@ use crate::kernel::geom::Aabb;
 use crate::mesh::{TetMesh, TriMesh};
 use crate::mesher::options::{Crossing, MesherOptions};
 use crate::mesher::{Certificate, Claim, Mesh, MeshOutput, Mesher, Progress};
-use serde_json::json;
 
 /// What to do with quadruple-zero BCC tetrahedra (all four vertices on the surface),
 /// the four options of §3.3.
@@ -588,6 +587,55 @@ pub fn check_conforming(m: &TetMesh, boundary: &TriMesh) -> std::result::Result<
     Ok(nonmanifold)
 }
 
+/// What a stuffing run did, serialised field by field into the report's `stats` map.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct StuffingStats {
+    /// The measured angles of the output (dihedral, plane, exposed; inverted count).
+    #[serde(flatten)]
+    pub angles: quality::AngleSummary,
+    /// The Table 1 row, or `custom` for `--alpha-long/--alpha-short`.
+    pub params: &'static str,
+    pub alpha_long: f64,
+    pub alpha_short: f64,
+    /// Warping order (§3.2): true for the ordered variant of Table 1, false for arbitrary.
+    pub ordered: bool,
+    /// The BCC lattice spacing h.
+    pub spacing: f64,
+    pub lattice_points_evaluated: usize,
+    pub cut_points: usize,
+    /// Lattice points warped onto the surface.
+    pub warped: usize,
+    /// Tetrahedra with four zero vertices (§3.3): found, kept, and well shaped.
+    pub quadruple_zero_found: usize,
+    pub quadruple_zero_kept: usize,
+    pub quadruple_zero_well_shaped: usize,
+    /// Does the solid reach the lattice window (the mesh is cut off there)?
+    pub clipped: bool,
+    /// Graded (§5) or uniform.
+    pub graded: bool,
+    /// Graded runs only: the octree's leaves and octants and the background tetrahedra.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub octree_leaves: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub octants: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub background_tets: Option<BackgroundTets>,
+    /// Checked exactly: every interior triangle in two tetrahedra, boundary watertight.
+    pub conforming: bool,
+    pub nonmanifold_boundary_edges: usize,
+    pub seconds_lattice_and_cuts: f64,
+    pub seconds_warp_and_stencils: f64,
+}
+
+/// The background tetrahedra of a graded run, by kind (§5).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct BackgroundTets {
+    pub bcc: usize,
+    pub bisected: usize,
+    pub quadrisected: usize,
+    pub half_pyramid: usize,
+}
+
 impl Mesher for Stuffing {
     fn name(&self) -> &'static str {
         "stuffing"
@@ -615,54 +663,35 @@ impl Mesher for Stuffing {
         let q = quality::summarize(&s.mesh, &boundary);
         let conforming = check_conforming(&s.mesh, &boundary);
         let (al, as_) = p.alphas();
-        let mut stats = serde_json::Map::new();
-        let angles = serde_json::to_value(q).expect("serializable");
-        if let serde_json::Value::Object(m) = angles {
-            stats.extend(m);
-        }
-        stats.insert(
-            "params".into(),
-            json!(p.alphas.map_or(p.row.name, |_| "custom")),
-        );
-        stats.insert("alpha_long".into(), json!(al));
-        stats.insert("alpha_short".into(), json!(as_));
-        stats.insert("ordered".into(), json!(p.order == Order::Ordered));
-        stats.insert("spacing".into(), json!(s.spacing));
-        stats.insert(
-            "lattice_points_evaluated".into(),
-            json!(s.lattice_points_evaluated),
-        );
-        stats.insert("cut_points".into(), json!(s.cut_points));
-        stats.insert("warped".into(), json!(s.warped));
-        stats.insert("quadruple_zero_found".into(), json!(s.quadruple_zero_found));
-        stats.insert("quadruple_zero_kept".into(), json!(s.quadruple_zero_kept));
-        stats.insert(
-            "quadruple_zero_well_shaped".into(),
-            json!(s.quadruple_zero_well_shaped),
-        );
-        stats.insert("clipped".into(), json!(s.clipped));
-        stats.insert("graded".into(), json!(p.graded));
-        if let Some(g) = &graded {
-            stats.insert("octree_leaves".into(), json!(g.leaves));
-            stats.insert("octants".into(), json!(g.octants));
-            stats.insert(
-                "background_tets".into(),
-                json!({"bcc": g.background[0], "bisected": g.background[1], "quadrisected": g.background[2], "half_pyramid": g.background[3]}),
-            );
-        }
-        stats.insert("conforming".into(), json!(conforming.is_ok()));
-        stats.insert(
-            "nonmanifold_boundary_edges".into(),
-            json!(conforming.as_ref().copied().unwrap_or(0)),
-        );
-        stats.insert(
-            "seconds_lattice_and_cuts".into(),
-            json!((t1 - t0).as_secs_f64()),
-        );
-        stats.insert(
-            "seconds_warp_and_stencils".into(),
-            json!((t2 - t1).as_secs_f64()),
-        );
+        let stats = StuffingStats {
+            angles: q,
+            params: p.alphas.map_or(p.row.name, |_| "custom"),
+            alpha_long: al,
+            alpha_short: as_,
+            ordered: p.order == Order::Ordered,
+            spacing: s.spacing,
+            lattice_points_evaluated: s.lattice_points_evaluated,
+            cut_points: s.cut_points,
+            warped: s.warped,
+            quadruple_zero_found: s.quadruple_zero_found,
+            quadruple_zero_kept: s.quadruple_zero_kept,
+            quadruple_zero_well_shaped: s.quadruple_zero_well_shaped,
+            clipped: s.clipped,
+            graded: p.graded,
+            octree_leaves: graded.as_ref().map(|g| g.leaves),
+            octants: graded.as_ref().map(|g| g.octants),
+            background_tets: graded.as_ref().map(|g| BackgroundTets {
+                bcc: g.background[0],
+                bisected: g.background[1],
+                quadrisected: g.background[2],
+                half_pyramid: g.background[3],
+            }),
+            conforming: conforming.is_ok(),
+            nonmanifold_boundary_edges: conforming.as_ref().copied().unwrap_or(0),
+            seconds_lattice_and_cuts: (t1 - t0).as_secs_f64(),
+            seconds_warp_and_stencils: (t2 - t1).as_secs_f64(),
+        };
+        let stats = crate::mesher::stats_map(&stats);
         let mut claims = Vec::new();
         let nonmanifold = match conforming {
             Ok(n) => n,

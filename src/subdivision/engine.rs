@@ -202,7 +202,7 @@ pub fn run_subdivision<K: Criterion>(
     progress.finish();
     let finder = K::root_finder(p);
     let asm = assemble(g, &tree, finder.as_ref(), p.criterion.pairing());
-    let mut stats = tree_stats(&tree, &asm);
+    let mut stats = crate::mesher::stats_map(&tree_stats(&tree, &asm));
     p.criterion.add_stats(&mut stats);
     let mut regions = tree.failures();
     regions.extend(asm.uncertain.iter().cloned());

@@ -1,50 +1,59 @@
-//! Statistics of a finished subdivision, as JSON, and the leaf boxes for figures.
+//! Statistics of a finished subdivision ([`SubdivisionStats`]) and the leaf boxes for figures.
 use super::*;
 use crate::kernel::geom::Aabb;
 use crate::mesher::{Certificate, Claim, Uncertified};
 use std::collections::BTreeMap;
 
-/// Statistics shared by both meshers, as JSON.
-pub fn tree_stats(tree: &Tree, a: &Assembled) -> serde_json::Map<String, serde_json::Value> {
-    use serde_json::json;
-    let mut m = serde_json::Map::new();
-    m.insert("leaves".into(), json!(tree.leaves.len()));
-    m.insert("internal_boxes".into(), json!(tree.internal.len()));
-    m.insert(
-        "boxes".into(),
-        json!(tree.leaves.len() + tree.internal.len()),
-    );
-    m.insert(
-        "leaves_by_depth".into(),
-        json!(tree
-            .by_depth()
-            .into_iter()
-            .map(|(k, v)| (k.to_string(), v))
-            .collect::<BTreeMap<String, usize>>()),
-    );
-    m.insert(
-        "boxes_by_depth".into(),
-        json!(tree
-            .boxes_by_depth()
-            .into_iter()
-            .map(|(k, v)| (k.to_string(), v))
-            .collect::<BTreeMap<String, usize>>()),
-    );
-    m.insert("leaves_by_criterion".into(), json!(tree.by_verdict()));
-    m.insert("balance_splits".into(), json!(tree.balance_splits));
-    m.insert(
-        "refinement_complete".into(),
-        json!(tree.refinement_complete),
-    );
-    m.insert("root_isolation_steps".into(), json!(a.root_steps));
-    m.insert("crossings".into(), json!(a.crossings));
-    let failed = tree.failures();
-    m.insert("uncertified_boxes".into(), json!(failed.len()));
-    m.insert(
-        "uncertified_regions".into(),
-        json!(failed.len() + a.uncertain.len()),
-    );
-    m
+/// The statistics of a finished subdivision, shared by every criterion (a criterion adds
+/// its own settings with [`Criterion::add_stats`](super::engine::Criterion::add_stats)).
+/// Serialised field by field into the report's `stats` map.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SubdivisionStats {
+    /// Leaf boxes of the final tree.
+    pub leaves: usize,
+    /// Boxes that were split.
+    pub internal_boxes: usize,
+    /// `leaves + internal_boxes`.
+    pub boxes: usize,
+    /// Leaves per depth (the root has depth 0).
+    pub leaves_by_depth: BTreeMap<u8, usize>,
+    /// All boxes (leaves and split ones) per depth.
+    pub boxes_by_depth: BTreeMap<u8, usize>,
+    /// Leaves per verdict label (`empty`, `proven (x)`, `failed: …`).
+    pub leaves_by_criterion: BTreeMap<String, usize>,
+    /// Splits made by the 2:1 balance (Plantinga–Vegter only; 0 otherwise).
+    pub balance_splits: usize,
+    /// No budget (boxes, time) stopped the subdivision, as in spade's
+    /// `RefinementResult`; leaves left undecided at the depth limit are counted in
+    /// `uncertified_boxes`.
+    pub refinement_complete: bool,
+    /// Interval bisection steps of the root isolation on box edges.
+    pub root_isolation_steps: u64,
+    /// Crossings of f = 0 with box edges placed.
+    pub crossings: usize,
+    /// Leaves the criterion could not decide.
+    pub uncertified_boxes: usize,
+    /// Undecided leaves plus undecided edges and faces found while assembling.
+    pub uncertified_regions: usize,
+}
+
+/// The statistics of `tree` and its assembly.
+pub fn tree_stats(tree: &Tree, a: &Assembled) -> SubdivisionStats {
+    let failed = tree.failures().len();
+    SubdivisionStats {
+        leaves: tree.leaves.len(),
+        internal_boxes: tree.internal.len(),
+        boxes: tree.leaves.len() + tree.internal.len(),
+        leaves_by_depth: tree.by_depth(),
+        boxes_by_depth: tree.boxes_by_depth(),
+        leaves_by_criterion: tree.by_verdict(),
+        balance_splits: tree.balance_splits,
+        refinement_complete: tree.refinement_complete,
+        root_isolation_steps: a.root_steps,
+        crossings: a.crossings,
+        uncertified_boxes: failed,
+        uncertified_regions: failed + a.uncertain.len(),
+    }
 }
 
 /// Cells touching a point set, for tests and figures: the leaves with their boxes and
