@@ -102,9 +102,26 @@ enum Cmd {
     /// Certify the isosurface-stuffing Table 1 bounds (Labelle & Shewchuk 2007, Thm 1,
     /// §4.1) on the mesher's stencil table, and the safe property, per row.
     Stuffing {
-        /// A Table 1 row (the mesher's `--params` name) or `all`.
-        #[arg(long, default_value = "all")]
-        row: String,
+        /// A Table 1 row (the mesher's `--params` name) or `all` (the default).
+        #[arg(long, conflicts_with_all = ["alpha_long", "alpha_short"])]
+        row: Option<String>,
+        /// Audit any parameter pair instead of a Table 1 row: α_long (black, long
+        /// lattice edges), a decimal in (0, 0.5) with at most five decimals. Needs
+        /// `--alpha-short`. The six extremes are certified as enclosures with witnesses;
+        /// there is no paper value, so no verdict. Example (Unreal Engine's
+        /// TIsosurfaceStuffing): `proofs stuffing --alpha-long 0.21509 --alpha-short 0.359`.
+        #[arg(long, requires = "alpha_short", value_name = "A")]
+        alpha_long: Option<String>,
+        /// α_short (red, short lattice edges), a decimal in (0, 0.5]. Needs `--alpha-long`.
+        #[arg(long, requires = "alpha_long", value_name = "B")]
+        alpha_short: Option<String>,
+        /// With `--alpha-long`: ordered warping (§3.2) instead of arbitrary order.
+        #[arg(long, requires = "alpha_long")]
+        ordered: bool,
+        /// With `--alpha-long`: `one` (bounds over the tetrahedra of one side, as Table
+        /// 1's one-sided rows) or `both` (double-sided: quadruple-zero tetrahedra too).
+        #[arg(long, requires = "alpha_long", value_parser = ["one", "both"], default_value = "one")]
+        side: String,
         /// Run only the cases with index ≡ i (mod N): `--shard i/N`.
         #[arg(long)]
         shard: Option<String>,
@@ -205,16 +222,34 @@ fn run(cli: Cli) -> Result<(), Fail> {
         }
         Cmd::Stuffing {
             row,
-            shard: _,
+            alpha_long,
             out,
             tol_deg,
-            count: _,
             graded: true,
             trees,
             budget,
-        } => graded_cmd(&row, json, &out, tol_deg, trees, budget.budget()?),
+            ..
+        } => {
+            if alpha_long.is_some() {
+                return Err(Fail::input(
+                    "--alpha-long/--alpha-short audit the uniform mesher; --graded proves the §5 daggers of Table 1 rows only",
+                ));
+            }
+            graded_cmd(
+                row.as_deref().unwrap_or("all"),
+                json,
+                &out,
+                tol_deg,
+                trees,
+                budget.budget()?,
+            )
+        }
         Cmd::Stuffing {
             row,
+            alpha_long,
+            alpha_short,
+            ordered,
+            side,
             shard,
             out,
             tol_deg,
@@ -223,7 +258,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
             trees: _,
             budget,
         } => stuffing_cmd(
-            &row,
+            &stuffing_row_arg(row, alpha_long, alpha_short, ordered, &side)?,
             json,
             shard.as_deref(),
             &out,
@@ -387,6 +422,30 @@ fn run(cli: Cli) -> Result<(), Fail> {
     }
 }
 
+/// The `--row` of `proofs stuffing`, or the encoded name of a custom pair.
+fn stuffing_row_arg(
+    row: Option<String>,
+    alpha_long: Option<String>,
+    alpha_short: Option<String>,
+    ordered: bool,
+    side: &str,
+) -> Result<String, Fail> {
+    use proofs::stuffing::custom::Params;
+    match (alpha_long, alpha_short) {
+        (Some(l), Some(s)) => {
+            let p = Params::new(
+                Params::alpha(&l, "--alpha-long").map_err(Fail::input)?,
+                Params::alpha(&s, "--alpha-short").map_err(Fail::input)?,
+                ordered,
+                side == "both",
+            )
+            .map_err(Fail::input)?;
+            Ok(p.name())
+        }
+        _ => Ok(row.unwrap_or_else(|| "all".into())),
+    }
+}
+
 fn stuffing_cmd(
     row: &str,
     json: bool,
@@ -400,7 +459,7 @@ fn stuffing_cmd(
         stuffing::row_names()
     } else {
         vec![
-            certmesh::stuffing::row(row)
+            stuffing::custom::resolve(row)
                 .map_err(|e| Fail::input(format!("--row: {e}")))?
                 .name,
         ]
@@ -409,7 +468,7 @@ fn stuffing_cmd(
     let shard = shard.map(parse_shard).transpose()?;
     if count {
         for n in names {
-            let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
+            let r = stuffing::custom::resolve(n)?;
             let a = proofs::stuffing::cases::Alphas::of(r);
             let (_, c) = proofs::stuffing::cases::output_cases(&a);
             let (_, s) = proofs::stuffing::cases::bcc_cases(&a);
@@ -442,7 +501,7 @@ fn stuffing_cmd(
     }
     let mut summaries = Vec::new();
     for n in names {
-        let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
+        let r = stuffing::custom::resolve(n)?;
         let mut cfg = stuffing::Config::new(r);
         cfg.tol_deg = tol_deg;
         cfg.shard = shard;

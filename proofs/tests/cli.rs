@@ -214,3 +214,101 @@ fn gradnormal_shard_is_partial() {
     ]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("shard 0/8: a partial result"));
 }
+
+/// `proofs stuffing --alpha-long A --alpha-short B`: bad pairs are input errors (exit 2,
+/// JSON with --json) before any work; a shard of an audit writes a certificate whose
+/// summary carries the audit block, and `proofs check` accepts it.
+#[test]
+fn stuffing_audit_of_a_custom_pair() {
+    let out = tmp("audit.json");
+    for args in [
+        vec!["stuffing", "--alpha-long", "0.5", "--alpha-short", "0.3"],
+        vec![
+            "stuffing",
+            "--alpha-long",
+            "0.2",
+            "--alpha-short",
+            "0.500001",
+        ],
+        vec!["stuffing", "--alpha-long", "abc", "--alpha-short", "0.3"],
+        vec!["stuffing", "--alpha-long", "0.2"],
+        vec![
+            "stuffing",
+            "--alpha-long",
+            "0.2",
+            "--alpha-short",
+            "0.3",
+            "--row",
+            "max-exposed-safe",
+        ],
+        vec![
+            "stuffing",
+            "--alpha-long",
+            "0.2",
+            "--alpha-short",
+            "0.3",
+            "--graded",
+        ],
+        vec![
+            "stuffing",
+            "--alpha-long",
+            "0.2",
+            "--alpha-short",
+            "0.3",
+            "--side",
+            "two",
+        ],
+    ] {
+        let mut a = args.clone();
+        a.extend(["-o", out.to_str().unwrap(), "--json"]);
+        let o = proofs(&a);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {o:?}");
+        json_error(&o);
+    }
+    assert!(!out.exists());
+    let o = proofs(&[
+        "stuffing",
+        "--alpha-long",
+        "0.21509",
+        "--alpha-short",
+        "0.359",
+        "--side",
+        "both",
+        "--shard",
+        "3/400",
+        "--tol-deg",
+        "0.01",
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["row"], "custom:0.21509,0.35900,unordered,double-sided");
+    assert_eq!(v["partial"], true);
+    assert_eq!(v["audit"]["table1_row"], "max-dihedral-double");
+    assert!(v["audit"]["verdict"].as_str().unwrap().contains("shard"));
+    let o = proofs(&["check", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    // The plain-text report names the matching Table 1 row.
+    let o = proofs(&[
+        "stuffing",
+        "--alpha-long",
+        "0.21509",
+        "--alpha-short",
+        "0.359",
+        "--side",
+        "both",
+        "--shard",
+        "3/400",
+        "--tol-deg",
+        "0.01",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("parameters of Table 1 row max-dihedral-double"),
+        "{text}"
+    );
+}

@@ -121,6 +121,12 @@ pub(crate) fn print_stuffing(c: &stuffing::Certificate) {
             format!("; {}", c.safe.note)
         }
     );
+    if let Some(a) = stuffing::custom::audit(c) {
+        if let Some(r) = a.table1_row {
+            println!("  these are the parameters of Table 1 row {r} (run `--row {r}` for verdicts against its paper values)");
+        }
+        println!("  audit: {}", a.verdict);
+    }
 }
 
 /// The first line of `proofs check`, for either kind of certificate.

@@ -67,7 +67,7 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
             cert.format
         ));
     }
-    let row = certmesh::stuffing::row(&cert.row).map_err(|e| format!("row: {e}"))?;
+    let row = super::custom::resolve(&cert.row).map_err(|e| format!("row: {e}"))?;
     if row.name != cert.row {
         return Err(format!(
             "row: `{}` is not the row's name `{}`",
@@ -275,7 +275,7 @@ pub fn merge(parts: Vec<Certificate>) -> Result<Certificate, String> {
         Some([_, n]) if n >= 2 => n,
         _ => return Err("merge: the first certificate is not a shard".into()),
     };
-    let row = certmesh::stuffing::row(&out.row).map_err(|e| e.to_string())?;
+    let row = super::custom::resolve(&out.row)?;
     if Alphas::of(row) != out.alphas {
         return Err("merge: the row's parameters differ from the certificate's".into());
     }

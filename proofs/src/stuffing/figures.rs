@@ -39,7 +39,7 @@ pub fn witness_figure(cert: &Certificate, b: usize, stem: &Path) -> Result<bool,
     let Some(deg) = res.deg else {
         return Ok(false);
     };
-    let row = certmesh::stuffing::row(&cert.row).map_err(|e| e.to_string())?;
+    let row = super::custom::resolve(&cert.row)?;
     let (cases, _) = output_cases(&cert.alphas);
     let (probs, _) = all_problems(row, &cases);
     let case = &cases[w.case];

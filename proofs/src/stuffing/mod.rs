@@ -26,6 +26,7 @@
 //! when every angle is certified farther than that.
 pub mod cases;
 mod check;
+pub mod custom;
 pub mod eval;
 pub mod figures;
 pub mod graded;
@@ -243,9 +244,10 @@ pub struct Certificate {
     pub unresolved: usize,
 }
 
-/// Does the row state dihedral bounds (min-exposed-unsafe: n/a, its tetrahedra can be flat)?
+/// Are dihedrals searched? For a Table 1 row when it states dihedral bounds
+/// (min-exposed-unsafe: n/a, its tetrahedra can be flat); for a custom pair always.
 fn has_dihedrals(row: &Row) -> bool {
-    row.bounds.min_dihedral.is_some() || row.bounds.max_dihedral.is_some()
+    custom::is_custom(row) || row.bounds.min_dihedral.is_some() || row.bounds.max_dihedral.is_some()
 }
 
 /// The problems of every case, with the reduction decided exactly per case.
@@ -300,6 +302,7 @@ pub fn summary_json(c: &Certificate, path: &str) -> serde_json::Value {
             })),
         })).collect::<Vec<_>>(),
         "safe": c.safe,
+        "audit": custom::audit(c),
     })
 }
 

@@ -92,7 +92,7 @@ pub(super) fn derive(
     cases: &[Case],
     probs: &[Vec<Problem>],
 ) -> Result<Derived, String> {
-    let row = certmesh::stuffing::row(&cert.row).map_err(|e| format!("row: {e}"))?;
+    let row = super::custom::resolve(&cert.row).map_err(|e| format!("row: {e}"))?;
     let thr = thresholds(row);
     let best = final_best(&cert.witnesses);
     let mut lo = [f64::INFINITY; 6];
