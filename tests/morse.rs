@@ -311,7 +311,7 @@ fn chi_matches_certified_pv_meshes() {
         let e = catalog::get(name).unwrap();
         let f = e.function();
         let run = mesher::run(pv.as_ref(), &f, &e.domain, &NoProgress).unwrap();
-        let (chi, why) = morse::certified_chi(&f, e.domain.into(), 100_000);
+        let (chi, why) = morse::certified_chi(&f, e.domain.into(), 20_000, 100_000);
         let m = run.output.mesh.surface().unwrap();
         let t = certmesh::metrics::analyze(m).unwrap();
         if run.output.certificate.proves_topology() {
@@ -417,4 +417,66 @@ proptest! {
         prop_assert_eq!(r.chi, Some(2));
         prop_assert!(!r.inconsistent);
     }
+}
+
+/// The comparison harness's χ column: the certified χ(S) beside each output's χ, the
+/// same certified value for every mesher of a surface; CSV ends with both columns.
+#[test]
+fn compare_has_the_chi_column() {
+    use certmesh::harness::compare;
+    let entries: Vec<_> = ["sphere", "torus", "double-cone", "circle"]
+        .iter()
+        .map(|n| catalog::get(n).unwrap())
+        .collect();
+    let algos = vec!["mc".to_string(), "ms".to_string()];
+    let opts = certmesh::MesherOptions {
+        resolution: Some(16),
+        ..Default::default()
+    };
+    // The χ of each output, counted here: V − E + F over the used vertices.
+    let mut own: Vec<(String, i64)> = Vec::new();
+    let rows = compare::compare_with(&entries, &algos, &opts, &NoProgress, &mut |e, run| {
+        if let Some(m) = run.output.mesh.surface() {
+            let mut edges = std::collections::BTreeSet::new();
+            let mut verts = std::collections::BTreeSet::new();
+            for t in &m.triangles {
+                for k in 0..3 {
+                    let (a, b) = (t[k], t[(k + 1) % 3]);
+                    edges.insert((a.min(b), a.max(b)));
+                    verts.insert(a);
+                }
+            }
+            own.push((
+                e.name.to_string(),
+                verts.len() as i64 - edges.len() as i64 + m.triangles.len() as i64,
+            ));
+        }
+        Ok(())
+    });
+    for r in &rows {
+        let e = catalog::get(&r.surface).unwrap();
+        match r.surface.as_str() {
+            "sphere" | "torus" => {
+                assert_eq!(r.certified_chi, e.euler_characteristic(), "{}", r.surface);
+                assert!(r.certified_chi_note.is_none());
+                let c = own.iter().find(|(n, _)| *n == r.surface).unwrap().1;
+                assert_eq!(r.mesh_chi, Some(c), "{}", r.surface);
+            }
+            "double-cone" => {
+                assert_eq!(r.certified_chi, None);
+                assert!(r.certified_chi_note.is_some());
+            }
+            _ => assert_eq!((r.certified_chi, r.mesh_chi), (None, None)),
+        }
+    }
+    let csv = compare::csv(&rows);
+    assert!(csv
+        .lines()
+        .next()
+        .unwrap()
+        .ends_with(",mesh_chi,certified_chi"));
+    let sphere = csv.lines().find(|l| l.starts_with("sphere,mc")).unwrap();
+    assert!(sphere.ends_with(",2,2"), "{sphere}");
+    let md = compare::markdown(&rows);
+    assert!(md.contains("| χ mesh / certified |"));
 }

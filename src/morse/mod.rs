@@ -352,16 +352,19 @@ pub fn analyze(f: &dyn Implicit, domain: Bx, opts: &MorseOptions) -> MorseReport
 }
 
 /// The certified χ(S) of f = 0 in `domain`, cheaply: first by the critical points of f
-/// (a gradient search limited to `max_boxes` boxes), else by the generic height census.
-/// `(None, reason)` when neither certificate holds. Used by the comparison harness.
+/// (a gradient search of at most `gradient_boxes` boxes: cheap when f is Morse, and
+/// cheap to give up on a degenerate critical set), else by the generic height census
+/// (at most `surface_boxes` boxes). `(None, reason)` when neither certificate holds.
+/// Used by the comparison harness's χ column.
 pub fn certified_chi(
     f: &dyn Implicit,
     domain: Bx,
-    max_boxes: usize,
+    gradient_boxes: usize,
+    surface_boxes: usize,
 ) -> (Option<i64>, Option<String>) {
     let g = Budget {
         max_depth: 30,
-        max_boxes,
+        max_boxes: gradient_boxes,
         ..Budget::default()
     };
     let sub = critical::sublevel_euler_characteristic(f, domain, g);
@@ -369,7 +372,7 @@ pub fn certified_chi(
         return (Some(c), None);
     }
     let s = Budget {
-        max_boxes,
+        max_boxes: surface_boxes,
         ..Budget::default()
     };
     let e = critical::euler_characteristic(f, domain, None, s);
@@ -378,7 +381,7 @@ pub fn certified_chi(
         None => (
             None,
             Some(format!(
-                "sublevel: {}; height: {}",
+                "from f: {}; from the height: {}",
                 sub.reason.unwrap_or_default(),
                 e.reason.unwrap_or_default()
             )),
