@@ -1459,3 +1459,51 @@ fn morse_help_examples_run() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--algo stander-hart`: listed by `algos`, the sweep's levels in the JSON stats,
+/// certified on the tanglecube; a bad --set is an error with exit 2.
+#[test]
+fn stander_hart_from_the_command_line() {
+    let (code, out, _) = certmesh(&["algos"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("stander-hart"), "{out}");
+    let dir = tmp("stander-hart");
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &[
+            "mesh",
+            "tanglecube",
+            "--algo",
+            "stander-hart",
+            "-o",
+            "t.obj",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["certified"], true);
+    assert_eq!(v["topology_ok"], true);
+    assert_eq!(v["mesh_chi"], -8);
+    let sh = &v["stats"]["stander_hart"];
+    assert_eq!(sh["levels"].as_array().unwrap().len(), 3);
+    assert_eq!(sh["chi_predicted"], -8);
+    assert!(dir.join("t.obj").exists());
+    let (code, out, _) = certmesh_in(
+        &dir,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "stander-hart",
+            "--set",
+            "steps=0",
+            "-o",
+            "s.obj",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 2, "{out}");
+    json_error(&out);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -480,3 +480,107 @@ fn compare_has_the_chi_column() {
     let md = compare::markdown(&rows);
     assert!(md.contains("| χ mesh / certified |"));
 }
+
+// ---------------------------------------------------------------------------------
+// Stander–Hart
+
+fn sweep(name: &str, extra: &[(&str, &str)]) -> (certmesh::mesher::Run, serde_json::Value) {
+    let e = catalog::get(name).unwrap();
+    let mut o = certmesh::MesherOptions::default();
+    for (k, v) in extra {
+        o.extra.insert(k.to_string(), v.to_string());
+    }
+    let m = certmesh::mesher::registry::build("stander-hart", 3, &o).unwrap();
+    let run = mesher::run(m.as_ref(), &e.function(), &e.domain, &NoProgress).unwrap();
+    let sh = run.output.stats["stander_hart"].clone();
+    (run, sh)
+}
+
+/// The tanglecube sweep: two clusters below 0 (8 minima at −6.95, 12 index-1 saddles
+/// at −0.7), so levels in (−6.95, −0.7), (−0.7, 0) and 0; the level meshes have the
+/// predicted χ: 8 spheres (16), then genus 5 (−8); certified.
+#[test]
+fn stander_hart_tanglecube_levels() {
+    let (run, sh) = sweep("tanglecube", &[]);
+    assert!(
+        run.output.certificate.proves_topology(),
+        "{:?}",
+        run.output.certificate
+    );
+    assert_eq!(sh["critical_data_certified"], true);
+    let cl = sh["clusters"].as_array().unwrap();
+    assert_eq!(cl.len(), 2);
+    assert_eq!(cl[0]["indices"], serde_json::json!([8, 0, 0, 0]));
+    assert_eq!(cl[1]["indices"], serde_json::json!([0, 12, 0, 0]));
+    let lv = sh["levels"].as_array().unwrap();
+    assert_eq!(lv.len(), 3);
+    let a: Vec<f64> = lv.iter().map(|l| l["a"].as_f64().unwrap()).collect();
+    assert!(
+        -6.95 < a[0] && a[0] < -0.7 && -0.7 < a[1] && a[1] < 0.0 && a[2] == 0.0,
+        "{a:?}"
+    );
+    for (l, chi) in lv.iter().zip([16, -8, -8]) {
+        assert_eq!(l["chi_predicted"], chi);
+        assert_eq!(l["chi_mesh"], chi);
+        assert_eq!(l["certified"], true);
+    }
+    assert_eq!(lv[0]["components"], 8);
+    let t = certmesh::metrics::analyze(run.output.mesh.surface().unwrap()).unwrap();
+    assert_eq!(t.genus, vec![5]);
+}
+
+/// Two spheres: the two minima (one cluster, equal values by symmetry) make two
+/// spheres; the saddle between them lies above 0 and is not in the sweep. With
+/// steps=2 the gap (min, 0) gets two levels, then 0. The unit sphere: one cluster,
+/// one level in (−1, 0), then 0.
+#[test]
+fn stander_hart_spheres() {
+    let (run, sh) = sweep("two-spheres", &[("steps", "2")]);
+    assert!(run.output.certificate.proves_topology());
+    let lv = sh["levels"].as_array().unwrap();
+    assert_eq!(lv.len(), 3, "two levels in the gap, then 0");
+    assert!(lv
+        .iter()
+        .all(|l| l["chi_mesh"] == 4 && l["chi_predicted"] == 4));
+    let (run, sh) = sweep("sphere", &[]);
+    assert!(run.output.certificate.proves_topology());
+    assert_eq!(sh["levels"].as_array().unwrap().len(), 2);
+    assert_eq!(sh["chi_final_mesh"], 2);
+}
+
+/// The torus: f is not Morse (circle of minima), so the sweep is not certified even
+/// though the last level is a certified PV mesh; the double cone never is.
+#[test]
+fn stander_hart_refuses_non_morse_and_singular() {
+    let (run, sh) = sweep("torus", &[("gradient-boxes", "20000")]);
+    assert!(!run.output.certificate.is_certified());
+    let why = run.output.certificate.reason().unwrap();
+    assert!(why.contains("the sweep is not certified"), "{why}");
+    assert_eq!(sh["critical_data_certified"], false);
+    assert!(sh["chi_predicted"].is_null());
+    let (run, _) = sweep("double-cone", &[]);
+    assert!(!run.output.certificate.is_certified());
+}
+
+/// Settings: bad values and unknown keys are errors; levels-dir writes every level.
+#[test]
+fn stander_hart_settings() {
+    let build = |k: &str, v: &str| {
+        let mut o = certmesh::MesherOptions::default();
+        o.extra.insert(k.into(), v.into());
+        certmesh::mesher::registry::build("stander-hart", 3, &o)
+    };
+    assert!(build("steps", "0").is_err());
+    assert!(build("steps", "x").is_err());
+    assert!(build("gradient-boxes", "0").is_err());
+    assert!(build("nosuch", "1").is_err());
+    assert!(build("levels-dir", "/nonexistent/dir").is_err());
+    let dir = std::env::temp_dir().join(format!("certmesh-sh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (_, sh) = sweep("sphere", &[("levels-dir", dir.to_str().unwrap())]);
+    for l in sh["levels"].as_array().unwrap() {
+        let f = l["file"].as_str().unwrap();
+        assert!(std::path::Path::new(f).exists(), "{f}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -129,6 +129,14 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             STUFFING
         ),
         entry!(
+            "stander-hart",
+            3,
+            true,
+            "Stander–Hart sweep: certified critical points of f order the levels, each meshed by PV",
+            crate::morse::stander_hart::StanderHart,
+            PV
+        ),
+        entry!(
             "ms",
             2,
             false,

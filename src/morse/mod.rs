@@ -1,7 +1,7 @@
 //! Morse theory for implicit surfaces (the chapter "Meshing of Surfaces", Boissonnat,
 //! Cohen-Steiner, Mourrain, Rote, Vegter, 2007, §1.5): the certified Morse census of
 //! `certmesh morse` ([`analyze`], [`MorseReport`]) and the Stander–Hart sweep
-//! (`--algo stander-hart`).
+//! ([`stander_hart`], `--algo stander-hart`).
 //!
 //! The census reports, from the interval Krawczyk machinery of
 //! [`crate::implicit::critical`]:
@@ -27,6 +27,8 @@ use crate::implicit::Implicit;
 use crate::mesh::TriMesh;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+
+pub mod stander_hart;
 
 /// The budgets and the height direction of a census.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize)]
