@@ -1507,3 +1507,41 @@ fn stander_hart_from_the_command_line() {
     json_error(&out);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--algo bcsv`: W-certified on the sphere (never "certified": isotopy is not
+/// claimed), the attempts in the JSON stats; a bad --resolution is an error.
+#[test]
+fn bcsv_from_the_command_line() {
+    let dir = tmp("bcsv");
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &["mesh", "sphere", "--algo", "bcsv", "-o", "s.obj", "--json"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["certified"], false);
+    assert_eq!(v["topology_ok"], true);
+    assert_eq!(v["stats"]["w_certified"], true);
+    assert!(v["certificate"]["reason"]
+        .as_str()
+        .unwrap()
+        .starts_with("W-certified"));
+    assert!(v["stats"]["attempts"].as_array().unwrap().len() >= 1);
+    let (code, out, _) = certmesh_in(
+        &dir,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bcsv",
+            "--resolution",
+            "2",
+            "-o",
+            "s.obj",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 2, "{out}");
+    json_error(&out);
+    std::fs::remove_dir_all(&dir).ok();
+}

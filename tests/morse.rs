@@ -584,3 +584,99 @@ fn stander_hart_settings() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+// ---------------------------------------------------------------------------------
+// Boissonnat–Cohen-Steiner–Vegter
+
+fn bcsv(name: &str) -> certmesh::mesher::Run {
+    let e = catalog::get(name).unwrap();
+    let m = certmesh::mesher::registry::build("bcsv", 3, &Default::default()).unwrap();
+    mesher::run(m.as_ref(), &e.function(), &e.domain, &NoProgress).unwrap()
+}
+
+/// W-certified outputs have the catalog topology, and their χ equals the certified
+/// χ(S) of the Morse census (an independent computation); the certificate never
+/// claims isotopy.
+#[test]
+fn bcsv_w_certified_catalog_surfaces() {
+    for name in ["sphere", "torus", "blob", "tanglecube"] {
+        let run = bcsv(name);
+        let s = &run.output.stats;
+        assert_eq!(s["w_certified"], true, "{name}: {:?}", s["attempts"]);
+        assert_eq!(s["collapse_replayed"], true);
+        let c = &run.output.certificate;
+        assert!(!c.is_certified() && !c.proves_topology());
+        assert!(c.reason().unwrap().starts_with("W-certified"));
+        assert!(c
+            .claims_typed()
+            .iter()
+            .any(|k| matches!(k, certmesh::mesher::Claim::RegularZeroSet { .. })));
+        let e = catalog::get(name).unwrap();
+        let t = certmesh::metrics::analyze(run.output.mesh.surface().unwrap()).unwrap();
+        assert!(
+            certmesh::metrics::verdict(&t, e.topology.as_ref().unwrap()).ok,
+            "{name}"
+        );
+        let (chi, _) = morse::certified_chi(&e.function(), e.domain.into(), 20_000, 100_000);
+        assert_eq!(Some(t.euler_characteristic), chi, "{name}");
+        assert!(t.is_closed_oriented_manifold(), "{name}");
+    }
+}
+
+/// Singular and grazing inputs are never W-certified.
+#[test]
+fn bcsv_refuses_the_double_cone() {
+    let run = bcsv("double-cone");
+    assert_eq!(run.output.stats["w_certified"], false);
+    assert!(!run.output.certificate.is_certified());
+}
+
+/// The recorded collapse replays; tampered sequences are rejected by the checker.
+#[test]
+fn bcsv_collapse_replay_rejects_tampering() {
+    use certmesh::morse::bcsv::{replay, w_complex};
+    let e = catalog::get("sphere").unwrap();
+    let (cx, seq) = w_complex(&e.function(), &e.domain, 8).unwrap();
+    assert!(replay(&cx, &seq).is_ok());
+    assert!(
+        replay(&cx, &seq[..seq.len() - 1]).is_err(),
+        "an unfinished collapse"
+    );
+    let mut dup = seq.clone();
+    dup.push(seq[0]);
+    assert!(replay(&cx, &dup).is_err(), "a repeated step");
+    let mut rev = seq.clone();
+    rev.reverse();
+    assert!(replay(&cx, &rev).is_err(), "the reversed order");
+    // A step whose first cell belongs to S.
+    let s_cell = cx.cells.iter().position(|c| c.in_s && c.dim == 1).unwrap() as u32;
+    let mut bad = seq.clone();
+    bad[0].0 = s_cell;
+    assert!(replay(&cx, &bad).is_err());
+    // A domain cutting the sphere: not W-certified (S meets ∂D).
+    let d = certmesh::Aabb::new([0.0, -1.5, -1.5], [1.5, 1.5, 1.5]).unwrap();
+    assert!(w_complex(&e.function(), &d, 8).is_err());
+}
+
+proptest! {
+    /// One tetrahedron cut by a plane: the two pieces collapse onto the cut polygon
+    /// (triangle or quad), and the sequence replays; an uncut tetrahedron has no S and
+    /// cannot collapse to nothing.
+    #[test]
+    fn tet_pieces_collapse_onto_the_cut(s in prop::array::uniform4(prop_oneof![Just(1i8), Just(-1i8)])) {
+        use certmesh::morse::bcsv::{greedy_collapse, replay, tet_complex};
+        let cx = tet_complex([3, 7, 1, 9], s);
+        let mixed = s.iter().any(|&x| x != s[0]);
+        let seq = greedy_collapse(&cx);
+        prop_assert_eq!(seq.is_some(), mixed);
+        if let Some(seq) = seq {
+            prop_assert!(replay(&cx, &seq).is_ok());
+            let s_cells: Vec<_> = cx.cells.iter().filter(|c| c.in_s).collect();
+            let n_poly = s_cells.iter().filter(|c| c.dim == 2).count();
+            prop_assert_eq!(n_poly, 1);
+            let nv = s_cells.iter().filter(|c| c.dim == 0).count();
+            let plus = s.iter().filter(|&&x| x > 0).count();
+            prop_assert_eq!(nv, if plus == 2 { 4 } else { 3 });
+        }
+    }
+}

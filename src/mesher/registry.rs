@@ -137,6 +137,14 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             PV
         ),
         entry!(
+            "bcsv",
+            3,
+            false,
+            "Boissonnat–Cohen-Steiner–Vegter PL interpolation on Kuhn tetrahedra: W-certified (Thm 8 conditions), isotopy not claimed",
+            crate::morse::bcsv::Bcsv,
+            &["resolution"]
+        ),
+        entry!(
             "ms",
             2,
             false,

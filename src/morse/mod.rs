@@ -28,6 +28,7 @@ use crate::mesh::TriMesh;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+pub mod bcsv;
 pub mod stander_hart;
 
 /// The budgets and the height direction of a census.
