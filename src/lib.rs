@@ -34,6 +34,7 @@ pub mod marching;
 pub mod mesh;
 pub mod mesher;
 pub mod metrics;
+pub mod morse;
 pub mod reproduce;
 pub mod stuffing;
 pub mod subdivision;

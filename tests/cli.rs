@@ -1284,3 +1284,264 @@ fn options_a_mesher_does_not_read_are_errors() {
     assert_eq!(code, 2);
     assert!(err.contains("--graded"), "{err}");
 }
+
+// ---------------------------------------------------------------------------------
+// morse
+
+/// `certmesh morse`: the tanglecube's 27 critical points with values and indices,
+/// χ = −8 by both certificates (hand derivation in tests/morse.rs).
+#[test]
+fn morse_tanglecube_json() {
+    let (code, out, err) = certmesh(&["morse", "tanglecube", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["surface"], "tanglecube");
+    assert_eq!(v["domain_source"], "catalog");
+    assert_eq!(v["gradient"]["points"].as_array().unwrap().len(), 27);
+    assert_eq!(
+        v["gradient"]["index_counts"],
+        serde_json::json!([8, 12, 6, 1])
+    );
+    assert_eq!(v["gradient"]["morse"], true);
+    assert_eq!(v["sublevel"]["chi_sublevel"], -4);
+    assert_eq!(v["sublevel"]["chi_surface"], -8);
+    assert_eq!(v["height"]["chi"], -8);
+    assert_eq!(v["chi"], -8);
+    assert_eq!(v["expected_chi"], -8);
+    let p = &v["gradient"]["points"][0];
+    assert_eq!(p["kind"], "minimum");
+    assert_eq!(p["side"], "below");
+    assert!(p["value"][0].as_f64().unwrap() <= -6.95 && -6.95 <= p["value"][1].as_f64().unwrap());
+    // The text report says the same.
+    let (code, out, _) = certmesh(&["morse", "tanglecube"]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("chi({f <= 0}) = 8 - 12 + 0 - 0 = -4: certified"),
+        "{out}"
+    );
+    assert!(
+        out.contains("chi(S) = -8: certified (by sublevel and height)"),
+        "{out}"
+    );
+}
+
+/// The torus is reported not Morse for f (its circle of minima), with no χ from f,
+/// and χ = 0 certified by the generic height; beside it a mesh's χ.
+#[test]
+fn morse_torus_not_morse_and_mesh_chi() {
+    let dir = tmp("morse-torus");
+    let (code, _, err) = certmesh_in(&dir, &["mesh", "torus", "--algo", "pv", "-o", "t.obj"]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &[
+            "morse",
+            "torus",
+            "--max-boxes",
+            "20000",
+            "--mesh",
+            "t.obj",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["gradient"]["morse"], false);
+    assert!(v["gradient"]["not_morse_reason"]
+        .as_str()
+        .unwrap()
+        .contains("possibly"));
+    assert!(
+        v["gradient"]["undecided"]["by_reason"]["possibly-degenerate"]
+            .as_u64()
+            .unwrap()
+            > 0
+    );
+    assert!(v["sublevel"]["chi_surface"].is_null());
+    assert!(v["sublevel"]["reason"]
+        .as_str()
+        .unwrap()
+        .contains("not proven Morse"));
+    assert_eq!(v["height"]["chi"], 0);
+    assert_eq!(v["chi"], 0);
+    assert_eq!(v["mesh"]["euler_characteristic"], 0);
+    assert_eq!(v["mesh"]["agrees"], true);
+    let (code, out, _) = certmesh_in(
+        &dir,
+        &["morse", "torus", "--max-boxes", "20000", "--mesh", "t.obj"],
+    );
+    assert_eq!(code, 0);
+    assert!(out.contains("f is NOT proven Morse"), "{out}");
+    assert!(out.contains("agrees with the certified chi(S)"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A formula with an axis height: the sphere's two poles; a domain cutting S gives
+/// nothing certified; bad options are JSON errors with exit 2.
+#[test]
+fn morse_formula_height_and_errors() {
+    let (code, out, err) = certmesh(&[
+        "morse",
+        "--formula",
+        "x^2 + y^2 + z^2 - 1",
+        "--height",
+        "0,0,1",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["domain_source"], "default");
+    assert_eq!(v["height"]["minima"], 1);
+    assert_eq!(v["height"]["maxima"], 1);
+    assert_eq!(v["chi"], 2);
+    let top = &v["height"]["points"][1];
+    assert!(
+        (top["point"][2].as_f64().unwrap() - 1.0).abs() < 1e-9,
+        "{top}"
+    );
+    let (code, out, _) = certmesh(&[
+        "morse",
+        "--formula",
+        "x^2 + y^2 + z^2 - 1",
+        "--domain",
+        "0,-2,-2,2,2,2",
+        "--json",
+    ]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["chi"].is_null());
+    assert!(v["sublevel"]["reason"]
+        .as_str()
+        .unwrap()
+        .contains("boundary"));
+    for bad in [
+        vec!["morse", "sphere", "--height", "0,0,0", "--json"],
+        vec!["morse", "sphere", "--height", "1,2", "--json"],
+        vec!["morse", "sphere", "--max-boxes", "0", "--json"],
+        vec!["morse", "--formula", "x^2 + * y", "--json"],
+        vec!["morse", "circle", "--json"],
+        vec!["morse", "nosuch", "--json"],
+        vec!["morse", "sphere", "--mesh", "/nonexistent/m.obj", "--json"],
+    ] {
+        let (code, out, _) = certmesh(&bad);
+        assert_eq!(code, 2, "{bad:?}: {out}");
+        json_error(&out);
+    }
+}
+
+/// Every example of `certmesh morse --help` runs (the torus mesh first, which the
+/// last example reads).
+#[test]
+fn morse_help_examples_run() {
+    let dir = tmp("morse-help");
+    let (code, help, err) = certmesh_in(&dir, &["morse", "--help"]);
+    assert_eq!(code, 0, "{err}");
+    let ex = help_examples(&help);
+    assert!(ex.len() >= 4, "{ex:?}");
+    let (code, _, err) = certmesh_in(
+        &dir,
+        &[
+            "mesh",
+            "torus",
+            "--algo",
+            "mc",
+            "--resolution",
+            "32",
+            "-o",
+            "torus.obj",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    for c in &ex {
+        let (code, out, err, dt) = sh_in(&dir, c);
+        eprintln!("`{c}`: exit {code} in {dt:.1?}");
+        assert_eq!(code, 0, "help example `{c}` failed:\n{out}\n{err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `--algo stander-hart`: listed by `algos`, the sweep's levels in the JSON stats,
+/// certified on the tanglecube; a bad --set is an error with exit 2.
+#[test]
+fn stander_hart_from_the_command_line() {
+    let (code, out, _) = certmesh(&["algos"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("stander-hart"), "{out}");
+    let dir = tmp("stander-hart");
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &[
+            "mesh",
+            "tanglecube",
+            "--algo",
+            "stander-hart",
+            "-o",
+            "t.obj",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["certified"], true);
+    assert_eq!(v["topology_ok"], true);
+    assert_eq!(v["mesh_chi"], -8);
+    let sh = &v["stats"]["stander_hart"];
+    assert_eq!(sh["levels"].as_array().unwrap().len(), 3);
+    assert_eq!(sh["chi_predicted"], -8);
+    assert!(dir.join("t.obj").exists());
+    let (code, out, _) = certmesh_in(
+        &dir,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "stander-hart",
+            "--set",
+            "steps=0",
+            "-o",
+            "s.obj",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 2, "{out}");
+    json_error(&out);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `--algo bcsv`: W-certified on the sphere (never "certified": isotopy is not
+/// claimed), the attempts in the JSON stats; a bad --resolution is an error.
+#[test]
+fn bcsv_from_the_command_line() {
+    let dir = tmp("bcsv");
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &["mesh", "sphere", "--algo", "bcsv", "-o", "s.obj", "--json"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["certified"], false);
+    assert_eq!(v["topology_ok"], true);
+    assert_eq!(v["stats"]["w_certified"], true);
+    assert!(v["certificate"]["reason"]
+        .as_str()
+        .unwrap()
+        .starts_with("W-certified"));
+    assert!(v["stats"]["attempts"].as_array().unwrap().len() >= 1);
+    let (code, out, _) = certmesh_in(
+        &dir,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bcsv",
+            "--resolution",
+            "2",
+            "-o",
+            "s.obj",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 2, "{out}");
+    json_error(&out);
+    std::fs::remove_dir_all(&dir).ok();
+}

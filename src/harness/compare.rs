@@ -47,6 +47,14 @@ pub struct Row {
     pub certificate: Certificate,
     /// Set when the mesher failed; the other fields are then empty.
     pub error: Option<String>,
+    /// The Euler characteristic V − E + F of the output surface (`None` for curves).
+    pub mesh_chi: Option<i64>,
+    /// χ(S) certified by Morse counting ([`crate::morse::certified_chi`]): a
+    /// mesh-independent topology check, the same for every mesher of a surface
+    /// (`None`: not certified, see `certified_chi_note`; curves: not computed).
+    pub certified_chi: Option<i64>,
+    /// Why `certified_chi` is absent.
+    pub certified_chi_note: Option<String>,
 }
 
 impl Row {
@@ -76,6 +84,9 @@ impl Row {
             certified: false,
             certificate: Certificate::none(e.clone()),
             error: Some(e),
+            mesh_chi: None,
+            certified_chi: None,
+            certified_chi_note: None,
         }
     }
 }
@@ -135,6 +146,7 @@ pub fn evaluate(
                 row.tetrahedra = Some(tets.tets.len());
             }
             let report = metrics::analyze(surf)?;
+            row.mesh_chi = Some(report.euler_characteristic);
             if let Some(t) = expected {
                 set_verdict(&mut row, metrics::verdict(&report, t));
             } else {
@@ -171,6 +183,10 @@ fn set_hausdorff(row: &mut Row, fd: Option<&metrics::Fidelity>) {
     });
 }
 
+/// Box budgets of the certified χ column (gradient search, then height census).
+pub const CHI_GRADIENT_BOXES: usize = 20_000;
+pub const CHI_SURFACE_BOXES: usize = 100_000;
+
 /// Run the matrix `entries × algos`. Algorithms that do not handle an entry's dimension
 /// are skipped; a mesher error becomes a row with `error` set (the matrix goes on).
 pub fn compare(
@@ -201,15 +217,35 @@ pub fn compare_with(
         })
         .collect();
     progress.start("compare", jobs.len() as u64);
+    let mut chis: Vec<(&str, (Option<i64>, Option<String>))> = Vec::new();
     for (e, a) in jobs {
         let f = e.function();
+        let chi = match chis.iter().find(|(n, _)| *n == e.name) {
+            Some((_, c)) => c.clone(),
+            None => {
+                let c = if e.dim == 3 {
+                    crate::morse::certified_chi(
+                        &f,
+                        e.domain.into(),
+                        CHI_GRADIENT_BOXES,
+                        CHI_SURFACE_BOXES,
+                    )
+                } else {
+                    (None, Some("curves: not computed".to_string()))
+                };
+                chis.push((e.name, c.clone()));
+                c
+            }
+        };
         let row = algorithms::build_shared(a, e.dim, opts)
             .and_then(|m| mesher::run(m.as_ref(), &f, &e.domain, &mesher::NoProgress))
             .and_then(|run| {
                 on_run(e, &run)?;
                 evaluate(e.name, &f, &e.domain, e.topology.as_ref(), &run)
             });
-        rows.push(row.unwrap_or_else(|err| Row::failed(e.name, a, e.dim, err.to_string())));
+        let mut row = row.unwrap_or_else(|err| Row::failed(e.name, a, e.dim, err.to_string()));
+        (row.certified_chi, row.certified_chi_note) = chi;
+        rows.push(row);
         progress.inc(1);
     }
     progress.finish();
@@ -240,7 +276,7 @@ pub fn csv(rows: &[Row]) -> String {
         None => String::new(),
     };
     let mut s = String::from(
-        "surface,algo,dim,topology_ok,expected,found,components,genus,closed,manifold,vertices,faces,tetrahedra,min_angle_deg,max_angle_deg,hausdorff_est,hausdorff_note,seconds,evaluations,certified,certificate,error\n",
+        "surface,algo,dim,topology_ok,expected,found,components,genus,closed,manifold,vertices,faces,tetrahedra,min_angle_deg,max_angle_deg,hausdorff_est,hausdorff_note,seconds,evaluations,certified,certificate,error,mesh_chi,certified_chi\n",
     );
     for r in rows {
         let cert = match &r.certificate {
@@ -276,6 +312,8 @@ pub fn csv(rows: &[Row]) -> String {
             r.certified.to_string(),
             field(&cert),
             field(r.error.as_deref().unwrap_or("")),
+            r.mesh_chi.map(|c| c.to_string()).unwrap_or_default(),
+            r.certified_chi.map(|c| c.to_string()).unwrap_or_default(),
         ];
         s += &cols.join(",");
         s.push('\n');
@@ -286,12 +324,12 @@ pub fn csv(rows: &[Row]) -> String {
 /// The comparison as a markdown table.
 pub fn markdown(rows: &[Row]) -> String {
     let mut s = String::from(
-        "| surface | algo | topology | found | angles (deg) | Hausdorff (est.) | time (s) | evals | certificate |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| surface | algo | topology | found | angles (deg) | Hausdorff (est.) | time (s) | evals | certificate | χ mesh / certified |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         if let Some(e) = &r.error {
             s += &format!(
-                "| {} | {} | error | {} | | | | | |\n",
+                "| {} | {} | error | {} | | | | | | |\n",
                 r.surface,
                 r.algo,
                 e.replace('|', "/")
@@ -319,8 +357,13 @@ pub fn markdown(rows: &[Row]) -> String {
                 }
             }
         };
+        let chi = |c: Option<i64>| c.map(|c| c.to_string()).unwrap_or_else(|| "–".into());
+        let chis = match (r.mesh_chi, r.certified_chi) {
+            (Some(m), Some(c)) if m != c => format!("**{m}** / {c}"),
+            (m, c) => format!("{} / {}", chi(m), chi(c)),
+        };
         s += &format!(
-            "| {} | {} | {} | {} | {} | {} | {:.3} | {} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {:.3} | {} | {} | {} |\n",
             r.surface,
             r.algo,
             verdict,
@@ -329,7 +372,8 @@ pub fn markdown(rows: &[Row]) -> String {
             fmt_opt(r.hausdorff, 4),
             r.seconds,
             r.evaluations,
-            cert.replace('|', "/")
+            cert.replace('|', "/"),
+            chis
         );
     }
     s

@@ -129,6 +129,22 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             STUFFING
         ),
         entry!(
+            "stander-hart",
+            3,
+            true,
+            "Stander–Hart sweep: certified critical points of f order the levels, each meshed by PV",
+            crate::morse::stander_hart::StanderHart,
+            PV
+        ),
+        entry!(
+            "bcsv",
+            3,
+            false,
+            "Boissonnat–Cohen-Steiner–Vegter PL interpolation on Kuhn tetrahedra: W-certified (Thm 8 conditions), isotopy not claimed",
+            crate::morse::bcsv::Bcsv,
+            &["resolution"]
+        ),
+        entry!(
             "ms",
             2,
             false,

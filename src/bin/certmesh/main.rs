@@ -10,6 +10,7 @@ mod args;
 mod compare_cmd;
 mod input;
 mod mesh_cmd;
+mod morse_cmd;
 mod progress;
 mod stats_cmd;
 
@@ -110,6 +111,28 @@ enum Cmd {
     ///   certmesh compare --surfaces two-spheres,thin-torus --algos mc,pv --resolution 21
     #[command(verbatim_doc_comment)]
     Compare(CompareArgs),
+    /// The certified Morse census: critical points, indices, Euler characteristic.
+    ///
+    /// Lists the critical points of f (grad f = 0) in the domain, each in a box proven
+    /// to hold exactly one, with an enclosure of its value and its Morse index from a
+    /// certified Hessian inertia (interval Krawczyk); boxes where nothing could be
+    /// decided are reported by reason (a degenerate or non-isolated critical set, such
+    /// as the torus's circle of minima, is reported as not proven Morse, never
+    /// guessed). Then chi({f <= 0}) = sum of (-1)^index over the critical points with
+    /// f < 0, and chi(S) = 2 chi({f <= 0}), certified only when f > 0 is proven on
+    /// the domain boundary and f is proven Morse on {f <= 0}; and the census
+    /// #min - #saddle + #max of the height <n, x> on S (--height), which is chi(S)
+    /// when that search is complete, every index certified and S away from the
+    /// boundary. Every claim says certified or uncertified, with why. --mesh prints
+    /// a mesh's chi beside the certified one.
+    ///
+    /// Examples:
+    ///   certmesh morse tanglecube
+    ///   certmesh morse torus --max-boxes 20000 --json
+    ///   certmesh morse --formula "x^2 + y^2 + z^2 - 1" --height 0,0,1
+    ///   certmesh morse torus --max-boxes 20000 --mesh torus.obj
+    #[command(verbatim_doc_comment)]
+    Morse(morse_cmd::MorseArgs),
     /// The main job on built-in defaults: mesh catalog entries with every algorithm,
     /// print the comparison, write the meshes and angle histograms to the output folder.
     ///
@@ -235,6 +258,7 @@ fn run(cmd: Cmd, quiet: bool) -> CliResult<()> {
         Cmd::Curve(a) => mesh_cmd(a, 2, quiet)?,
         Cmd::Stats(a) => stats_cmd(a, quiet)?,
         Cmd::Compare(a) => compare_cmd(a, quiet)?,
+        Cmd::Morse(a) => morse_cmd::morse_cmd(a, quiet)?,
         Cmd::Demo { out, quick, json } => demo_cmd(&out, quick, json, quiet)?,
         Cmd::Reproduce { paper, out, quick } => {
             reproduce_cmd(&paper, out.as_deref(), quick, quiet)?

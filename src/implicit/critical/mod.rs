@@ -65,6 +65,10 @@
 //! row is ∇f), and h|S is a Morse function, so χ(S) = Σ (−1)^index (Milnor, *Morse
 //! Theory*, 1963, §5, Thm 5.2 and its corollary; the chapter "Meshing of Surfaces",
 //! Boissonnat et al., 2007, §1.5).
+//!
+//! **χ({f ≤ 0}) and χ(S) from the critical points of f** ([`sublevel_euler_characteristic`],
+//! `sublevel.rs`): Σ (−1)^index over the critical points with f < 0, when f > 0 is proven
+//! on ∂D and f is proven Morse on {f ≤ 0}; then χ(S) = 2·χ({f ≤ 0}).
 use crate::implicit::{IBox, Implicit};
 use inari::Interval;
 use linalg::{excludes_zero, pt};
@@ -74,8 +78,12 @@ use systems::{Gradient, Height};
 
 pub mod linalg;
 mod search;
+mod sublevel;
 mod systems;
 
+pub use sublevel::{
+    boundary_sign, from_gradient, side, sublevel_euler_characteristic, Side, SublevelReport,
+};
 pub use systems::{height_hessian_on_surface, Frame};
 
 /// The default height direction, (1/π, 1/e, 1/√2) before normalisation (the frame

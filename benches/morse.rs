@@ -1,0 +1,60 @@
+//! The certified Morse census: the search for ∇f = 0, the height census on S, and the
+//! Stander–Hart sweep against Plantinga–Vegter alone (criterion's throughput = boxes of
+//! the search).
+use certmesh::catalog;
+use certmesh::implicit::critical::{critical_points_of_f, euler_characteristic, Budget, Bx};
+use certmesh::mesher::{registry, Mesher, NoProgress};
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+
+fn census(c: &mut Criterion) {
+    let mut g = c.benchmark_group("morse");
+    g.sample_size(10);
+    for name in ["tanglecube", "genus2", "genus5", "two-spheres"] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        let d: Bx = e.domain.into();
+        let grad = Budget {
+            max_depth: 30,
+            ..Budget::default()
+        };
+        let r = critical_points_of_f(&f, d, grad);
+        eprintln!(
+            "{name}: grad f = 0: {} points, {} boxes",
+            r.points.len(),
+            r.stats.boxes
+        );
+        g.throughput(Throughput::Elements(r.stats.boxes as u64));
+        g.bench_function(format!("gradient/{name}"), |b| {
+            b.iter(|| critical_points_of_f(&f, d, grad))
+        });
+        let h = euler_characteristic(&f, d, None, Budget::default());
+        eprintln!(
+            "{name}: height: chi {:?}, {} boxes",
+            h.chi, h.surface.stats.boxes
+        );
+        g.throughput(Throughput::Elements(h.surface.stats.boxes as u64));
+        g.bench_function(format!("height/{name}"), |b| {
+            b.iter(|| euler_characteristic(&f, d, None, Budget::default()))
+        });
+    }
+    g.finish();
+}
+
+fn sweep(c: &mut Criterion) {
+    let mut g = c.benchmark_group("stander-hart");
+    g.sample_size(10);
+    for name in ["tanglecube", "two-spheres"] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        for algo in ["stander-hart", "pv"] {
+            let m: Box<dyn Mesher> = registry::build(algo, 3, &Default::default()).unwrap();
+            g.bench_function(format!("{algo}/{name}"), |b| {
+                b.iter(|| m.mesh(&f, &e.domain, &NoProgress).unwrap())
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, census, sweep);
+criterion_main!(benches);
