@@ -22,6 +22,7 @@
 //!
 //! No algorithm module imports [`reproduce`] or [`harness`]; the subdivision engine
 //! imports no mesher.
+pub mod algebraic;
 pub mod catalog;
 pub mod error;
 pub mod gradnormal;

@@ -63,6 +63,11 @@ pub trait Implicit: Send + Sync {
     fn describe(&self) -> String {
         "<rust function>".into()
     }
+    /// The expression tree, when f is a formula (the exact methods convert it to a
+    /// polynomial: `algebraic::from_expr`). The default has none.
+    fn expression(&self) -> Option<&Expr> {
+        None
+    }
 }
 
 fn ivars(b: &IBox) -> [Dual<Interval>; 3] {
@@ -230,6 +235,9 @@ impl Implicit for Formula {
     fn describe(&self) -> String {
         self.text.clone()
     }
+    fn expression(&self) -> Option<&Expr> {
+        Some(&self.expr)
+    }
 }
 
 /// A plain point function with a gradient closure and a Lipschitz bound `lipschitz`
@@ -395,6 +403,9 @@ impl Implicit for Counted<'_> {
     }
     fn describe(&self) -> String {
         self.inner.describe()
+    }
+    fn expression(&self) -> Option<&Expr> {
+        self.inner.expression()
     }
 }
 

@@ -169,6 +169,14 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             SNYDER
         ),
         entry!(
+            "sweep",
+            2,
+            true,
+            "González-Vega–Necula sweep: exact topology of polynomial curves, singular points included",
+            crate::algebraic::Sweep,
+            &[]
+        ),
+        entry!(
             "midnormal",
             2,
             false,

@@ -1,0 +1,350 @@
+//! Exact real root isolation (Descartes' rule of signs with bisection, the
+//! Vincent–Collins–Akritas method on dyadic intervals) and real algebraic numbers:
+//! a square-free integer polynomial with an isolating rational interval, refined by
+//! bisection, compared exactly, and the sign of another polynomial at it.
+use super::upoly::{sign, UPoly};
+use crate::error::{Error, Result};
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Signed, Zero};
+use std::cmp::Ordering;
+
+/// Budget of Descartes nodes per isolation (square-free inputs of the sizes the sweep
+/// meets need a few hundred).
+pub const ISOLATE_NODES: usize = 200_000;
+/// Bisections allowed when refining a number to decide a sign or a comparison.
+pub const REFINE_STEPS: usize = 4000;
+
+/// A real algebraic number: the unique root of the square-free `p` in the open
+/// interval (lo, hi), with p(lo)·p(hi) < 0; or, when lo = hi, that rational exactly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RealAlg {
+    pub p: UPoly,
+    pub lo: BigRational,
+    pub hi: BigRational,
+}
+
+fn pow2(k: i64) -> BigRational {
+    if k >= 0 {
+        BigRational::from_integer(BigInt::one() << k as u64)
+    } else {
+        BigRational::new(BigInt::one(), BigInt::one() << (-k) as u64)
+    }
+}
+
+/// A power of two strictly above the absolute value of every real root of `p`
+/// (Cauchy: 1 + max|aᵢ|/|aₙ|).
+pub fn root_bound_log2(p: &UPoly) -> i64 {
+    let m = p.c[..p.c.len() - 1]
+        .iter()
+        .map(|a| a.bits())
+        .max()
+        .unwrap_or(0) as i64;
+    (m - p.lc().bits() as i64 + 2).max(1)
+}
+
+/// The distinct real roots of `p` (any non-zero integer polynomial), sorted, as
+/// disjoint isolating intervals with rational endpoints that are not roots.
+pub fn isolate(p: &UPoly) -> Result<Vec<RealAlg>> {
+    if p.is_zero() {
+        return Err(Error::Param("root isolation of the zero polynomial".into()));
+    }
+    let sq = p.squarefree();
+    if sq.deg() <= 0 {
+        return Ok(Vec::new());
+    }
+    let mut out = Vec::new();
+    let mut work = sq.clone();
+    let zero = BigRational::zero();
+    if work.c[0].is_zero() {
+        out.push(RealAlg::exact(zero.clone()));
+        work = work.deflate(&zero);
+    }
+    let k = root_bound_log2(&work);
+    let mut budget = ISOLATE_NODES;
+    // Positive roots: Q(x) = P(2^k x) on (0, 1).
+    let mut pos = Vec::new();
+    descartes01(&work.scale_up_pow2(k as u64), &mut pos, &mut budget)?;
+    let mut neg = Vec::new();
+    descartes01(&work.reflect().scale_up_pow2(k as u64), &mut neg, &mut budget)?;
+    let scale = pow2(k);
+    for (c, h, exact) in neg.into_iter().rev() {
+        let (lo, hi) = unit_interval(&c, h, &scale);
+        if exact {
+            out.push(RealAlg::exact(-lo));
+        } else {
+            out.push(RealAlg::new(sq.clone(), -hi, -lo));
+        }
+    }
+    for (c, h, exact) in pos {
+        let (lo, hi) = unit_interval(&c, h, &scale);
+        if exact {
+            out.push(RealAlg::exact(lo));
+        } else {
+            out.push(RealAlg::new(sq.clone(), lo, hi));
+        }
+    }
+    // The open intervals' polynomial: sq with its exact (rational) roots divided out,
+    // so that no endpoint (0 or a bisection midpoint) is a root of it.
+    let mut core = sq.clone();
+    for r in out.iter().filter(|r| r.is_exact()) {
+        core = core.deflate(&r.lo);
+    }
+    let core = core.primitive();
+    for r in out.iter_mut() {
+        if r.is_exact() {
+            r.p = UPoly::linear_root(&r.lo).primitive();
+        } else {
+            r.p = core.clone();
+        }
+    }
+    out.sort_by(|a, b| a.lo.cmp(&b.lo));
+    Ok(out)
+}
+
+fn unit_interval(c: &BigInt, h: u64, scale: &BigRational) -> (BigRational, BigRational) {
+    let d = BigInt::one() << h;
+    (
+        BigRational::new(c.clone(), d.clone()) * scale,
+        BigRational::new(c + 1, d) * scale,
+    )
+}
+
+/// Descartes' bound for roots of q in (0, 1): the sign variations of (x+1)ⁿ q(1/(x+1)).
+fn var01(q: &UPoly) -> usize {
+    q.reverse().taylor_shift1().sign_variations()
+}
+
+/// Isolate the roots of q in (0, 1); pushes (c, h, exact): the interval
+/// (c/2^h, (c+1)/2^h), or the exact root c/2^h.
+fn descartes01(q: &UPoly, out: &mut Vec<(BigInt, u64, bool)>, budget: &mut usize) -> Result<()> {
+    let mut stack = vec![(q.clone(), BigInt::zero(), 0u64)];
+    while let Some((q, c, h)) = stack.pop() {
+        if *budget == 0 {
+            return Err(Error::TooLarge(
+                "root isolation budget exhausted (Descartes nodes)".into(),
+            ));
+        }
+        *budget -= 1;
+        match var01(&q) {
+            0 => continue,
+            1 => {
+                out.push((c, h, false));
+                continue;
+            }
+            _ => {}
+        }
+        // Left half: 2ⁿ q(x/2); right half: that at x + 1.
+        let mut left = q.scale_down_pow2(1);
+        let c2 = &c << 1u32;
+        if left.c.iter().fold(BigInt::zero(), |a, b| a + b).is_zero() {
+            // The midpoint is a root.
+            out.push((&c2 + 1, h + 1, true));
+            left = left.div_exact(&UPoly::from_i64(&[-1, 1])).expect("root at 1");
+        }
+        // When the midpoint was a root, left was divided by (x − 1), so the right half
+        // left(x + 1) has no root at its end 0 either.
+        let right = left.taylor_shift1().primitive();
+        stack.push((right, &c2 + 1, h + 1));
+        stack.push((left.primitive(), c2, h + 1));
+    }
+    Ok(())
+}
+
+impl RealAlg {
+    /// The rational `x` exactly.
+    pub fn exact(x: BigRational) -> Self {
+        RealAlg {
+            p: UPoly::linear_root(&x).primitive(),
+            lo: x.clone(),
+            hi: x,
+        }
+    }
+    /// The root of square-free `p` in (lo, hi); the caller guarantees a sign change.
+    pub fn new(p: UPoly, lo: BigRational, hi: BigRational) -> Self {
+        RealAlg { p, lo, hi }
+    }
+    pub fn is_exact(&self) -> bool {
+        self.lo == self.hi
+    }
+    pub fn width(&self) -> BigRational {
+        &self.hi - &self.lo
+    }
+    pub fn mid(&self) -> BigRational {
+        (&self.lo + &self.hi) / BigRational::from_integer(BigInt::from(2))
+    }
+    /// Approximate value (for output coordinates only, never for a decision).
+    pub fn to_f64(&self) -> f64 {
+        q_to_f64(&self.mid())
+    }
+    /// One bisection step.
+    pub fn bisect(&mut self) {
+        if self.is_exact() {
+            return;
+        }
+        let m = self.mid();
+        let sm = self.p.sign_at(&m);
+        if sm == 0 {
+            self.lo = m.clone();
+            self.hi = m;
+            return;
+        }
+        if sm == self.p.sign_at(&self.lo) {
+            self.lo = m;
+        } else {
+            self.hi = m;
+        }
+    }
+    /// Bisect until the interval is at most `w` wide (or exact).
+    pub fn refine_to(&mut self, w: &BigRational) {
+        while !self.is_exact() && &self.width() > w {
+            self.bisect();
+        }
+    }
+    /// Is `q` zero at this number? Exact: the gcd with the defining polynomial changes
+    /// sign on the isolating interval.
+    pub fn is_root_of(&self, q: &UPoly) -> bool {
+        if q.is_zero() {
+            return true;
+        }
+        if self.is_exact() {
+            return q.sign_at(&self.lo) == 0;
+        }
+        let g = self.p.gcd(q);
+        if g.deg() <= 0 {
+            return false;
+        }
+        // g divides the square-free p, so its roots in (lo, hi) are at most this one,
+        // and it is simple: a root iff g changes sign.
+        g.sign_at(&self.lo) * g.sign_at(&self.hi) < 0
+    }
+    /// The sign of q at this number, exactly.
+    pub fn sign_of(&mut self, q: &UPoly) -> Result<i32> {
+        if q.is_zero() {
+            return Ok(0);
+        }
+        if self.is_exact() {
+            return Ok(q.sign_at(&self.lo));
+        }
+        if self.is_root_of(q) {
+            return Ok(0);
+        }
+        for _ in 0..REFINE_STEPS {
+            if self.is_exact() {
+                return Ok(q.sign_at(&self.lo));
+            }
+            let e = eval_interval(q, &self.lo, &self.hi);
+            if e.0.is_positive() {
+                return Ok(1);
+            }
+            if e.1.is_negative() {
+                return Ok(-1);
+            }
+            self.bisect();
+        }
+        Err(Error::TooLarge(
+            "sign of a polynomial at an algebraic number: refinement budget exhausted".into(),
+        ))
+    }
+    /// Exact comparison: equality is decided exactly (this number is a root of the
+    /// other's polynomial inside its isolating interval), distinct numbers by refining
+    /// until their intervals separate.
+    pub fn compare(&mut self, o: &mut RealAlg) -> Result<Ordering> {
+        if self.is_exact() && o.is_exact() {
+            return Ok(self.lo.cmp(&o.lo));
+        }
+        if self.is_exact() {
+            let x = self.lo.clone();
+            return Ok(o.cmp_q(&x).reverse());
+        }
+        if o.is_exact() {
+            let x = o.lo.clone();
+            return Ok(self.cmp_q(&x));
+        }
+        if self.hi > o.lo && o.hi > self.lo && self.is_root_of(&o.p) {
+            let (l, h) = (o.lo.clone(), o.hi.clone());
+            if self.cmp_q(&l) == Ordering::Greater && self.cmp_q(&h) == Ordering::Less {
+                return Ok(Ordering::Equal);
+            }
+        }
+        separate(self, o)
+    }
+    /// Exact comparison with a rational.
+    pub fn cmp_q(&mut self, x: &BigRational) -> Ordering {
+        if self.is_exact() {
+            return self.lo.cmp(x);
+        }
+        if x <= &self.lo {
+            return Ordering::Greater;
+        }
+        if x >= &self.hi {
+            return Ordering::Less;
+        }
+        let s = self.p.sign_at(x);
+        if s == 0 {
+            return Ordering::Equal;
+        }
+        // The root lies on the side of x where the sign differs from p(x).
+        if s == self.p.sign_at(&self.lo) {
+            self.lo = x.clone();
+            Ordering::Greater
+        } else {
+            self.hi = x.clone();
+            Ordering::Less
+        }
+    }
+}
+
+/// Refine two distinct numbers until their intervals are disjoint.
+fn separate(a: &mut RealAlg, b: &mut RealAlg) -> Result<Ordering> {
+    for _ in 0..REFINE_STEPS {
+        if a.is_exact() && b.is_exact() {
+            return Ok(a.lo.cmp(&b.lo));
+        }
+        // Open intervals (or a point): touching endpoints are not roots, so ≤ separates.
+        if a.hi <= b.lo {
+            return Ok(Ordering::Less);
+        }
+        if b.hi <= a.lo {
+            return Ok(Ordering::Greater);
+        }
+        if a.width() >= b.width() && !a.is_exact() {
+            a.bisect();
+        } else {
+            b.bisect();
+        }
+    }
+    Err(Error::TooLarge(
+        "comparison of algebraic numbers: refinement budget exhausted".into(),
+    ))
+}
+
+/// A rational interval enclosure of q over \[lo, hi\] (Horner in interval arithmetic).
+pub fn eval_interval(q: &UPoly, lo: &BigRational, hi: &BigRational) -> (BigRational, BigRational) {
+    let mut a = BigRational::zero();
+    let mut b = BigRational::zero();
+    for c in q.c.iter().rev() {
+        let ps = [&a * lo, &a * hi, &b * lo, &b * hi];
+        let mn = ps.iter().min().unwrap().clone();
+        let mx = ps.iter().max().unwrap().clone();
+        let cq = BigRational::from_integer(c.clone());
+        a = mn + &cq;
+        b = mx + cq;
+    }
+    (a, b)
+}
+
+pub fn q_to_f64(x: &BigRational) -> f64 {
+    use num_traits::ToPrimitive;
+    x.to_f64().unwrap_or_else(|| {
+        // Very large/small: fall back on bit lengths.
+        let n = x.numer().bits() as i64 - x.denom().bits() as i64;
+        let s = if x.is_negative() { -1.0 } else { 1.0 };
+        s * 2f64.powi(n.clamp(-1000, 1000) as i32)
+    })
+}
+
+/// The sign of a product of signs (helper).
+pub fn sgn(a: &BigInt) -> i32 {
+    sign(a)
+}

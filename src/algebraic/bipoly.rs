@@ -1,0 +1,489 @@
+//! Bivariate integer polynomials as polynomials in y over Z\[x\] (`c[j]` is the
+//! coefficient of yʲ), and the conversion of a formula that is a polynomial with
+//! rational coefficients into one (the oracle's polynomial capability).
+use super::upoly::UPoly;
+use crate::error::{Error, Result};
+use crate::implicit::expr::{BinOp, Expr, UnOp};
+use num_bigint::BigInt;
+use num_integer::Integer;
+use num_rational::BigRational;
+use num_traits::{One, Signed, Zero};
+use std::collections::BTreeMap;
+
+/// f(x, y) = Σ c\[j\](x)·yʲ, no trailing zero coefficients.
+#[derive(Clone, Debug, PartialEq, Eq, Default)]
+pub struct BiPoly {
+    pub c: Vec<UPoly>,
+}
+
+/// The largest total degree a formula may expand to (a budget against `(x+y)^1000`).
+pub const MAX_FORMULA_DEGREE: u32 = 64;
+
+impl BiPoly {
+    pub fn new(mut c: Vec<UPoly>) -> Self {
+        while c.last().is_some_and(|p| p.is_zero()) {
+            c.pop();
+        }
+        BiPoly { c }
+    }
+    /// From integer terms (coefficient, power of x, power of y).
+    pub fn from_terms(t: &[(i64, usize, usize)]) -> Self {
+        let mut m: BTreeMap<(usize, usize), BigInt> = BTreeMap::new();
+        for &(a, i, j) in t {
+            *m.entry((i, j)).or_default() += BigInt::from(a);
+        }
+        Self::from_map(&m)
+    }
+    fn from_map(m: &BTreeMap<(usize, usize), BigInt>) -> Self {
+        let dy = m.keys().map(|k| k.1).max().map_or(0, |d| d + 1);
+        let mut c = vec![Vec::<BigInt>::new(); dy];
+        for (&(i, j), a) in m {
+            if c[j].len() <= i {
+                c[j].resize(i + 1, BigInt::zero());
+            }
+            c[j][i] += a;
+        }
+        Self::new(c.into_iter().map(UPoly::new).collect())
+    }
+    pub fn is_zero(&self) -> bool {
+        self.c.is_empty()
+    }
+    pub fn deg_y(&self) -> isize {
+        self.c.len() as isize - 1
+    }
+    pub fn deg_x(&self) -> isize {
+        self.c.iter().map(|p| p.deg()).max().unwrap_or(-1)
+    }
+    /// Total degree (−1 for zero).
+    pub fn total_degree(&self) -> isize {
+        self.c
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| !p.is_zero())
+            .map(|(j, p)| j as isize + p.deg())
+            .max()
+            .unwrap_or(-1)
+    }
+    pub fn max_bits(&self) -> u64 {
+        self.c.iter().map(|p| p.max_bits()).max().unwrap_or(0)
+    }
+    /// Coefficient of xⁱyʲ.
+    pub fn coef(&self, i: usize, j: usize) -> BigInt {
+        self.c.get(j).map(|p| p.coef(i)).unwrap_or_default()
+    }
+    pub fn dy(&self) -> Self {
+        Self::new(
+            self.c
+                .iter()
+                .enumerate()
+                .skip(1)
+                .map(|(j, p)| p.scale(&BigInt::from(j)))
+                .collect(),
+        )
+    }
+    pub fn dx(&self) -> Self {
+        Self::new(self.c.iter().map(|p| p.derivative()).collect())
+    }
+    pub fn mul(&self, o: &Self) -> Self {
+        if self.is_zero() || o.is_zero() {
+            return Self::zero();
+        }
+        let mut r = vec![UPoly::zero(); self.c.len() + o.c.len() - 1];
+        for (i, a) in self.c.iter().enumerate() {
+            for (j, b) in o.c.iter().enumerate() {
+                r[i + j] = r[i + j].add(&a.mul(b));
+            }
+        }
+        Self::new(r)
+    }
+    pub fn zero() -> Self {
+        BiPoly { c: Vec::new() }
+    }
+    /// The shear f(x + s·y, y).
+    pub fn shear(&self, s: i64) -> Self {
+        if s == 0 {
+            return self.clone();
+        }
+        let mut m: BTreeMap<(usize, usize), BigInt> = BTreeMap::new();
+        let sb = BigInt::from(s);
+        for (j, p) in self.c.iter().enumerate() {
+            for (i, a) in p.c.iter().enumerate() {
+                if a.is_zero() {
+                    continue;
+                }
+                // a·(x + s y)^i·y^j = Σ_l C(i,l) s^l x^(i−l) y^(j+l)
+                let mut binom = BigInt::one();
+                let mut sp = BigInt::one();
+                for l in 0..=i {
+                    *m.entry((i - l, j + l)).or_default() += a * &binom * &sp;
+                    binom = binom * BigInt::from(i - l) / BigInt::from(l + 1);
+                    sp *= &sb;
+                }
+            }
+        }
+        Self::from_map(&m)
+    }
+    /// The leading coefficient in y (a polynomial in x).
+    pub fn lc_y(&self) -> UPoly {
+        self.c.last().cloned().unwrap_or_default()
+    }
+    /// f(x0 + x1·t, y0 + y1·t) as a primitive integer polynomial in t (up to a positive
+    /// rational factor). Zero when f vanishes on the line.
+    pub fn on_line(
+        &self,
+        x0: &BigRational,
+        x1: &BigRational,
+        y0: &BigRational,
+        y1: &BigRational,
+    ) -> UPoly {
+        let lx = [x0.clone(), x1.clone()];
+        let ly = [y0.clone(), y1.clone()];
+        let mut acc: Vec<BigRational> = Vec::new();
+        for p in self.c.iter().rev() {
+            // acc = acc·ly + p(lx)
+            let mut px: Vec<BigRational> = Vec::new();
+            for a in p.c.iter().rev() {
+                px = qmul(&px, &lx);
+                qadd_const(&mut px, &BigRational::from_integer(a.clone()));
+            }
+            acc = qmul(&acc, &ly);
+            acc = qadd(&acc, &px);
+        }
+        q_to_primitive(&acc)
+    }
+    /// f(q, y) as a primitive integer polynomial in y.
+    pub fn at_x(&self, q: &BigRational) -> UPoly {
+        self.on_line(q, &BigRational::zero(), &BigRational::zero(), &BigRational::one())
+    }
+    /// Content in Z\[x\]: the gcd of the y-coefficients.
+    pub fn content_x(&self) -> UPoly {
+        let mut g = UPoly::zero();
+        for p in &self.c {
+            g = g.gcd(p);
+            if g.deg() == 0 {
+                break;
+            }
+        }
+        g
+    }
+    /// Divide every coefficient exactly by a polynomial in x.
+    pub fn div_x(&self, g: &UPoly) -> Option<Self> {
+        let mut c = Vec::new();
+        for p in &self.c {
+            c.push(p.div_exact(g)?);
+        }
+        Some(Self::new(c))
+    }
+    fn lc_sign_normal(self) -> Self {
+        if self.lc_y().lc().is_negative() {
+            Self::new(self.c.iter().map(|p| p.neg()).collect())
+        } else {
+            self
+        }
+    }
+    /// Primitive part over Z\[x\] (positive leading coefficient).
+    pub fn primitive(&self) -> Self {
+        if self.is_zero() {
+            return Self::zero();
+        }
+        let g = self.content_x();
+        self.div_x(&g).expect("content divides").lc_sign_normal()
+    }
+    /// Pseudo-remainder in y over Z\[x\].
+    pub fn prem(&self, b: &Self) -> Self {
+        let db = b.c.len() - 1;
+        let lb = b.lc_y();
+        let mut r = self.clone();
+        while !r.is_zero() && r.c.len() > db {
+            let k = r.c.len() - 1 - db;
+            let lr = r.lc_y();
+            let mut c: Vec<UPoly> = r.c.iter().map(|p| p.mul(&lb)).collect();
+            for (j, bj) in b.c.iter().enumerate() {
+                c[j + k] = c[j + k].sub(&lr.mul(bj));
+            }
+            r = Self::new(c);
+        }
+        r
+    }
+    /// Exact quotient in Z\[x\]\[y\]; `None` if it does not divide.
+    pub fn div_exact(&self, b: &Self) -> Option<Self> {
+        if b.is_zero() {
+            return None;
+        }
+        if self.is_zero() {
+            return Some(Self::zero());
+        }
+        if self.c.len() < b.c.len() {
+            return None;
+        }
+        let db = b.c.len() - 1;
+        let lb = b.lc_y();
+        let mut r = self.c.clone();
+        let mut q = vec![UPoly::zero(); r.len() - db];
+        for k in (0..q.len()).rev() {
+            let qk = r[k + db].div_exact(&lb)?;
+            for (j, bj) in b.c.iter().enumerate() {
+                r[j + k] = r[j + k].sub(&qk.mul(bj));
+            }
+            q[k] = qk;
+        }
+        if r.iter().any(|p| !p.is_zero()) {
+            return None;
+        }
+        Some(Self::new(q))
+    }
+    /// gcd in Z\[x, y\] (primitive PRS in y with contents in Z\[x\]).
+    pub fn gcd(&self, o: &Self) -> Self {
+        if self.is_zero() {
+            return o.primitive();
+        }
+        if o.is_zero() {
+            return self.primitive();
+        }
+        let cg = self.content_x().gcd(&o.content_x());
+        let (mut a, mut b) = (self.primitive(), o.primitive());
+        if a.deg_y() < b.deg_y() {
+            std::mem::swap(&mut a, &mut b);
+        }
+        while b.deg_y() > 0 {
+            let r = a.prem(&b);
+            a = b;
+            b = if r.is_zero() { r } else { r.primitive() };
+        }
+        let g = if b.is_zero() { a } else { BiPoly::new(vec![UPoly::constant(BigInt::one())]) };
+        let g = g.primitive();
+        Self::new(g.c.iter().map(|p| p.mul(&cg)).collect()).lc_sign_normal()
+    }
+    /// The square-free part f / gcd(f, f_y, f_x-content) for f with a constant
+    /// leading coefficient in y (so no factor depends on x alone).
+    pub fn squarefree_y(&self) -> Self {
+        let g = self.gcd(&self.dy());
+        if g.deg_y() <= 0 {
+            return self.primitive();
+        }
+        self.div_exact(&g).expect("gcd divides").primitive()
+    }
+}
+
+fn qmul(a: &[BigRational], b: &[BigRational]) -> Vec<BigRational> {
+    if a.is_empty() || b.is_empty() {
+        return Vec::new();
+    }
+    let mut r = vec![BigRational::zero(); a.len() + b.len() - 1];
+    for (i, x) in a.iter().enumerate() {
+        for (j, y) in b.iter().enumerate() {
+            r[i + j] += x * y;
+        }
+    }
+    r
+}
+fn qadd(a: &[BigRational], b: &[BigRational]) -> Vec<BigRational> {
+    let n = a.len().max(b.len());
+    (0..n)
+        .map(|i| a.get(i).cloned().unwrap_or_default() + b.get(i).cloned().unwrap_or_default())
+        .collect()
+}
+fn qadd_const(a: &mut Vec<BigRational>, c: &BigRational) {
+    if a.is_empty() {
+        a.push(BigRational::zero());
+    }
+    a[0] += c;
+}
+/// A rational polynomial times the lcm of its denominators, primitive.
+pub fn q_to_primitive(a: &[BigRational]) -> UPoly {
+    let mut l = BigInt::one();
+    for x in a {
+        l = l.lcm(x.denom());
+    }
+    let lq = BigRational::from_integer(l);
+    UPoly::new(a.iter().map(|x| (x * &lq).to_integer()).collect()).primitive()
+}
+
+/// A polynomial with rational coefficients during conversion: (i, j) ↦ coefficient.
+type QPoly = BTreeMap<(u32, u32), BigRational>;
+
+fn qp_add(a: &QPoly, b: &QPoly, sign: i32) -> QPoly {
+    let mut r = a.clone();
+    for (k, v) in b {
+        let e = r.entry(*k).or_insert_with(BigRational::zero);
+        if sign > 0 {
+            *e += v;
+        } else {
+            *e -= v;
+        }
+    }
+    r.retain(|_, v| !v.is_zero());
+    r
+}
+fn qp_deg(a: &QPoly) -> u32 {
+    a.keys().map(|(i, j)| i + j).max().unwrap_or(0)
+}
+fn qp_mul(a: &QPoly, b: &QPoly) -> QPoly {
+    let mut r = QPoly::new();
+    for ((i, j), x) in a {
+        for ((k, l), y) in b {
+            *r.entry((i + k, j + l)).or_insert_with(BigRational::zero) += x * y;
+        }
+    }
+    r.retain(|_, v| !v.is_zero());
+    r
+}
+fn qp_const(a: &QPoly) -> Option<BigRational> {
+    if a.is_empty() {
+        return Some(BigRational::zero());
+    }
+    if a.len() == 1 {
+        if let Some(v) = a.get(&(0, 0)) {
+            return Some(v.clone());
+        }
+    }
+    None
+}
+
+/// A decimal literal read exactly (digits, optional fraction, optional exponent).
+pub fn decimal_exact(text: &str) -> Option<BigRational> {
+    let (mant, exp) = match text.find(['e', 'E']) {
+        Some(i) => (&text[..i], text[i + 1..].parse::<i64>().ok()?),
+        None => (text, 0),
+    };
+    let (int, frac) = mant.split_once('.').unwrap_or((mant, ""));
+    let digits = format!("{int}{frac}");
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let m = BigInt::parse_bytes(digits.as_bytes(), 10)?;
+    let e10 = exp - frac.len() as i64;
+    if e10.abs() > 2000 {
+        return None;
+    }
+    let p = num_traits::pow(BigInt::from(10), e10.unsigned_abs() as usize);
+    Some(if e10 >= 0 {
+        BigRational::from_integer(m * p)
+    } else {
+        BigRational::new(m, p)
+    })
+}
+
+fn not_poly(e: &Expr, why: &str) -> Error {
+    Error::Param(format!(
+        "the formula is not a polynomial with rational coefficients: the term '{e}' {why}"
+    ))
+}
+
+fn to_qpoly(e: &Expr) -> Result<QPoly> {
+    Ok(match e {
+        Expr::Var(k) => {
+            let key = match k {
+                0 => (1, 0),
+                1 => (0, 1),
+                _ => return Err(not_poly(e, "uses z (the sweep handles curves f(x, y))")),
+            };
+            QPoly::from([(key, BigRational::one())])
+        }
+        Expr::Const(_, text) => {
+            let v = decimal_exact(text)
+                .ok_or_else(|| not_poly(e, "is not a rational constant"))?;
+            let mut m = QPoly::new();
+            if !v.is_zero() {
+                m.insert((0, 0), v);
+            }
+            m
+        }
+        Expr::Un(UnOp::Neg, a) => {
+            let a = to_qpoly(a)?;
+            a.into_iter().map(|(k, v)| (k, -v)).collect()
+        }
+        Expr::Un(op, _) => {
+            let name = match op {
+                UnOp::Sqrt => "sqrt",
+                UnOp::Abs => "abs",
+                UnOp::Sin => "sin",
+                UnOp::Cos => "cos",
+                UnOp::Exp => "exp",
+                UnOp::Ln => "ln",
+                UnOp::Neg => unreachable!(),
+            };
+            return Err(not_poly(e, &format!("applies {name}, which is not polynomial")));
+        }
+        Expr::Bin(op, a, b) => {
+            let (pa, pb) = (to_qpoly(a)?, to_qpoly(b)?);
+            match op {
+                BinOp::Add => qp_add(&pa, &pb, 1),
+                BinOp::Sub => qp_add(&pa, &pb, -1),
+                BinOp::Mul => {
+                    if qp_deg(&pa) + qp_deg(&pb) > MAX_FORMULA_DEGREE {
+                        return Err(not_poly(e, &format!("has degree above {MAX_FORMULA_DEGREE}")));
+                    }
+                    qp_mul(&pa, &pb)
+                }
+                BinOp::Div => match qp_const(&pb) {
+                    Some(c) if !c.is_zero() => {
+                        pa.into_iter().map(|(k, v)| (k, v / &c)).collect()
+                    }
+                    Some(_) => return Err(not_poly(e, "divides by zero")),
+                    None => return Err(not_poly(e, "divides by a non-constant")),
+                },
+                BinOp::Min | BinOp::Max => {
+                    return Err(not_poly(e, "takes a min or max, which is not polynomial"))
+                }
+            }
+        }
+        Expr::Pow(a, n) => {
+            let pa = to_qpoly(a)?;
+            if *n < 0 {
+                match qp_const(&pa) {
+                    Some(c) if !c.is_zero() => {
+                        let v = num_traits::pow(c.recip(), n.unsigned_abs() as usize);
+                        return Ok(QPoly::from([((0, 0), v)]));
+                    }
+                    _ => return Err(not_poly(e, "has a negative power of a non-constant")),
+                }
+            }
+            let n = *n as u32;
+            if qp_deg(&pa).saturating_mul(n) > MAX_FORMULA_DEGREE {
+                return Err(not_poly(e, &format!("has degree above {MAX_FORMULA_DEGREE}")));
+            }
+            let mut r = QPoly::from([((0, 0), BigRational::one())]);
+            for _ in 0..n {
+                r = qp_mul(&r, &pa);
+            }
+            r
+        }
+    })
+}
+
+/// The polynomial f(x, y) of a curve formula, exactly, as a primitive integer
+/// polynomial (denominators cleared, content divided out; the zero set is unchanged).
+/// Anything that is not a polynomial with rational coefficients is an error naming
+/// the term.
+pub fn from_expr(e: &Expr) -> Result<BiPoly> {
+    let q = to_qpoly(e)?;
+    let mut l = BigInt::one();
+    for v in q.values() {
+        l = l.lcm(v.denom());
+    }
+    let lq = BigRational::from_integer(l);
+    let mut m: BTreeMap<(usize, usize), BigInt> = BTreeMap::new();
+    for ((i, j), v) in &q {
+        m.insert((*i as usize, *j as usize), (v * &lq).to_integer());
+    }
+    let f = BiPoly::from_map(&m);
+    // Divide out the integer content.
+    let mut g = BigInt::zero();
+    for p in &f.c {
+        g = g.gcd(&p.content());
+    }
+    if g.is_zero() || g.is_one() {
+        return Ok(f);
+    }
+    Ok(BiPoly::new(
+        f.c.iter()
+            .map(|p| UPoly::new(p.c.iter().map(|a| a / &g).collect()))
+            .collect(),
+    ))
+}
+
+/// The polynomial of a curve formula given as text.
+pub fn from_formula(text: &str) -> Result<BiPoly> {
+    from_expr(&crate::implicit::expr::parse(text, 2)?)
+}

@@ -1,0 +1,14 @@
+//! Exact algebraic methods: integer polynomials, subresultants, real root isolation,
+//! real algebraic numbers, and the González-Vega–Necula sweep that computes the exact
+//! topology of a real algebraic curve f(x, y) = 0, singular points included (the
+//! chapter "Meshing of Surfaces", §1.4–§1.4.1). Every decision is exact integer or
+//! rational arithmetic; floating point appears only in the output coordinates.
+pub mod algnum;
+pub mod bipoly;
+pub mod subres;
+pub mod sweep;
+pub mod upoly;
+
+pub use bipoly::{from_expr, from_formula, BiPoly};
+pub use sweep::{analyse, Sweep, SweepParams};
+pub use upoly::UPoly;
