@@ -1,5 +1,15 @@
-//! The search of the stuffing proof: one global best witness per bound shared by all
-//! problems, and a depth-first branch and bound per problem.
+//! The search of the stuffing proof: a depth-first branch and bound per problem, pruned
+//! against the best witnesses found so far.
+//!
+//! **Deterministic, whatever the sharding or the thread schedule.** Every run first
+//! seeds the witnesses at the corners and centre of *every* problem of the row (cheap
+//! point evaluations, the same in every shard); then each problem is searched on its own,
+//! pruned against the seed and its own improvements only, never against what another
+//! problem found meanwhile. So each problem's leaves depend on the row and the tolerance
+//! alone, a shard holds exactly the problems of the unsharded run, and `proofs merge` of
+//! all shards gives the unsharded certificate field for field (only the wall-clock
+//! `seconds` differs). Ties between witnesses of equal cosine are broken by
+//! [`prefer`]: the smaller (case, problem, output, point).
 use super::cases::{self, Alphas};
 use super::eval::Problem;
 use super::safe::safe_property;
@@ -9,65 +19,133 @@ use super::{
     MIN_TOL_DEG,
 };
 use crate::bnb::{Budget, BUDGET_ERROR};
-use certmesh::stuffing::params::Row;
-use inari::Interval;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::cmp::Ordering as Cmp;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
-struct Shared {
-    /// Per bound: best witness cosine (max for lower bounds, min for upper bounds).
-    best: Vec<AtomicU64>,
-    wit: Mutex<Vec<Option<Witness>>>,
-    thr: Vec<Vec<f64>>,
-    tol: f64,
-}
-
-fn load(a: &AtomicU64) -> f64 {
-    f64::from_bits(a.load(Ordering::Relaxed))
-}
-
-impl Shared {
-    fn new(row: &Row, tol: f64) -> Shared {
-        Shared {
-            best: BOUNDS
-                .iter()
-                .map(|&(_, _, is_min)| AtomicU64::new(if is_min { -2.0f64 } else { 2.0 }.to_bits()))
-                .collect(),
-            wit: Mutex::new(vec![None; 6]),
-            thr: thresholds(row),
-            tol,
+/// Is witness `y` better than `x` for bound `b`: a larger cosine lower end for a lower
+/// bound (a smaller angle), a smaller upper end for an upper bound; on a tie the smaller
+/// (case, problem, output, point), so the choice never depends on the order of search.
+pub(super) fn prefer(b: usize, y: &Witness, x: &Witness) -> bool {
+    let by_cos = if BOUNDS[b].2 {
+        y.cos[0].total_cmp(&x.cos[0])
+    } else {
+        x.cos[1].total_cmp(&y.cos[1])
+    };
+    match by_cos {
+        Cmp::Greater => true,
+        Cmp::Less => false,
+        Cmp::Equal => {
+            let key = |w: &Witness| (w.case, w.problem, w.output);
+            match key(y).cmp(&key(x)) {
+                Cmp::Less => true,
+                Cmp::Greater => false,
+                Cmp::Equal => y
+                    .x
+                    .iter()
+                    .zip(&x.x)
+                    .map(|(a, b)| a.total_cmp(b))
+                    .find(|c| *c != Cmp::Equal)
+                    == Some(Cmp::Less),
+            }
         }
     }
-    fn offer(&self, pr: &Problem, pi: usize, x: &[f64], vals: &[Interval]) {
+}
+
+/// Fold candidate `y` into the witness slot of bound `b`.
+pub(super) fn fold(slot: &mut Option<Witness>, b: usize, y: Witness) {
+    match slot {
+        Some(x) if !prefer(b, &y, x) => {}
+        _ => *slot = Some(y),
+    }
+}
+
+/// The witnesses of one search (the seed, or one problem's search on top of it).
+#[derive(Clone)]
+struct Best {
+    /// Per bound: best witness cosine (max for lower bounds, min for upper bounds).
+    best: [f64; 6],
+    wit: Vec<Option<Witness>>,
+}
+
+impl Best {
+    fn new() -> Best {
+        Best {
+            best: std::array::from_fn(|b| if BOUNDS[b].2 { -2.0 } else { 2.0 }),
+            wit: vec![None; BOUNDS.len()],
+        }
+    }
+    fn offer_witness(&mut self, b: usize, w: Witness) {
+        fold(&mut self.wit[b], b, w);
+        if let Some(x) = &self.wit[b] {
+            self.best[b] = if BOUNDS[b].2 { x.cos[0] } else { x.cos[1] };
+        }
+    }
+    fn offer(&mut self, pr: &Problem, pi: usize, x: &[f64], vals: &[inari::Interval]) {
         for (o, v) in vals.iter().enumerate() {
             for &b in feeds(pr.what) {
                 let is_min = BOUNDS[b].2;
                 let cand = if is_min { v.inf() } else { v.sup() };
-                let cur = load(&self.best[b]);
-                let better = if is_min { cand > cur } else { cand < cur };
-                if better {
-                    let mut w = self.wit.lock().unwrap_or_else(|e| e.into_inner());
-                    let cur = load(&self.best[b]);
-                    if (is_min && cand > cur) || (!is_min && cand < cur) {
-                        self.best[b].store(cand.to_bits(), Ordering::Relaxed);
-                        w[b] = Some(Witness {
-                            case: pr.case,
-                            problem: pi,
-                            output: o,
-                            x: x.to_vec(),
-                            cos: [v.inf(), v.sup()],
-                        });
-                    }
+                // Only a candidate at least as good as the current one can take the slot.
+                let worse = if is_min { cand < self.best[b] } else { cand > self.best[b] };
+                if worse {
+                    continue;
                 }
+                self.offer_witness(
+                    b,
+                    Witness {
+                        case: pr.case,
+                        problem: pi,
+                        output: o,
+                        x: x.to_vec(),
+                        cos: [v.inf(), v.sup()],
+                    },
+                );
             }
         }
     }
-    /// Could this box still change a bound or a threshold decision?
-    fn needs(&self, pr: &Problem, vals: &[[f64; 2]]) -> bool {
-        let best: [f64; 6] = std::array::from_fn(|b| load(&self.best[b]));
-        leaf_needs(pr, vals, &best, &self.thr, self.tol)
+    fn merge(&mut self, other: Best) {
+        for (b, w) in other.wit.into_iter().enumerate() {
+            if let Some(w) = w {
+                self.offer_witness(b, w);
+            }
+        }
     }
+}
+
+/// The row-wide pruning context: thresholds and tolerance.
+struct Shared {
+    thr: Vec<Vec<f64>>,
+    tol: f64,
+}
+
+impl Shared {
+    /// Could this box still change a bound or a threshold decision?
+    fn needs(&self, best: &Best, pr: &Problem, vals: &[[f64; 2]]) -> bool {
+        leaf_needs(pr, vals, &best.best, &self.thr, self.tol)
+    }
+}
+
+/// The seed: corners and centre of every problem of the row, folded in problem order.
+fn seed(probs: &[Vec<Problem>]) -> Best {
+    let all: Vec<(usize, &Problem)> = probs.iter().flat_map(|ps| ps.iter().enumerate()).collect();
+    all.par_iter()
+        .map(|&(pi, pr)| {
+            let mut b = Best::new();
+            let (lo, hi) = (vec![0.0; pr.dim], vec![1.0; pr.dim]);
+            let mut pts = corners(pr.dim, &lo, &hi);
+            pts.push(vec![0.5; pr.dim]);
+            for x in pts {
+                if let Some(v) = pr.point(&x) {
+                    b.offer(pr, pi, &x, &v);
+                }
+            }
+            b
+        })
+        .reduce(Best::new, |mut a, b| {
+            a.merge(b);
+            a
+        })
 }
 
 /// The box of a cell.
@@ -94,9 +172,10 @@ fn solve(
     pr: &Problem,
     pi: usize,
     sh: &Shared,
+    mut best: Best,
     max_depth: u8,
     budget: &Budget,
-) -> Option<ProblemCert> {
+) -> Option<(ProblemCert, Best)> {
     let dim = pr.dim;
     let lim = depth_limit(dim, max_depth);
     let mut leaves = Vec::new();
@@ -113,17 +192,17 @@ fn solve(
             .collect();
         let c: Vec<f64> = (0..dim).map(|k| 0.5 * (lo[k] + hi[k])).collect();
         if let Some(v) = pr.point(&c) {
-            sh.offer(pr, pi, &c, &v);
+            best.offer(pr, pi, &c, &v);
         }
-        if sh.needs(pr, &vals) {
+        if sh.needs(&best, pr, &vals) {
             // Extremes sit on the boundary of the box more often than not.
             for x in corners(dim, &lo, &hi) {
                 if let Some(v) = pr.point(&x) {
-                    sh.offer(pr, pi, &x, &v);
+                    best.offer(pr, pi, &x, &v);
                 }
             }
         }
-        let need = sh.needs(pr, &vals);
+        let need = sh.needs(&best, pr, &vals);
         if need && d < lim {
             for m in 0..1usize << dim {
                 let ch: Vec<u64> = (0..dim).map(|k| 2 * idx[k] + (m >> k & 1) as u64).collect();
@@ -134,12 +213,15 @@ fn solve(
         }
     }
     // The unresolved count is derived from the final witnesses ([`finish`]).
-    Some(ProblemCert {
-        case: pr.case,
-        problem: pi,
-        leaves,
-        unresolved: 0,
-    })
+    Some((
+        ProblemCert {
+            case: pr.case,
+            problem: pi,
+            leaves,
+            unresolved: 0,
+        },
+        best,
+    ))
 }
 
 /// Run the proof of one row.
@@ -167,24 +249,18 @@ pub fn run(cfg: &Config) -> Result<Certificate, String> {
         .filter(|(ci, _)| in_shard(*ci))
         .flat_map(|(_, ps)| ps.iter().enumerate())
         .collect();
-    let sh = Shared::new(row, cfg.tol_cos());
-    // Seed the global witnesses at the corners and centre of every problem.
-    mine.par_iter().for_each(|&(pi, pr)| {
-        let (lo, hi) = (vec![0.0; pr.dim], vec![1.0; pr.dim]);
-        let mut pts = corners(pr.dim, &lo, &hi);
-        pts.push(vec![0.5; pr.dim]);
-        for x in pts {
-            if let Some(v) = pr.point(&x) {
-                sh.offer(pr, pi, &x, &v);
-            }
-        }
-    });
+    let sh = Shared {
+        thr: thresholds(row),
+        tol: cfg.tol_cos(),
+    };
+    // The seed covers every problem of the row, in every shard alike.
+    let seeded = seed(&probs);
     let done = AtomicUsize::new(0);
     let total = mine.len();
-    let certs: Vec<Option<ProblemCert>> = mine
+    let certs: Vec<Option<(ProblemCert, Best)>> = mine
         .par_iter()
         .map(|&(pi, pr)| {
-            let c = solve(pr, pi, &sh, cfg.max_depth, &cfg.budget);
+            let c = solve(pr, pi, &sh, seeded.clone(), cfg.max_depth, &cfg.budget);
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             if cfg.progress && n % 2000 == 0 {
                 eprintln!(
@@ -200,8 +276,15 @@ pub fn run(cfg: &Config) -> Result<Certificate, String> {
     if cfg.budget.is_exhausted() {
         return Err(format!("{}: {}", BUDGET_ERROR, cfg.budget.message()));
     }
-    let certs: Vec<ProblemCert> = certs.into_iter().flatten().collect();
-    let witnesses = sh.wit.into_inner().unwrap_or_else(|e| e.into_inner());
+    // Fold every problem's witnesses into the seed (the fold is order-independent).
+    let mut found = seeded;
+    let mut certs_out = Vec::with_capacity(certs.len());
+    for (c, b) in certs.into_iter().flatten() {
+        found.merge(b);
+        certs_out.push(c);
+    }
+    let certs = certs_out;
+    let witnesses = found.wit;
     let mut cert = Certificate {
         format: FORMAT.into(),
         row: row.name.into(),
