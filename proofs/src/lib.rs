@@ -13,3 +13,4 @@ pub mod geometry;
 pub mod gradnormal;
 pub mod ival;
 pub mod stuffing;
+pub mod witness_check;

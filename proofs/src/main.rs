@@ -162,6 +162,28 @@ enum Cmd {
         #[arg(long, default_value = "sommerville")]
         a: String,
     },
+    /// The result tables of papers/stuffing/PROOF.md (results per bound, run statistics
+    /// and the safe property, witness configurations, slowest cases) from the row
+    /// certificates DIR/ROW.json (or the summaries DIR/ROW.summary.json), as markdown.
+    /// Example: `proofs report certs > tables.md`.
+    Report {
+        dir: PathBuf,
+        /// Write the markdown here instead of stdout.
+        #[arg(long, short)]
+        out: Option<PathBuf>,
+    },
+    /// Recompute the witness configurations of stuffing summaries (`proofs stuffing
+    /// --json` output) or certificates independently in floating point, from their vertex
+    /// coordinates alone, and compare with the certified enclosures. Exit 1 when one
+    /// disagrees. Example: `proofs witness certs/*.summary.json`.
+    Witness {
+        /// Summary files (ROW.summary.json), certificates (ROW.json) or folders of them.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Rounding slack of the float recomputation, in degrees.
+        #[arg(long, default_value_t = 1e-6)]
+        slack_deg: f64,
+    },
     /// Merge shard certificates into one.
     Merge {
         parts: Vec<PathBuf>,
@@ -400,6 +422,96 @@ fn run(cli: Cli) -> Result<(), Fail> {
             }
             for cl in &r.claims {
                 println!("  {:9} {}", cl.verdict.name(), cl.claim);
+            }
+            Ok(())
+        }
+        Cmd::Report { dir, out } => {
+            if !dir.is_dir() {
+                return Err(Fail::input(format!(
+                    "{}: not a folder of certificates",
+                    dir.display()
+                )));
+            }
+            let rows = stuffing::tables::read_dir(&dir, |p| {
+                load_stuffing(&p.to_path_buf()).map_err(|f| f.msg)
+            })
+            .map_err(Fail::input)?;
+            let md = stuffing::tables::markdown(&rows).map_err(Fail::input)?;
+            match out {
+                Some(o) => {
+                    check_out_path(&o)?;
+                    std::fs::write(&o, md)
+                        .map_err(|e| Fail::input(format!("{}: {e}", o.display())))?;
+                    println!("{}: tables of {} rows", o.display(), rows.len());
+                }
+                None => print!("{md}"),
+            }
+            Ok(())
+        }
+        Cmd::Witness { files, slack_deg } => {
+            if !(slack_deg >= 0.0 && slack_deg.is_finite()) {
+                return Err(Fail::input("--slack-deg must be a non-negative number"));
+            }
+            let mut paths = Vec::new();
+            for f in files {
+                if f.is_dir() {
+                    let mut v: Vec<PathBuf> = std::fs::read_dir(&f)
+                        .map_err(|e| Fail::input(format!("{}: {e}", f.display())))?
+                        .filter_map(|e| e.ok().map(|e| e.path()))
+                        .filter(|p| p.to_string_lossy().ends_with(".summary.json"))
+                        .collect();
+                    v.sort();
+                    paths.extend(v);
+                } else {
+                    paths.push(f);
+                }
+            }
+            if paths.is_empty() {
+                return Err(Fail::input("no summary file (ROW.summary.json) found"));
+            }
+            let mut all = Vec::new();
+            for p in &paths {
+                let text = std::fs::read_to_string(p)
+                    .map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
+                let v: serde_json::Value = serde_json::from_str(&text)
+                    .map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
+                // A certificate (it has problems as a list): summarise it first.
+                let v = if v["problems"].is_array() {
+                    let c: stuffing::Certificate = serde_json::from_value(v)
+                        .map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
+                    stuffing::summary_json(&c, &p.display().to_string())
+                } else {
+                    v
+                };
+                all.extend(
+                    proofs::witness_check::recompute(&v, slack_deg)
+                        .map_err(|e| Fail::input(format!("{}: {e}", p.display())))?,
+                );
+            }
+            let bad = all.iter().filter(|r| !r.agrees).count();
+            if json {
+                print_json(&serde_json::json!({"ok": bad == 0, "witnesses": all}))?;
+            } else {
+                for r in &all {
+                    println!(
+                        "{:28} {:12} paper {:>9}  float {:.6}  certified [{:.6}, {:.6}]  {}",
+                        r.row,
+                        r.bound,
+                        r.paper
+                            .map(|p| format!("{p:.4}"))
+                            .unwrap_or_else(|| "n/a".into()),
+                        r.float_deg,
+                        r.certified_deg[0],
+                        r.certified_deg[1],
+                        if r.agrees { "agrees" } else { "DISAGREES" }
+                    );
+                }
+            }
+            if bad > 0 {
+                return Err(Fail::check(format!(
+                    "{bad} of {} witnesses disagree with their certified enclosures",
+                    all.len()
+                )));
             }
             Ok(())
         }

@@ -30,9 +30,10 @@ fn json_of<T: serde::Serialize>(t: &T) -> serde_json::Value {
 }
 
 fn read(p: &Path) -> serde_json::Value {
-    let mut v: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display())))
-            .unwrap();
+    let mut v: serde_json::Value = serde_json::from_slice(
+        &std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display())),
+    )
+    .unwrap();
     without_seconds(&mut v);
     v
 }
@@ -165,7 +166,11 @@ fn parallel_script_merges_to_the_unsharded_certificate() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{o:?}");
-    assert_same(&read(&whole), &read(&dir.join("merged.json")), "parallel.sh");
+    assert_same(
+        &read(&whole),
+        &read(&dir.join("merged.json")),
+        "parallel.sh",
+    );
     // A missing shard: the merge step fails and says so.
     std::fs::remove_file(dir.join("shard-1-of-3.json")).unwrap();
     let o = Command::new("bash")
@@ -176,4 +181,92 @@ fn parallel_script_merges_to_the_unsharded_certificate() {
         .output()
         .unwrap();
     assert!(!o.status.success());
+}
+
+/// `proofs report DIR` assembles PROOF.md's tables from the row certificates: the row's
+/// line carries the enclosure of the certificate's own summary, the other rows read
+/// "(not run)"; `proofs witness` recomputes the witnesses in floats and agrees, and a
+/// distorted witness makes it disagree (exit 1).
+#[test]
+fn report_and_witness_from_certificates() {
+    let bin = env!("CARGO_BIN_EXE_proofs");
+    let dir = tmp("report");
+    let cert = dir.join("min-exposed-unsafe.json");
+    let o = Command::new(bin)
+        .args([
+            "stuffing",
+            "--row",
+            "min-exposed-unsafe",
+            "--tol-deg",
+            "5",
+            "--json",
+            "-o",
+        ])
+        .arg(&cert)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{o:?}");
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    std::fs::write(dir.join("min-exposed-unsafe.summary.json"), &o.stdout).unwrap();
+    let o = Command::new(bin).arg("report").arg(&dir).output().unwrap();
+    assert!(o.status.success(), "{o:?}");
+    let md = String::from_utf8(o.stdout).unwrap();
+    for b in summary["bounds"].as_array().unwrap() {
+        if b["paper"].is_null() {
+            continue;
+        }
+        let line = format!(
+            "| min-exposed-unsafe | {} | {:.4} | [{:.6}, {:.6}] |",
+            b["bound"].as_str().unwrap(),
+            b["paper"].as_f64().unwrap(),
+            b["certified_deg"][0].as_f64().unwrap(),
+            b["certified_deg"][1].as_f64().unwrap()
+        );
+        assert!(md.contains(&line), "missing {line} in\n{md}");
+    }
+    assert!(md.contains("| max-dihedral-double | (not run) |"));
+    assert!(md.contains(&format!(
+        "| min-exposed-unsafe | 14913 -> 1936 | 0 | {} | {} |",
+        summary["problems"], summary["leaves"]
+    )));
+    // witness: agrees on the real summary (and on the certificate itself).
+    for f in ["min-exposed-unsafe.summary.json", "min-exposed-unsafe.json"] {
+        let o = Command::new(bin)
+            .arg("witness")
+            .arg(dir.join(f))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{f}: {o:?}");
+        let text = String::from_utf8(o.stdout).unwrap();
+        assert!(
+            text.contains("agrees") && !text.contains("DISAGREES"),
+            "{text}"
+        );
+    }
+    // Move one witness vertex: the float recomputation no longer matches.
+    let mut bad = summary.clone();
+    let b = bad["bounds"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|b| !b["witness"].is_null())
+        .unwrap();
+    // Stretch the tetrahedron along x: every angle not fixed by symmetry moves.
+    for k in 0..4 {
+        let v = b["witness"]["vertices_h"][k][0].as_f64().unwrap();
+        b["witness"]["vertices_h"][k][0] = serde_json::json!(1.3 * v + 0.1 * k as f64);
+    }
+    let p = dir.join("bad.summary.json");
+    std::fs::write(&p, serde_json::to_vec(&bad).unwrap()).unwrap();
+    let o = Command::new(bin).arg("witness").arg(&p).output().unwrap();
+    assert_eq!(o.status.code(), Some(1), "{o:?}");
+    assert!(String::from_utf8_lossy(&o.stdout).contains("DISAGREES"));
+    // An empty folder is an input error.
+    let empty = tmp("report-empty");
+    let o = Command::new(bin)
+        .arg("report")
+        .arg(&empty)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{o:?}");
 }

@@ -33,6 +33,7 @@ pub mod graded;
 mod safe;
 mod search;
 mod summary;
+pub mod tables;
 
 pub use check::{check, merge, CheckReport};
 pub use safe::safe_property;

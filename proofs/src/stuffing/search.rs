@@ -40,13 +40,13 @@ pub(super) fn prefer(b: usize, y: &Witness, x: &Witness) -> bool {
             match key(y).cmp(&key(x)) {
                 Cmp::Less => true,
                 Cmp::Greater => false,
-                Cmp::Equal => y
-                    .x
-                    .iter()
-                    .zip(&x.x)
-                    .map(|(a, b)| a.total_cmp(b))
-                    .find(|c| *c != Cmp::Equal)
-                    == Some(Cmp::Less),
+                Cmp::Equal => {
+                    y.x.iter()
+                        .zip(&x.x)
+                        .map(|(a, b)| a.total_cmp(b))
+                        .find(|c| *c != Cmp::Equal)
+                        == Some(Cmp::Less)
+                }
             }
         }
     }
@@ -87,7 +87,11 @@ impl Best {
                 let is_min = BOUNDS[b].2;
                 let cand = if is_min { v.inf() } else { v.sup() };
                 // Only a candidate at least as good as the current one can take the slot.
-                let worse = if is_min { cand < self.best[b] } else { cand > self.best[b] };
+                let worse = if is_min {
+                    cand < self.best[b]
+                } else {
+                    cand > self.best[b]
+                };
                 if worse {
                     continue;
                 }
