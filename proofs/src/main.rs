@@ -184,6 +184,21 @@ enum Cmd {
         #[arg(long, default_value_t = 1e-6)]
         slack_deg: f64,
     },
+    /// The certified Pareto front of isosurface stuffing: every audited parameter pair's
+    /// certificate in DIR (`proofs stuffing --alpha-long A --alpha-short B -o DIR/x.json`,
+    /// one job per pair) is re-checked, then the non-dominated pairs per criterion
+    /// (dihedral, plane angle) are listed with the Table 1 rows they beat, and plotted
+    /// (OUT/pareto-dihedral.svg/png, OUT/pareto-plane.svg/png).
+    /// Example: `proofs pareto certs/grid --out papers/stuffing/figures --md papers/stuffing/PARETO-table.md`.
+    Pareto {
+        dir: PathBuf,
+        /// Folder for the plots.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Write the markdown table here (default: stdout).
+        #[arg(long)]
+        md: Option<PathBuf>,
+    },
     /// Merge shard certificates into one.
     Merge {
         parts: Vec<PathBuf>,
@@ -422,6 +437,66 @@ fn run(cli: Cli) -> Result<(), Fail> {
             }
             for cl in &r.claims {
                 println!("  {:9} {}", cl.verdict.name(), cl.claim);
+            }
+            Ok(())
+        }
+        Cmd::Pareto { dir, out, md } => {
+            if !dir.is_dir() {
+                return Err(Fail::input(format!(
+                    "{}: not a folder of certificates",
+                    dir.display()
+                )));
+            }
+            let pts = stuffing::pareto::read_dir(
+                &dir,
+                |p| load_stuffing(&p.to_path_buf()).map_err(|f| f.msg),
+                !json,
+            )
+            .map_err(Fail::input)?;
+            let text = stuffing::pareto::markdown(&pts);
+            let mut plots = Vec::new();
+            if let Some(o) = &out {
+                std::fs::create_dir_all(o)
+                    .map_err(|e| Fail::input(format!("{}: {e}", o.display())))?;
+                plots = stuffing::pareto::plots(&pts, o).map_err(Fail::input)?;
+            }
+            if let Some(m) = &md {
+                check_out_path(m)?;
+                std::fs::write(m, &text)
+                    .map_err(|e| Fail::input(format!("{}: {e}", m.display())))?;
+            }
+            if json {
+                let fronts: Vec<serde_json::Value> = stuffing::pareto::CRITERIA
+                    .iter()
+                    .flat_map(|&(c, lo, hi)| {
+                        let pts = &pts;
+                        [(false, false), (true, false), (false, true), (true, true)]
+                            .into_iter()
+                            .map(move |fam| {
+                                serde_json::json!({
+                                    "criterion": c,
+                                    "family": stuffing::pareto::Point::family_name(fam.0, fam.1),
+                                    "points": stuffing::pareto::front(pts, fam, lo, hi),
+                                })
+                            })
+                    })
+                    .filter(|v| !v["points"].as_array().is_some_and(|a| a.is_empty()))
+                    .collect();
+                print_json(&serde_json::json!({
+                    "points": pts,
+                    "fronts": fronts,
+                    "findings": stuffing::pareto::findings(&pts),
+                    "plots": plots,
+                }))?;
+            } else if md.is_none() {
+                print!("{text}");
+            } else {
+                println!("{} pairs checked; table written", pts.len());
+            }
+            for p in plots {
+                if !json {
+                    println!("{}", p.display());
+                }
             }
             Ok(())
         }

@@ -289,3 +289,154 @@ pub fn bin(values: impl IntoIterator<Item = f64>, width: f64, normalise: bool) -
         })
         .collect()
 }
+
+/// A named set of points for [`scatter`]: drawn as markers, optionally joined in order
+/// (a front), each with an optional text label.
+#[derive(Clone, Debug)]
+pub struct PointSet {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+    /// One label per point (empty: none).
+    pub labels: Vec<String>,
+    /// Join the points in order with a line.
+    pub joined: bool,
+    /// Filled markers (else hollow).
+    pub filled: bool,
+}
+
+/// A scatter plot of labelled point sets with a legend (e.g. a certified Pareto front
+/// with the reference points marked), as `<base>.svg` and `<base>.png`.
+pub fn scatter(
+    base: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    sets: &[PointSet],
+) -> Result<()> {
+    // Okabe–Ito, colour-blind safe.
+    const COLORS: [RGBColor; 6] = [
+        RGBColor(0, 114, 178),
+        RGBColor(213, 94, 0),
+        RGBColor(0, 158, 115),
+        RGBColor(204, 121, 167),
+        RGBColor(230, 159, 0),
+        RGBColor(86, 180, 233),
+    ];
+    macro_rules! draw {
+        ($area:expr) => {{
+            let area = $area;
+            area.fill(&WHITE).map_err(perr)?;
+            let (mut x0, mut x1, mut y0, mut y1) = (
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            );
+            for (x, y) in sets
+                .iter()
+                .flat_map(|s| s.points.iter().copied())
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+            {
+                x0 = x0.min(x);
+                x1 = x1.max(x);
+                y0 = y0.min(y);
+                y1 = y1.max(y);
+            }
+            if !(x1 > x0) {
+                x0 -= 1.0;
+                x1 += 1.0;
+            }
+            if !(y1 > y0) {
+                y0 -= 1.0;
+                y1 += 1.0;
+            }
+            // Room on the right for the point labels.
+            let (px, py) = (0.06 * (x1 - x0), 0.06 * (y1 - y0));
+            let mut chart = ChartBuilder::on(area)
+                .caption(title, ("sans-serif", 26))
+                .margin(16)
+                .x_label_area_size(56)
+                .y_label_area_size(80)
+                .build_cartesian_2d((x0 - px)..(x1 + 4.0 * px), (y0 - py)..(y1 + py))
+                .map_err(perr)?;
+            chart
+                .configure_mesh()
+                .x_label_formatter(&|v| tick(*v))
+                .y_label_formatter(&|v| tick(*v))
+                .x_desc(x_label)
+                .y_desc(y_label)
+                .label_style(("sans-serif", 18))
+                .axis_desc_style(("sans-serif", 20))
+                .draw()
+                .map_err(perr)?;
+            for (i, s) in sets.iter().enumerate() {
+                let c = COLORS[i % COLORS.len()];
+                let pts: Vec<(f64, f64)> = s
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    .collect();
+                if s.joined {
+                    chart
+                        .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
+                        .map_err(perr)?;
+                }
+                let style = if s.filled {
+                    c.filled()
+                } else {
+                    c.stroke_width(2)
+                };
+                chart
+                    .draw_series(pts.iter().map(|&p| Circle::new(p, 5, style)))
+                    .map_err(perr)?
+                    .label(s.name.clone())
+                    .legend(move |(x, y)| Circle::new((x + 8, y), 5, style));
+                for (p, l) in pts.iter().zip(&s.labels) {
+                    if l.is_empty() {
+                        continue;
+                    }
+                    chart
+                        .draw_series(std::iter::once(Text::new(
+                            l.clone(),
+                            *p,
+                            ("sans-serif", 15).into_font().color(&c),
+                        )))
+                        .map_err(perr)?;
+                }
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 17))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(perr)?;
+            Ok(())
+        }};
+    }
+    both(base, (1100, 760), |a| draw!(a), |a| draw!(a))
+}
+
+/// A tick label without spurious decimals: `160`, not `160.0`; `0.25`, not `0.250000`.
+pub fn tick(v: f64) -> String {
+    let r = (v * 1e6).round() / 1e6;
+    if r == r.trunc() {
+        format!("{}", r as i64)
+    } else {
+        let t = format!("{r:.6}");
+        t.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn ticks_have_no_spurious_decimals() {
+        assert_eq!(super::tick(160.0), "160");
+        assert_eq!(super::tick(-2.0), "-2");
+        assert_eq!(super::tick(0.25), "0.25");
+        assert_eq!(super::tick(162.5000000001), "162.5");
+    }
+}

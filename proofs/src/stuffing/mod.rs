@@ -30,6 +30,7 @@ pub mod custom;
 pub mod eval;
 pub mod figures;
 pub mod graded;
+pub mod pareto;
 mod safe;
 mod search;
 mod summary;
