@@ -78,22 +78,12 @@ fn check_crossings(f: &str, d: Aabb, r: &SweepResult) {
     let p = from_formula(f).unwrap().shear(r.shear);
     let s = r.shear as f64;
     let (ylo, yhi) = if r.shear == 0 {
-        (
-            BigRational::from_float(d.min[1]).unwrap(),
-            BigRational::from_float(d.max[1]).unwrap(),
-        )
+        (BigRational::from_float(d.min[1]).unwrap(), BigRational::from_float(d.max[1]).unwrap())
     } else {
         (q(-1_000_000, 1), q(1_000_000, 1))
     };
-    let uv: Vec<[f64; 2]> = r
-        .curve
-        .vertices
-        .iter()
-        .map(|v| [v[0] - s * v[1], v[1]])
-        .collect();
-    let (umin, umax) = uv
-        .iter()
-        .fold((f64::MAX, f64::MIN), |a, v| (a.0.min(v[0]), a.1.max(v[0])));
+    let uv: Vec<[f64; 2]> = r.curve.vertices.iter().map(|v| [v[0] - s * v[1], v[1]]).collect();
+    let (umin, umax) = uv.iter().fold((f64::MAX, f64::MIN), |a, v| (a.0.min(v[0]), a.1.max(v[0])));
     if uv.is_empty() {
         return;
     }
@@ -135,20 +125,9 @@ fn case(f: &str, d: Aabb, shear: i64, comps: usize, cycles: usize, degs: &[usize
 fn circle_and_lemniscate() {
     let b = dom(-2.0, -2.0, 2.0, 2.0);
     case("x^2 + y^2 - 1", b, 0, 1, 1, &[]);
-    let r = case(
-        "(x^2 + y^2)^2 - 2*(x^2 - y^2)",
-        dom(-1.7, -1.0, 1.7, 1.0),
-        0,
-        1,
-        2,
-        &[4],
-    );
+    let r = case("(x^2 + y^2)^2 - 2*(x^2 - y^2)", dom(-1.7, -1.0, 1.7, 1.0), 0, 1, 2, &[4]);
     assert_eq!(r.events.iter().filter(|e| e.critical).count(), 3);
-    let node = r
-        .events
-        .iter()
-        .find(|e| e.label == Some(Label::Singular))
-        .unwrap();
+    let node = r.events.iter().find(|e| e.label == Some(Label::Singular)).unwrap();
     assert_eq!(node.branches, Some((2, 2)));
 }
 

@@ -184,12 +184,7 @@ impl Ri {
         }
     }
     fn mul(&self, o: &Ri) -> Ri {
-        let ps = [
-            &self.lo * &o.lo,
-            &self.lo * &o.hi,
-            &self.hi * &o.lo,
-            &self.hi * &o.hi,
-        ];
+        let ps = [&self.lo * &o.lo, &self.lo * &o.hi, &self.hi * &o.lo, &self.hi * &o.hi];
         Ri {
             lo: ps.iter().min().unwrap().clone(),
             hi: ps.iter().max().unwrap().clone(),
@@ -476,10 +471,7 @@ pub fn analyse(f: &BiPoly, domain: &Aabb, p: &SweepParams) -> Result<SweepResult
     for s in shears {
         let g = f.shear(s);
         if d > 0 && g.deg_y() < d {
-            rejected.push((
-                s,
-                "not y-regular (the leading coefficient in y is not constant)".into(),
-            ));
+            rejected.push((s, "not y-regular (the leading coefficient in y is not constant)".into()));
             continue;
         }
         let g = g.squarefree_y();
@@ -602,18 +594,14 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
     for c in &sides_h {
         let h = g.on_line(&zero, &one, c, &zero);
         if h.is_zero() {
-            return Err(boundary_error(
-                "a horizontal side of the domain lies on the curve",
-            ));
+            return Err(boundary_error("a horizontal side of the domain lies on the curve"));
         }
         // The side's u-range: x = u + s·c ∈ [xmin, xmax].
         let (a, b) = (&fr.xmin - sq * c, &fr.xmax - sq * c);
         for mut r in isolate(&h)? {
             let (ca, cb) = (r.cmp_q(&a), r.cmp_q(&b));
             if ca == Ordering::Equal || cb == Ordering::Equal {
-                return Err(boundary_error(
-                    "the curve passes through a corner of the domain",
-                ));
+                return Err(boundary_error("the curve passes through a corner of the domain"));
             }
             if ca == Ordering::Greater && cb == Ordering::Less {
                 insert_event(
@@ -648,9 +636,7 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
         let (v0, v1) = (&c / sq, -(&one / sq));
         let h = g.on_line(&zero, &one, &v0, &v1);
         if h.is_zero() {
-            return Err(boundary_error(
-                "a vertical side of the domain lies on the curve",
-            ));
+            return Err(boundary_error("a vertical side of the domain lies on the curve"));
         }
         // v ∈ [ymin, ymax] ⇔ u ∈ [c − s·ymax, c − s·ymin] (s > 0), swapped for s < 0.
         let (mut a, mut b) = (&c - sq * &fr.ymax, &c - sq * &fr.ymin);
@@ -660,9 +646,7 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
         for mut r in isolate(&h)? {
             let (ca, cb) = (r.cmp_q(&a), r.cmp_q(&b));
             if ca == Ordering::Equal || cb == Ordering::Equal {
-                return Err(boundary_error(
-                    "the curve passes through a corner of the domain",
-                ));
+                return Err(boundary_error("the curve passes through a corner of the domain"));
             }
             if ca == Ordering::Greater && cb == Ordering::Less {
                 insert_event(
@@ -723,11 +707,7 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
             while e.hi >= u_hi {
                 e.bisect();
             }
-            strips.push((
-                Some(n_ev - 1),
-                None,
-                sample_between(&events[n_ev - 1].u.hi, &u_hi),
-            ));
+            strips.push((Some(n_ev - 1), None, sample_between(&events[n_ev - 1].u.hi, &u_hi)));
         }
     }
     // Rational fibres.
@@ -745,8 +725,8 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
         let mut vid = Vec::new();
         for mut r in roots.clone() {
             // Inside test, exact: ymin < v < ymax and xmin < q + s·v < xmax.
-            let mut inside =
-                r.cmp_q(&fr.ymin) == Ordering::Greater && r.cmp_q(&fr.ymax) == Ordering::Less;
+            let mut inside = r.cmp_q(&fr.ymin) == Ordering::Greater
+                && r.cmp_q(&fr.ymax) == Ordering::Less;
             if inside && s != 0 {
                 let (mut a, mut b) = ((&fr.xmin - q) / sq, (&fr.xmax - q) / sq);
                 if s < 0 {
@@ -868,14 +848,9 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
         let spi = roots.iter().position(|r| r.special);
         if let Some(i) = spi {
             let (Some(nl), Some(nr)) = (n_l, n_r) else {
-                return Err(Error::Param(
-                    "internal: critical event without two strips".into(),
-                ));
+                return Err(Error::Param("internal: critical event without two strips".into()));
             };
-            let (al, ar) = (
-                nl as isize - (m as isize - 1),
-                nr as isize - (m as isize - 1),
-            );
+            let (al, ar) = (nl as isize - (m as isize - 1), nr as isize - (m as isize - 1));
             if al < 0 || ar < 0 {
                 return Err(Error::Param(format!(
                     "internal: inconsistent branch counts at u ≈ {:.6}",
@@ -896,13 +871,11 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
                         "locating a boundary crossing: refinement budget exhausted".into(),
                     ));
                 }
-                let vb = Ri::pt(&bp.v0).add(
-                    &Ri {
-                        lo: ev.u.lo.clone(),
-                        hi: ev.u.hi.clone(),
-                    }
-                    .mul(&Ri::pt(&bp.v1)),
-                );
+                let vb = Ri::pt(&bp.v0).add(&Ri {
+                    lo: ev.u.lo.clone(),
+                    hi: ev.u.hi.clone(),
+                }
+                .mul(&Ri::pt(&bp.v1)));
                 let hits: Vec<usize> = (0..roots.len())
                     .filter(|&i| !(vb.hi < roots[i].lo || vb.lo > roots[i].hi))
                     .collect();
@@ -938,19 +911,13 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
                 keep = Some(true);
             } else if ev.side {
                 // A vertical side fibre (s = 0): roots strictly within (ymin, ymax).
-                let mut r = RealAlg::new(
-                    g.at_x(&ev.u.lo).squarefree(),
-                    roots[i].lo.clone(),
-                    roots[i].hi.clone(),
-                );
+                let mut r = RealAlg::new(g.at_x(&ev.u.lo).squarefree(), roots[i].lo.clone(), roots[i].hi.clone());
                 if roots[i].lo == roots[i].hi {
                     r = RealAlg::exact(roots[i].lo.clone());
                 }
                 let (a, b) = (r.cmp_q(&fr.ymin), r.cmp_q(&fr.ymax));
                 if a == Ordering::Equal || b == Ordering::Equal {
-                    return Err(boundary_error(
-                        "the curve passes through a corner of the domain",
-                    ));
+                    return Err(boundary_error("the curve passes through a corner of the domain"));
                 }
                 keep = Some(a == Ordering::Greater && b == Ordering::Less);
                 roots[i].lo = r.lo;
@@ -1041,8 +1008,7 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
             let Some(e) = e else {
                 if smp.vid.iter().any(|v| v.is_some()) {
                     return Err(Error::Param(
-                        "internal: an arc inside the domain reaches the domain's extreme corner"
-                            .into(),
+                        "internal: an arc inside the domain reaches the domain's extreme corner".into(),
                     ));
                 }
                 continue;
@@ -1102,9 +1068,7 @@ impl Mesher for Sweep {
     fn mesh(&self, f: &dyn Implicit, domain: &Aabb, _p: &dyn Progress) -> Result<MeshOutput> {
         crate::mesher::check_input(f, domain, 2, "sweep")?;
         let e = f.expression().ok_or_else(|| {
-            Error::Param(
-                "the sweep needs f as a formula (a polynomial); this oracle has none".into(),
-            )
+            Error::Param("the sweep needs f as a formula (a polynomial); this oracle has none".into())
         })?;
         let poly = super::bipoly::from_expr(e)?;
         let r = analyse(&poly, domain, &self.params)?;
