@@ -71,8 +71,8 @@
 //! on ∂D and f is proven Morse on {f ≤ 0}; then χ(S) = 2·χ({f ≤ 0}).
 use crate::implicit::{IBox, Implicit};
 use inari::Interval;
-use linalg::{excludes_zero, pt};
-use search::{bisect, solve};
+use linalg::pt;
+use search::solve;
 use serde::{Deserialize, Serialize};
 use systems::{Gradient, Height};
 
@@ -402,32 +402,8 @@ pub fn euler_characteristic(
 }
 
 /// Is 0 ∉ □f proven on the six faces of the domain (each face subdivided up to
-/// `max_depth` bisections, `max_boxes` boxes in all)?
+/// `max_depth` bisections, `max_boxes` boxes in all), with f proven continuous there?
+/// The same search as [`boundary_sign`], which also says which sign.
 pub fn boundary_clear(f: &dyn Implicit, domain: Bx, max_depth: u32, max_boxes: usize) -> bool {
-    let mut boxes = 0usize;
-    for axis in 0..3 {
-        for side in [domain.lo[axis], domain.hi[axis]] {
-            let mut face = domain;
-            face.lo[axis] = side;
-            face.hi[axis] = side;
-            let mut stack = vec![(face.to_ibox(), 0u32)];
-            while let Some((b, depth)) = stack.pop() {
-                boxes += 1;
-                if boxes > max_boxes {
-                    return false;
-                }
-                let (v, _) = crate::implicit::ops::enclose(f, &b);
-                if excludes_zero(v) {
-                    continue;
-                }
-                if depth >= max_depth {
-                    return false;
-                }
-                let (l, r) = bisect(&b);
-                stack.push((l, depth + 1));
-                stack.push((r, depth + 1));
-            }
-        }
-    }
-    true
+    boundary_sign(f, domain, max_depth, max_boxes).is_some()
 }
