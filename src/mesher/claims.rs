@@ -27,6 +27,17 @@ pub enum Claim {
     Conforming { nonmanifold_edges: usize },
     /// The number of tetrahedra with non-positive orientation (exact orient3d).
     InvertedTetrahedra { count: usize },
+    /// The output is exactly the restricted Delaunay triangulation of its vertex set:
+    /// the Delaunay triangulation (with the far-box corners; exact predicates with
+    /// symbolic perturbation) passed its exact check, and on each of the
+    /// `voronoi_edges` dual segments (interval circumcentres) every crossing with
+    /// f = 0 was isolated by interval arithmetic, none undecided.
+    RestrictedDelaunay {
+        facets: usize,
+        voronoi_edges: usize,
+        /// Dual segments crossing f = 0 more than once.
+        multiple_crossings: usize,
+    },
 }
 
 impl fmt::Display for Claim {
@@ -68,6 +79,17 @@ impl fmt::Display for Claim {
             Claim::InvertedTetrahedra { count } => {
                 write!(f, "{count} inverted tetrahedra (exact orient3d)")
             }
+            Claim::RestrictedDelaunay {
+                facets,
+                voronoi_edges,
+                multiple_crossings,
+            } => write!(
+                f,
+                "exactly the restricted Delaunay triangulation of its vertices: {facets} facets; \
+                 all crossings of f = 0 with {voronoi_edges} dual Voronoi edges isolated by interval \
+                 arithmetic ({multiple_crossings} edges cross more than once), Delaunay \
+                 triangulation checked with exact predicates"
+            ),
         }
     }
 }
