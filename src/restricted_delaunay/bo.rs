@@ -209,6 +209,8 @@ pub struct BoStats {
     pub critical_points: usize,
     pub seeding_complete: bool,
     pub seed_vertices: usize,
+    /// Seeds from the fallback lines (only when the critical-point search is incomplete).
+    pub fallback_seeds: usize,
     /// Seed vertices incident to no restricted facet at the end.
     pub seeds_not_incident: usize,
     pub insertions: usize,
@@ -547,6 +549,31 @@ impl<'a> Run<'a> {
     }
 }
 
+/// 13 directions (3 axes, 4 diagonals, 6 face diagonals), slightly rotated so that no
+/// line is a symmetry axis of the catalog's surfaces.
+fn fallback_directions() -> Vec<[f64; 3]> {
+    let mut v = vec![
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [1.0, 1.0, -1.0],
+        [1.0, -1.0, 1.0],
+        [-1.0, 1.0, 1.0],
+        [1.0, 1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [1.0, 0.0, 1.0],
+        [1.0, 0.0, -1.0],
+        [0.0, 1.0, 1.0],
+        [0.0, 1.0, -1.0],
+    ];
+    for d in v.iter_mut() {
+        let q = add(*d, [0.0123, 0.0311, 0.0457]);
+        *d = scale(q, 1.0 / dot(q, q).sqrt());
+    }
+    v
+}
+
 /// Is the restricted star of `v` (facets `ks`, all with manifold edges) a single disk?
 fn is_disk(v: VertexId, ks: &[usize], scan: &Scan) -> bool {
     // Link edges (a, b) opposite v; a single cycle iff connected and every link vertex
@@ -713,6 +740,38 @@ fn mesh_bo(
             }
         }
     }
+    if !crit.complete {
+        // The certified seeds may miss a component: add the crossings of a fixed
+        // star of lines near the domain's centre (CGAL's random rays, made
+        // reproducible), all crossings by certified isolation.
+        let c = domain.center();
+        let h = 0.5 * diam;
+        let dirs = fallback_directions();
+        for (k, d) in dirs.into_iter().enumerate() {
+            // Lines offset from the centre (a centre on S would make every line
+            // tangent there, e.g. a cone's apex).
+            let k = k as f64;
+            let o = add(
+                c,
+                scale(
+                    [(1.3 * k).sin(), (2.1 * k).cos(), (0.7 * k + 0.5).sin()],
+                    0.2 * h,
+                ),
+            );
+            let a = sub(o, scale(d, h));
+            let b = add(o, scale(d, h));
+            let test = test_segment(f, a, b, a, &run.dbox, run.budget);
+            for x in &test.crossings {
+                match run.t.insert(x.point) {
+                    Ok(v) => {
+                        seed_ids.push(v);
+                        run.stats.fallback_seeds += 1;
+                    }
+                    Err(_) => run.stats.refused += 1,
+                }
+            }
+        }
+    }
     run.stats.seed_vertices = seed_ids.len();
     let cells: Vec<CellId> = run.t.cells().collect();
     for &c in &cells {
@@ -820,7 +879,8 @@ fn mesh_bo(
                         check.first_problem.unwrap_or_default()
                     )
                 } else if !cert.far_lemma {
-                    "a vertex lies outside the domain".to_string()
+                    "no vertex, or a vertex outside the domain (the far-corner lemma does not apply)"
+                        .to_string()
                 } else {
                     format!("{} dual segments undecided", cert.undecided.len())
                 }
