@@ -414,3 +414,38 @@ fn tangent_segment_is_undecided() {
     assert!(!res.complete());
     assert!(res.roots.is_empty());
 }
+
+/// The certified reach lower bound against the true reach: sphere radius 1, torus tube
+/// radius 0.25 (both limited by curvature), two-spheres: half the 0.02 gap.
+#[test]
+fn reach_lower_bounds_are_below_the_true_reach() {
+    use certmesh::implicit::critical::Bx;
+    use certmesh::implicit::reach::{reach_lower_bound, ReachOptions};
+    for (name, tau, depth) in [
+        ("sphere", 1.0, 6),
+        ("torus", 0.25, 6),
+        ("two-spheres", 0.01, 8),
+    ] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        let r = reach_lower_bound(
+            &f,
+            Bx::new(e.domain.min, e.domain.max),
+            ReachOptions {
+                max_depth: depth,
+                ..Default::default()
+            },
+        );
+        let t = r.tau.unwrap_or_else(|| panic!("{name}: {r:?}"));
+        eprintln!("{name}: certified reach >= {t} (true {tau}), {r:?}");
+        assert!(t <= tau && t > 0.2 * tau, "{name}: {t} vs {tau}");
+    }
+    // The double cone has a singular point: no bound.
+    let e = catalog::get("double-cone").unwrap();
+    let r = reach_lower_bound(
+        &e.function(),
+        Bx::new(e.domain.min, e.domain.max),
+        ReachOptions::default(),
+    );
+    assert!(r.tau.is_none() && r.reason.is_some(), "{r:?}");
+}

@@ -9,6 +9,7 @@
 //! | [`point_sign`] | the sign of f at a point, or "undecided" (0 in the enclosure, or f undefined there) | Snyder, Plantinga–Vegter (grid corners) |
 //! | [`excludes_zero`], [`enclose`] | 0 ∉ □f over a box (natural ∩ mean-value enclosure; the mean-value form only where f is continuous) | Snyder, Plantinga–Vegter, the pruned marching meshers |
 //! | [`IntervalIsolation::isolate`] | all roots of f on a segment, each in its own piece with 0 ∉ □f' (unique), or failure (a grazing root) | Snyder (every box edge) |
+//! | [`isolate_segment`] | all roots of f on a segment in general position whose end points are known only as boxes (interval circumcentres), each in its own piece with 0 ∉ □(d/dt f) (unique), or the undecided pieces (tangent, grazing, an end on f = 0) | restricted-Delaunay meshing (every Voronoi edge) |
 //! | [`locate`], [`crossing_t`] | the position of one crossing between two points of opposite sign (bisection, or the linear fast path); no certificate | every lattice and subdivision mesher |
 //! | [`project`], [`project_steps`] | Newton projection onto f = 0 (no certificate) | GradNormal, MidNormal, the fidelity metrics |
 //! | [`Implicit::regularity`] | f defined, continuous, C^∞ on a box | every certified criterion |
