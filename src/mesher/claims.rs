@@ -38,6 +38,15 @@ pub enum Claim {
         /// Dual segments crossing f = 0 more than once.
         multiple_crossings: usize,
     },
+    /// Every surface Delaunay ball of the restricted triangulation has radius at most
+    /// `psi` = 0.1 × `reach_lower_bound`, a certified lower bound of the reach (hence
+    /// of lfs): the weak 0.1-sample condition of the chapter "Meshing of Surfaces"
+    /// (Boissonnat et al., 2007, §1.3.1) on every ball.
+    WeakSample {
+        psi: f64,
+        reach_lower_bound: f64,
+        max_ball_radius: f64,
+    },
 }
 
 impl fmt::Display for Claim {
@@ -89,6 +98,16 @@ impl fmt::Display for Claim {
                  all crossings of f = 0 with {voronoi_edges} dual Voronoi edges isolated by interval \
                  arithmetic ({multiple_crossings} edges cross more than once), Delaunay \
                  triangulation checked with exact predicates"
+            ),
+            Claim::WeakSample {
+                psi,
+                reach_lower_bound,
+                max_ball_radius,
+            } => write!(
+                f,
+                "every surface Delaunay ball has radius <= {max_ball_radius:.3e} <= psi = {psi:.3e} = 0.1 x \
+                 {reach_lower_bound:.3e} (a certified lower bound of the reach, hence of lfs): \
+                 the weak 0.1-sample condition on every ball (interval arithmetic)"
             ),
         }
     }

@@ -37,6 +37,7 @@ use super::restricted::{self, key, test_segment, DualTest, Ends3, Scan};
 use crate::error::{Error, Result};
 use crate::implicit::critical::{critical_points_on_surface, Budget, Bx, Problem};
 use crate::implicit::ops::{project, SegmentBudget};
+use crate::implicit::reach::{reach_lower_bound, ReachBound, ReachOptions};
 use crate::implicit::Implicit;
 use crate::kernel::delaunay::{CellId, Delaunay, InsertError, VertexId};
 use crate::kernel::geom::{add, cross, dist, dot, scale, sub, Aabb};
@@ -49,7 +50,14 @@ use serde::Serialize;
 use std::collections::{BinaryHeap, HashMap};
 
 /// The `--set` keys of `bo`.
-pub const SETTINGS: &[&str] = &["seed", "multiple", "seed-radius", "critical-boxes"];
+pub const SETTINGS: &[&str] = &[
+    "seed",
+    "multiple",
+    "seed-radius",
+    "critical-boxes",
+    "size",
+    "reach-depth",
+];
 
 /// Boissonnat–Oudot refinement; see the module documentation.
 #[derive(Clone, Debug)]
@@ -78,6 +86,11 @@ pub struct BoissonnatOudot {
     pub max_undecided_insertions: usize,
     /// Manifold-phase rounds.
     pub max_manifold_rounds: usize,
+    /// `--set size=reach`: facet_size = 0.1 x the certified reach lower bound (the
+    /// chapter's psi, Theorem 4), computed before the refinement.
+    pub size_from_reach: bool,
+    /// Octree depth of the reach bound.
+    pub reach_depth: u32,
 }
 
 impl Default for BoissonnatOudot {
@@ -96,6 +109,8 @@ impl Default for BoissonnatOudot {
             critical_boxes: 200_000,
             max_undecided_insertions: 200,
             max_manifold_rounds: 50,
+            size_from_reach: false,
+            reach_depth: 7,
         }
     }
 }
@@ -145,11 +160,32 @@ impl BoissonnatOudot {
                 )))
             }
         }
+        match o.extra.get("size").map(String::as_str) {
+            None => {}
+            Some("reach") => m.size_from_reach = true,
+            Some(v) => {
+                return Err(Error::Param(format!(
+                    "--set size={v}: the only value is 'reach' (give a number with --facet-size)"
+                )))
+            }
+        }
+        if let Some(d) = o.get::<u32>("reach-depth")? {
+            m.reach_depth = d.clamp(2, 12);
+        }
         m.seed_radius = pos("set seed-radius", o.get::<f64>("seed-radius")?)?;
         if let Some(n) = o.get::<usize>("critical-boxes")? {
             m.critical_boxes = n.max(1);
         }
         Ok(m)
+    }
+}
+
+impl BoissonnatOudot {
+    fn reach_options(&self) -> ReachOptions {
+        ReachOptions {
+            max_depth: self.reach_depth,
+            ..ReachOptions::default()
+        }
     }
 }
 
@@ -232,6 +268,10 @@ pub struct BoStats {
     pub certified_undecided: Option<usize>,
     pub certified_mismatches: Option<usize>,
     pub delaunay_valid: Option<bool>,
+    /// Certified: the largest surface Delaunay ball (outward-rounded).
+    pub certified_max_ball_radius: Option<f64>,
+    /// The certified reach lower bound (implicit::reach), when computed.
+    pub reach: Option<ReachBound>,
     pub seconds_refine: f64,
     pub seconds_certify: f64,
 }
@@ -280,6 +320,12 @@ struct Run<'a> {
 }
 
 impl<'a> Run<'a> {
+    fn stats_seeds_not_incident(&self, scan: &Scan, seeds: &[VertexId]) -> usize {
+        let used: std::collections::HashSet<VertexId> =
+            scan.facets.iter().flat_map(|x| x.v).collect();
+        seeds.iter().filter(|v| !used.contains(v)).count()
+    }
+
     fn refresh_cc(&mut self, c: CellId) {
         if self.cc.len() < self.t.cell_capacity() {
             self.cc.resize(self.t.cell_capacity(), [0.0; 3]);
@@ -653,7 +699,27 @@ fn mesh_bo(
     } else {
         p.facet_size
     };
-    let facet_distance = p.facet_distance.or(Some(diam / 200.0));
+    let mut facet_distance = p.facet_distance.or(Some(diam / 200.0));
+    let mut reach: Option<ReachBound> = None;
+    let mut facet_size = facet_size;
+    if p.size_from_reach {
+        let rb = reach_lower_bound(f, Bx::new(domain.min, domain.max), p.reach_options());
+        match rb.tau {
+            Some(tau) => {
+                facet_size = 0.1 * tau;
+                if p.facet_distance.is_none() {
+                    facet_distance = None;
+                }
+            }
+            None => {
+                return Err(Error::Param(format!(
+                    "--set size=reach: no certified reach bound: {}",
+                    rb.reason.unwrap_or_default()
+                )))
+            }
+        }
+        reach = Some(rb);
+    }
     let params = BoissonnatOudot {
         facet_size,
         facet_distance,
@@ -870,6 +936,47 @@ fn mesh_bo(
             });
             // The output is the certified set.
             scan = cert;
+            // Theorems 3-4 of the chapter: a weak 0.1-sample needs psi <= 0.1 lfs.
+            let rb = match reach.take() {
+                Some(rb) => rb,
+                None => reach_lower_bound(f, Bx::new(domain.min, domain.max), p.reach_options()),
+            };
+            let r_sup = scan
+                .facets
+                .iter()
+                .flat_map(|x| x.test.crossings.iter().map(|c| c.radius_sup))
+                .fold(0.0f64, f64::max);
+            run.stats.certified_max_ball_radius = Some(r_sup);
+            match rb.tau {
+                None => {
+                    reason = format!(
+                        "ambient isotopy (Boissonnat-Oudot, Theorems 3-4) not certified: no certified reach bound ({})",
+                        rb.reason.clone().unwrap_or_default()
+                    );
+                }
+                Some(tau) => {
+                    let psi = 0.1 * tau;
+                    if r_sup <= psi {
+                        claims.push(Claim::WeakSample {
+                            psi,
+                            reach_lower_bound: tau,
+                            max_ball_radius: r_sup,
+                        });
+                        reason = if !crit.complete
+                            || run.stats_seeds_not_incident(&scan, &seed_ids) > 0
+                        {
+                            "ambient isotopy (Boissonnat-Oudot, Theorem 3) not certified: a seed vertex (critical point) is incident to no restricted facet, or the seeding is incomplete".to_string()
+                        } else {
+                            "ambient isotopy (Boissonnat-Oudot, Theorem 3) not certified: the theorem assumes P on S, and the vertices are floating-point points near S (|f| ~ 1e-16), not on it".to_string()
+                        };
+                    } else {
+                        reason = format!(
+                            "ambient isotopy (Boissonnat-Oudot, Theorems 3-4) not certified: surface Delaunay balls up to {r_sup:.3e} exceed psi = 0.1 x certified reach bound {tau:.3e} = {psi:.3e} (refine with --set size=reach)"
+                        );
+                    }
+                }
+            }
+            run.stats.reach = Some(rb);
         } else {
             reason = format!(
                 "restricted triangulation not certified: {}; {reason}",

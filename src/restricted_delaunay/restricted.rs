@@ -41,6 +41,9 @@ pub struct FacetCrossing {
     pub point: [f64; 3],
     /// Radius of the surface Delaunay ball centred there.
     pub radius: f64,
+    /// An upper bound of that radius over the crossing's certified piece (in
+    /// `Certified` scans: outward-rounded over the interval segment; else `radius`).
+    pub radius_sup: f64,
     /// The segment enters {f > 0} here (from the first cell towards its neighbour).
     pub rising: bool,
     /// The certified piece of the segment parameter.
@@ -94,6 +97,7 @@ pub fn test_segment(
             FacetCrossing {
                 point: p,
                 radius: dist(p, v0),
+                radius_sup: dist(p, v0),
                 rising: root.rising,
                 piece: [root.t0, root.t1],
             }
@@ -109,6 +113,51 @@ pub fn test_segment(
         undecided,
         pieces: r.pieces,
     }
+}
+
+/// A sub-piece of a certified root's piece that still holds the root: the end signs
+/// of [t − δ, t + δ] around the float root t proven opposite (interval evaluation on
+/// the boxed segment), δ growing from 1e-12; the whole piece if that fails. The root
+/// is unique in its piece, so it lies in any sub-piece with opposite end signs.
+fn narrow(f: &dyn Implicit, a: &IBox, b: &IBox, root: &SegmentRoot, t: f64) -> SegmentRoot {
+    let sign = |t: f64| -> Option<bool> {
+        let tt = Interval::try_from((t, t)).ok()?;
+        let x: IBox = [0, 1, 2].map(|k| a[k] + tt * (b[k] - a[k]));
+        let v = f.eval_interval(&x);
+        if v.is_empty() {
+            None
+        } else if v.inf() > 0.0 {
+            Some(true)
+        } else if v.sup() < 0.0 {
+            Some(false)
+        } else {
+            None
+        }
+    };
+    let mut d = 1e-12;
+    while d < 1e-3 {
+        let (l, h) = ((t - d).max(root.t0), (t + d).min(root.t1));
+        if l < h && sign(l) == Some(!root.rising) && sign(h) == Some(root.rising) {
+            return SegmentRoot {
+                t0: l,
+                t1: h,
+                rising: root.rising,
+            };
+        }
+        d *= 16.0;
+    }
+    *root
+}
+
+/// sup |x − v0| over the enclosure a + T (b − a) of the crossing's piece T.
+fn radius_sup(a: &IBox, b: &IBox, root: &SegmentRoot, v0: [f64; 3]) -> f64 {
+    let tt = Interval::try_from((root.t0, root.t1)).unwrap_or(Interval::ENTIRE);
+    let v = point_box(v0);
+    let d2 = (0..3)
+        .map(|k| (a[k] + tt * (b[k] - a[k]) - v[k]).sqr())
+        .fold(Interval::try_from((0.0, 0.0)).unwrap(), |s, x| s + x);
+    // sqrt rounded up: one ulp-scale margin over the float square root.
+    d2.sup().sqrt() * (1.0 + 4.0 * f64::EPSILON)
 }
 
 /// Does every Voronoi edge of a facet with a far corner miss D? (See the module doc;
@@ -318,10 +367,12 @@ pub fn scan(
                             .roots
                             .iter()
                             .map(|root| {
-                                let (p, _) = segment_root_point(f, am, bm, root, 1e-12);
+                                let (p, tp) = segment_root_point(f, am, bm, root, 1e-12);
+                                let narrow = narrow(f, &a, &b, root, tp);
                                 FacetCrossing {
                                     point: p,
                                     radius: dist(p, v0),
+                                    radius_sup: radius_sup(&a, &b, &narrow, v0),
                                     rising: root.rising,
                                     piece: [root.t0, root.t1],
                                 }
