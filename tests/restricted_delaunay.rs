@@ -449,3 +449,48 @@ fn reach_lower_bounds_are_below_the_true_reach() {
     );
     assert!(r.tau.is_none() && r.reason.is_some(), "{r:?}");
 }
+
+/// `--set size=reach`: refinement to psi = 0.099 x the certified reach bound (Theorem
+/// 4's criterion); the certificate then claims the weak-sample condition, checked here
+/// against the sampled crossings, and still does not claim isotopy (P is not on S).
+#[test]
+fn sphere_weak_sample_claim_at_psi_from_the_certified_reach() {
+    let mut o = MesherOptions {
+        certify: true,
+        ..Default::default()
+    };
+    o.extra.insert("size".into(), "reach".into());
+    o.extra.insert("reach-depth".into(), "6".into());
+    let m = BoissonnatOudot::from_options(&o).unwrap();
+    let (f, domain, out, mesh) = run("sphere", &m);
+    let psi = out
+        .certificate
+        .claims_typed()
+        .iter()
+        .find_map(|c| match c {
+            Claim::WeakSample {
+                psi,
+                reach_lower_bound,
+                ..
+            } => {
+                assert!(*reach_lower_bound <= 1.0);
+                Some(*psi)
+            }
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("{:?}", out.certificate));
+    assert!(psi <= 0.1 && !out.certificate.proves_topology());
+    assert!(out.certificate.reason().unwrap().contains("P on S"));
+    let top = analyze(&mesh).unwrap();
+    assert!(top.is_closed_oriented_manifold() && top.genus == vec![0]);
+    let sampled = sampled_rdt(&f, &domain, &mesh.vertices, 200);
+    assert_eq!(sampled.len(), mesh.triangles.len());
+    for t in &mesh.triangles {
+        let mut k = *t;
+        k.sort_unstable();
+        for x in &sampled[&k] {
+            let r = dist(*x, mesh.vertices[t[0] as usize]);
+            assert!(r <= psi * (1.0 + 1e-9), "ball radius {r} > psi {psi}");
+        }
+    }
+}

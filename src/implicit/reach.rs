@@ -15,8 +15,10 @@
 //! leaf box that may meet S (S is a regular C² surface there).
 //!
 //! **Curvature.** Octree boxes B with 0 ∈ □f(B) cover S. For a unit tangent t at
-//! x ∈ S ∩ B the normal curvature is tᵀH(x)t/|∇f(x)|, so |κ| ≤ ‖□H(B)‖_F / inf|□∇f(B)|
-//! (the Frobenius norm bounds the spectral norm). The box with the largest bound is
+//! x ∈ S ∩ B the normal curvature is tᵀH(x)t/|∇f(x)|; with P = I − nnᵀ the tangent
+//! projector, |κ| ≤ max|eig(PHP)| / |∇f|, bounded over the box from interval
+//! enclosures of the trace and Frobenius norm of PHP, or by ‖H‖_F or the ∞-norm of
+//! □H(B) when smaller (`tangent_curvature_bound`). The box with the largest bound is
 //! split first (best-first), down to `max_depth`: κ̄ is the largest bound left.
 //!
 //! **Bottleneck.** Prove that no double-normal chord is shorter than Δ₀ by a dual-tree
@@ -143,6 +145,62 @@ impl<'a> Tree<'a> {
     }
 }
 
+/// An upper bound of |tᵀHt|/|∇f| over unit t ⊥ ∇f, for ∇f ∈ `g`, H ∈ `hp` (packed
+/// `[xx, xy, xz, yy, yz, zz]`): with n = ∇f/|∇f| and P = I − nnᵀ (interval
+/// enclosures), M = PHP is symmetric with Mn = 0, so its eigenvalues are 0, λ₁, λ₂
+/// (the normal curvatures' extremes times |∇f|), and
+/// max|λᵢ| = (|tr M| + √(2‖M‖²_F − (tr M)²)) / 2.
+fn tangent_curvature_bound(g: &[Interval; 3], hp: &[Interval; 6], g2: Interval) -> Option<f64> {
+    let norm = g2.sqrt();
+    let n: [Interval; 3] = [0, 1, 2].map(|k| g[k] / norm);
+    let one = Interval::try_from((1.0, 1.0)).unwrap();
+    let zero = Interval::try_from((0.0, 0.0)).unwrap();
+    let idx = |i: usize, j: usize| -> usize {
+        let (a, b) = (i.min(j), i.max(j));
+        [[0, 1, 2], [1, 3, 4], [2, 4, 5]][a][b]
+    };
+    let p: [[Interval; 3]; 3] = std::array::from_fn(|i| {
+        std::array::from_fn(|j| (if i == j { one } else { zero }) - n[i] * n[j])
+    });
+    let h: [[Interval; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| hp[idx(i, j)]));
+    let mul = |a: &[[Interval; 3]; 3], b: &[[Interval; 3]; 3]| -> [[Interval; 3]; 3] {
+        std::array::from_fn(|i| {
+            std::array::from_fn(|j| a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j])
+        })
+    };
+    let m = mul(&mul(&p, &h), &p);
+    let tr = m[0][0] + m[1][1] + m[2][2];
+    let mut f2 = zero;
+    for row in &m {
+        for x in row {
+            f2 = f2 + x.sqr();
+        }
+    }
+    let two = Interval::try_from((2.0, 2.0)).unwrap();
+    let disc = two * f2 - tr.sqr();
+    if tr.is_empty() || disc.is_empty() || !f2.sup().is_finite() {
+        return None;
+    }
+    let lam = (tr.mag() + disc.sup().max(0.0).sqrt()) * 0.5;
+    // Fall back to ‖H‖_F ≥ ‖H‖₂ when it is smaller (wide boxes: n enters PHP four
+    // times, and the interval product does not know it is the same n).
+    let mut fh = zero;
+    for row in &h {
+        for x in row {
+            fh = fh + x.sqr();
+        }
+    }
+    // And the ∞-norm (Gershgorin): for a symmetric matrix it bounds the spectral norm.
+    let gersh = h
+        .iter()
+        .map(|row| row.iter().map(|x| x.mag()).sum::<f64>())
+        .fold(0.0f64, f64::max)
+        * (1.0 + 1e-12);
+    let lam = lam.min(fh.sup().sqrt()).min(gersh);
+    let k = lam / norm.inf() * (1.0 + 1e-12);
+    (k.is_finite() && norm.inf() > 0.0).then_some(k)
+}
+
 fn excl(i: Interval) -> bool {
     !i.is_empty() && (i.inf() > 0.0 || i.sup() < 0.0)
 }
@@ -191,12 +249,7 @@ pub fn reach_lower_bound(f: &dyn Implicit, domain: Bx, opts: ReachOptions) -> Re
         if !(g2.inf() > 0.0) {
             return None;
         }
-        let two = Interval::try_from((2.0, 2.0)).unwrap();
-        let fro = h.h[0].sqr()
-            + h.h[3].sqr()
-            + h.h[5].sqr()
-            + two * (h.h[1].sqr() + h.h[2].sqr() + h.h[4].sqr());
-        let k = (fro.sup().sqrt() / g2.inf().sqrt()) * (1.0 + 1e-12);
+        let k = tangent_curvature_bound(&h.g, &h.h, g2).unwrap_or(f64::INFINITY);
         k.is_finite().then_some(k)
     };
     #[derive(PartialEq)]

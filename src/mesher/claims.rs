@@ -39,8 +39,8 @@ pub enum Claim {
         multiple_crossings: usize,
     },
     /// Every surface Delaunay ball of the restricted triangulation has radius at most
-    /// `psi` = 0.1 × `reach_lower_bound`, a certified lower bound of the reach (hence
-    /// of lfs): the weak 0.1-sample condition of the chapter "Meshing of Surfaces"
+    /// `psi` = 0.099 × `reach_lower_bound`, a certified lower bound of the reach (hence
+    /// of lfs): the weak ε-sample condition, ε = 0.099 < 0.1, of the chapter "Meshing of Surfaces"
     /// (Boissonnat et al., 2007, §1.3.1) on every ball.
     WeakSample {
         psi: f64,
@@ -105,9 +105,9 @@ impl fmt::Display for Claim {
                 max_ball_radius,
             } => write!(
                 f,
-                "every surface Delaunay ball has radius <= {max_ball_radius:.3e} <= psi = {psi:.3e} = 0.1 x \
+                "every surface Delaunay ball has radius <= {max_ball_radius:.3e} <= psi = {psi:.3e} = 0.099 x \
                  {reach_lower_bound:.3e} (a certified lower bound of the reach, hence of lfs): \
-                 the weak 0.1-sample condition on every ball (interval arithmetic)"
+                 the weak 0.099-sample condition on every ball (interval arithmetic)"
             ),
         }
     }

@@ -49,6 +49,9 @@ use crate::mesher::{
 use serde::Serialize;
 use std::collections::{BinaryHeap, HashMap};
 
+/// ε of the weak ε-sample: Theorem 3 of the chapter needs ε < 0.1 (strictly).
+pub const EPSILON: f64 = 0.099;
+
 /// The `--set` keys of `bo`.
 pub const SETTINGS: &[&str] = &[
     "seed",
@@ -86,7 +89,7 @@ pub struct BoissonnatOudot {
     pub max_undecided_insertions: usize,
     /// Manifold-phase rounds.
     pub max_manifold_rounds: usize,
-    /// `--set size=reach`: facet_size = 0.1 x the certified reach lower bound (the
+    /// `--set size=reach`: facet_size = 0.099 x the certified reach lower bound (the
     /// chapter's psi, Theorem 4), computed before the refinement.
     pub size_from_reach: bool,
     /// Octree depth of the reach bound.
@@ -706,7 +709,7 @@ fn mesh_bo(
         let rb = reach_lower_bound(f, Bx::new(domain.min, domain.max), p.reach_options());
         match rb.tau {
             Some(tau) => {
-                facet_size = 0.1 * tau;
+                facet_size = EPSILON * tau;
                 if p.facet_distance.is_none() {
                     facet_distance = None;
                 }
@@ -936,7 +939,7 @@ fn mesh_bo(
             });
             // The output is the certified set.
             scan = cert;
-            // Theorems 3-4 of the chapter: a weak 0.1-sample needs psi <= 0.1 lfs.
+            // Theorem 3 of the chapter: a weak eps-sample with eps < 0.1.
             let rb = match reach.take() {
                 Some(rb) => rb,
                 None => reach_lower_bound(f, Bx::new(domain.min, domain.max), p.reach_options()),
@@ -955,7 +958,7 @@ fn mesh_bo(
                     );
                 }
                 Some(tau) => {
-                    let psi = 0.1 * tau;
+                    let psi = EPSILON * tau;
                     if r_sup <= psi {
                         claims.push(Claim::WeakSample {
                             psi,
@@ -971,7 +974,7 @@ fn mesh_bo(
                         };
                     } else {
                         reason = format!(
-                            "ambient isotopy (Boissonnat-Oudot, Theorems 3-4) not certified: surface Delaunay balls up to {r_sup:.3e} exceed psi = 0.1 x certified reach bound {tau:.3e} = {psi:.3e} (refine with --set size=reach)"
+                            "ambient isotopy (Boissonnat-Oudot, Theorems 3-4) not certified: surface Delaunay balls up to {r_sup:.3e} exceed psi = 0.099 x certified reach bound {tau:.3e} = {psi:.3e} (refine with --set size=reach)"
                         );
                     }
                 }
