@@ -193,11 +193,9 @@ fn check_output(
             )
         });
     assert_eq!(rdt, mesh.triangles.len());
-    assert!(out
-        .certificate
-        .reason()
-        .unwrap()
-        .contains("no certified reach bound"));
+    // At CGAL-style criteria the balls exceed psi = 0.099 x the certified reach bound.
+    let why = out.certificate.reason().unwrap();
+    assert!(why.contains("isotopy") && why.contains("exceed psi"), "{why}");
     // Independent computation: the same facet set, and the criteria on its crossings.
     let sampled = sampled_rdt(&f, &domain, &mesh.vertices, 400);
     let ours: HashSet<[u32; 3]> = mesh
