@@ -439,18 +439,7 @@ pub fn isolate_segment(
     let dir: IBox = [0, 1, 2].map(|k| eb[k] - ea[k]);
     let at = |t: Interval| -> IBox { [0, 1, 2].map(|k| ea[k] + t * dir[k]) };
     let pt = |t: f64| Interval::try_from((t, t)).unwrap_or(Interval::ENTIRE);
-    let sign = |t: f64| -> Option<bool> {
-        let v = f.eval_interval(&at(pt(t)));
-        if v.is_empty() {
-            None
-        } else if v.inf() > 0.0 {
-            Some(true)
-        } else if v.sup() < 0.0 {
-            Some(false)
-        } else {
-            None
-        }
-    };
+    let sign = |t: f64| segment_sign(f, ea, eb, t);
     let mut out = SegmentRoots::default();
     // Stack of pieces (t0, t1, sign at t0, sign at t1, depth); the right half is pushed
     // first so that roots come out in increasing t.
@@ -517,6 +506,23 @@ pub fn isolate_segment(
         }
     }
     out
+}
+
+/// The sign of f at parameter t of the boxed segment of [`isolate_segment`], proven
+/// for every a ∈ `ea`, b ∈ `eb` (true: f > 0), or `None` when 0 is in the enclosure.
+pub fn segment_sign(f: &dyn Implicit, ea: &IBox, eb: &IBox, t: f64) -> Option<bool> {
+    let tt = Interval::try_from((t, t)).ok()?;
+    let x: IBox = [0, 1, 2].map(|k| ea[k] + tt * (eb[k] - ea[k]));
+    let v = f.eval_interval(&x);
+    if v.is_empty() {
+        None
+    } else if v.inf() > 0.0 {
+        Some(true)
+    } else if v.sup() < 0.0 {
+        Some(false)
+    } else {
+        None
+    }
 }
 
 /// A float point of a root isolated by [`isolate_segment`] on the float segment

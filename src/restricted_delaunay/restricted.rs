@@ -23,7 +23,9 @@
 //! f > 0 side at its (largest-ball) crossing: the Voronoi edge runs from the
 //! circumcentre of cell c to that of its neighbour d in the direction of c's outward
 //! normal of the facet, so a rising crossing orients the facet outward from c.
-use crate::implicit::ops::{isolate_segment, segment_root_point, SegmentBudget, SegmentRoot};
+use crate::implicit::ops::{
+    isolate_segment, segment_root_point, segment_sign, SegmentBudget, SegmentRoot,
+};
 use crate::implicit::{IBox, Implicit};
 use crate::kernel::delaunay::{circumcentre, CellId, Delaunay, VertexId};
 use crate::kernel::geom::{dist, Aabb};
@@ -120,20 +122,7 @@ pub fn test_segment(
 /// the boxed segment), δ growing from 1e-12; the whole piece if that fails. The root
 /// is unique in its piece, so it lies in any sub-piece with opposite end signs.
 fn narrow(f: &dyn Implicit, a: &IBox, b: &IBox, root: &SegmentRoot, t: f64) -> SegmentRoot {
-    let sign = |t: f64| -> Option<bool> {
-        let tt = Interval::try_from((t, t)).ok()?;
-        let x: IBox = [0, 1, 2].map(|k| a[k] + tt * (b[k] - a[k]));
-        let v = f.eval_interval(&x);
-        if v.is_empty() {
-            None
-        } else if v.inf() > 0.0 {
-            Some(true)
-        } else if v.sup() < 0.0 {
-            Some(false)
-        } else {
-            None
-        }
-    };
+    let sign = |t: f64| segment_sign(f, a, b, t);
     let mut d = 1e-12;
     while d < 1e-3 {
         let (l, h) = ((t - d).max(root.t0), (t + d).min(root.t1));
