@@ -37,6 +37,7 @@ pub mod mesher;
 pub mod metrics;
 pub mod morse;
 pub mod reproduce;
+pub mod restricted_delaunay;
 pub mod stuffing;
 pub mod subdivision;
 

@@ -1545,3 +1545,131 @@ fn bcsv_from_the_command_line() {
     json_error(&out);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+// ---------------------------------------------------------------------------------
+// certmesh delaunay
+
+#[test]
+fn delaunay_random_points_are_built_checked_and_reported() {
+    for on in ["uniform", "sphere", "torus"] {
+        let (code, out, err) = certmesh(&[
+            "delaunay", "--random", "300", "--on", on, "--seed", "4", "--json",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["n_points"], 300, "{out}");
+        assert_eq!(v["n_inserted"], 300, "{out}");
+        assert_eq!(v["valid"], true, "{out}");
+        assert_eq!(v["check"]["non_positive_cells"], 0);
+        assert_eq!(v["check"]["non_delaunay_facets"], 0);
+        // A 3-ball: V - E + F - T = 1, every cell counted.
+        assert_eq!(v["check"]["euler_characteristic"], 1);
+        assert_eq!(v["cells"], v["check"]["cells"]);
+        assert!(v["points_per_second"].as_f64().unwrap() > 0.0);
+        assert!(v["memory_bytes"].as_u64().unwrap() > 300 * 24);
+    }
+    let (code, out, _) = certmesh(&["delaunay", "--random", "200"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("points/s") && out.contains("valid"), "{out}");
+}
+
+#[test]
+fn delaunay_point_file_to_vtk_and_duplicates() {
+    let dir = tmp("delaunay");
+    // A 3x3x3 integer grid (massive ties) plus one duplicate.
+    let mut s = String::from("# grid\n");
+    for i in 0..3 {
+        for j in 0..3 {
+            for k in 0..3 {
+                s += &format!("{i} {j} {k}\n");
+            }
+        }
+    }
+    s += "1 1 1\n";
+    std::fs::write(dir.join("g.xyz"), s).unwrap();
+    let (code, out, err) = certmesh_in(&dir, &["delaunay", "g.xyz", "-o", "t.vtk", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["n_points"], 28);
+    assert_eq!(v["n_inserted"], 27);
+    assert_eq!(v["duplicates"], serde_json::json!([27]));
+    assert_eq!(v["valid"], true);
+    // The written tetrahedra fill the grid's cube: total volume 8.
+    let m = certmesh::io::read_tet(dir.join("t.vtk")).unwrap();
+    let vol: f64 = m
+        .tets
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| m.vertices[i as usize]);
+            let d = |a: [f64; 3], b: [f64; 3]| [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let (a, b, c) = (d(p[0], p[1]), d(p[0], p[2]), d(p[0], p[3]));
+            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                .abs()
+                / 6.0
+        })
+        .sum();
+    assert!((vol - 8.0).abs() < 1e-9, "volume {vol}");
+}
+
+#[test]
+fn delaunay_errors_are_clear() {
+    let dir = tmp("delaunay-err");
+    std::fs::write(dir.join("bad.xyz"), "0 0 0\n1 0 0\n0 1\n").unwrap();
+    std::fs::write(dir.join("nan.xyz"), "0 0 0\n1 nan 0\n").unwrap();
+    let (code, _, err) = certmesh_in(&dir, &["delaunay", "bad.xyz"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("line 3") && err.contains("three coordinates"),
+        "{err}"
+    );
+    let cases: Vec<(Vec<&str>, &str, serde_json::Value)> = vec![
+        (
+            vec!["delaunay", "bad.xyz", "--json"],
+            "file",
+            serde_json::json!(3),
+        ),
+        (
+            vec!["delaunay", "nan.xyz", "--json"],
+            "file",
+            serde_json::json!(2),
+        ),
+        (
+            vec!["delaunay", "missing.xyz", "--json"],
+            "io",
+            serde_json::Value::Null,
+        ),
+        (
+            vec!["delaunay", "--random", "10", "--on", "cube", "--json"],
+            "unknown-name",
+            serde_json::Value::Null,
+        ),
+        (
+            vec!["delaunay", "--random", "10", "-o", "t.obj", "--json"],
+            "parameter",
+            serde_json::Value::Null,
+        ),
+        (
+            vec!["delaunay", "--json"],
+            "parameter",
+            serde_json::Value::Null,
+        ),
+        (
+            vec!["delaunay", "--random", "x", "--json"],
+            "usage",
+            serde_json::Value::Null,
+        ),
+        (
+            vec!["delaunay", "--random", "999999999999", "--json"],
+            "too-large",
+            serde_json::Value::Null,
+        ),
+    ];
+    for (args, kind, pos) in cases {
+        let (code, out, _) = certmesh_in(&dir, &args);
+        assert_eq!(code, 2, "{args:?}: {out}");
+        let v = json_error(&out);
+        assert_eq!(v["kind"], kind, "{args:?}: {out}");
+        assert_eq!(v["position"], pos, "{args:?}: {out}");
+    }
+}

@@ -12,6 +12,7 @@ pub mod directed;
 pub mod expr;
 pub mod number;
 pub mod ops;
+pub mod reach;
 pub mod regularity;
 pub mod sdf;
 pub mod tape;

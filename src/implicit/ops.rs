@@ -9,6 +9,7 @@
 //! | [`point_sign`] | the sign of f at a point, or "undecided" (0 in the enclosure, or f undefined there) | Snyder, Plantinga–Vegter (grid corners) |
 //! | [`excludes_zero`], [`enclose`] | 0 ∉ □f over a box (natural ∩ mean-value enclosure; the mean-value form only where f is continuous) | Snyder, Plantinga–Vegter, the pruned marching meshers |
 //! | [`IntervalIsolation::isolate`] | all roots of f on a segment, each in its own piece with 0 ∉ □f' (unique), or failure (a grazing root) | Snyder (every box edge) |
+//! | [`isolate_segment`] | all roots of f on a segment in general position whose end points are known only as boxes (interval circumcentres), each in its own piece with 0 ∉ □(d/dt f) (unique), or the undecided pieces (tangent, grazing, an end on f = 0) | restricted-Delaunay meshing (every Voronoi edge) |
 //! | [`locate`], [`crossing_t`] | the position of one crossing between two points of opposite sign (bisection, or the linear fast path); no certificate | every lattice and subdivision mesher |
 //! | [`project`], [`project_steps`] | Newton projection onto f = 0 (no certificate) | GradNormal, MidNormal, the fidelity metrics |
 //! | [`Implicit::regularity`] | f defined, continuous, C^∞ on a box | every certified criterion |
@@ -354,4 +355,193 @@ pub fn project_steps(f: &dyn Implicit, mut p: [f64; 3], steps: usize) -> ([f64; 
         }
     }
     (p, true)
+}
+
+// ---------------------------------------------------------------------------------
+// All roots on a segment in general position, with uncertain end points.
+
+/// One root of f on a segment, certified unique in its piece `[t0, t1]` of the
+/// parameter: 0 ∉ □(d/dt f) on the piece and the end signs differ.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SegmentRoot {
+    pub t0: f64,
+    pub t1: f64,
+    /// f < 0 at `t0` and f > 0 at `t1` (the segment enters {f > 0}).
+    pub rising: bool,
+}
+
+/// What [`isolate_segment`] found: every root of f on the segment, each in its own
+/// piece, unless `undecided` lists pieces where neither exclusion nor uniqueness could
+/// be proven (a tangent or grazing crossing, an end point on f = 0, f not smooth).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SegmentRoots {
+    pub roots: Vec<SegmentRoot>,
+    pub undecided: Vec<[f64; 2]>,
+    /// Pieces processed.
+    pub pieces: u32,
+}
+
+impl SegmentRoots {
+    /// Is the list of roots proven complete?
+    pub fn complete(&self) -> bool {
+        self.undecided.is_empty()
+    }
+}
+
+/// Limits of [`isolate_segment`].
+#[derive(Clone, Copy, Debug)]
+pub struct SegmentBudget {
+    /// Bisections along one path (the piece width is then 2^-depth of the segment).
+    pub max_depth: u32,
+    /// Pieces processed in all; the rest is reported undecided.
+    pub max_pieces: u32,
+}
+
+impl Default for SegmentBudget {
+    fn default() -> Self {
+        SegmentBudget {
+            max_depth: 40,
+            max_pieces: 4000,
+        }
+    }
+}
+
+fn hull(x: f64, y: f64) -> Interval {
+    Interval::try_from((x.min(y), x.max(y))).unwrap_or(Interval::ENTIRE)
+}
+
+/// Every root of f on the segment X(t) = a + t (b − a), t ∈ [0, 1], where the end
+/// points are known only to lie in the boxes `a` ∈ `ea`, `b` ∈ `eb` (e.g. interval
+/// enclosures of Voronoi vertices; degenerate boxes for float points). Roots outside
+/// the box `inside` (when given) are not sought: a piece whose enclosure X(T) misses
+/// it is dropped, and a piece is only concluded once X(T) ⊂ `inside`.
+///
+/// Unlike [`IntervalIsolation`] (Snyder's axis-aligned edges) the derivative is the
+/// directional one, g'(t) = ∇f(X(t))·(b − a), enclosed by □∇f(X(T))·(□b − □a), and
+/// the exclusion test is the natural enclosure intersected with the one-dimensional
+/// mean-value form g(m) + □g'(T)(T − m). Per piece T = [t0, t1], with the end signs
+/// proven on the point enclosures X(t0), X(t1):
+/// 1. 0 ∉ □g(T): no root;
+/// 2. f smooth on X(T) and 0 ∉ □g'(T): g is monotone, so one root if the end signs
+///    differ, none if they agree;
+/// 3. otherwise bisect (the split point moved if its sign is undecided), down to
+///    `max_depth`, then report the piece undecided.
+///
+/// Both conclusions hold for the true segment from any a ∈ `ea` to any b ∈ `eb`:
+/// every enclosure contains the values along it (inclusion isotonicity).
+pub fn isolate_segment(
+    f: &dyn Implicit,
+    ea: &IBox,
+    eb: &IBox,
+    inside: Option<&IBox>,
+    budget: SegmentBudget,
+) -> SegmentRoots {
+    let dir: IBox = [0, 1, 2].map(|k| eb[k] - ea[k]);
+    let at = |t: Interval| -> IBox { [0, 1, 2].map(|k| ea[k] + t * dir[k]) };
+    let pt = |t: f64| Interval::try_from((t, t)).unwrap_or(Interval::ENTIRE);
+    let sign = |t: f64| segment_sign(f, ea, eb, t);
+    let mut out = SegmentRoots::default();
+    // Stack of pieces (t0, t1, sign at t0, sign at t1, depth); the right half is pushed
+    // first so that roots come out in increasing t.
+    let mut stack = vec![(0.0f64, 1.0f64, sign(0.0), sign(1.0), 0u32)];
+    while let Some((t0, t1, s0, s1, depth)) = stack.pop() {
+        if out.pieces >= budget.max_pieces {
+            out.undecided.push([t0, t1]);
+            continue;
+        }
+        out.pieces += 1;
+        let tt = hull(t0, t1);
+        let x = at(tt);
+        let mut within = true;
+        if let Some(d) = inside {
+            if (0..3).any(|k| x[k].sup() < d[k].inf() || x[k].inf() > d[k].sup()) {
+                continue; // X(T) misses the box: nothing sought here
+            }
+            within = (0..3).all(|k| d[k].inf() <= x[k].inf() && x[k].sup() <= d[k].sup());
+        }
+        let reg = f.regularity(&x);
+        let d = f.grad_interval(&x);
+        let mut enc = d.v;
+        let mut dg = Interval::ENTIRE;
+        if reg == Regularity::Smooth {
+            dg = d.g[0] * dir[0] + d.g[1] * dir[1] + d.g[2] * dir[2];
+            let m = 0.5 * (t0 + t1);
+            let mv = f.eval_interval(&at(pt(m))) + dg * (tt - pt(m));
+            let both = enc.intersection(mv);
+            if !both.is_empty() {
+                enc = both;
+            }
+        }
+        if !enc.is_empty() && excludes_zero(enc) {
+            continue;
+        }
+        if within && reg == Regularity::Smooth && !dg.is_empty() && excludes_zero(dg) {
+            if let (Some(a), Some(b)) = (s0, s1) {
+                if a != b {
+                    out.roots.push(SegmentRoot {
+                        t0,
+                        t1,
+                        rising: b,
+                    });
+                }
+                continue;
+            }
+        }
+        if depth >= budget.max_depth {
+            out.undecided.push([t0, t1]);
+            continue;
+        }
+        let w = t1 - t0;
+        let split = [0.5, 0.375, 0.625, 0.25, 0.75]
+            .iter()
+            .map(|&q| t0 + q * w)
+            .filter(|&tm| tm > t0 && tm < t1)
+            .find_map(|tm| sign(tm).map(|s| (tm, s)));
+        match split {
+            Some((tm, sm)) => {
+                stack.push((tm, t1, Some(sm), s1, depth + 1));
+                stack.push((t0, tm, s0, Some(sm), depth + 1));
+            }
+            None => out.undecided.push([t0, t1]),
+        }
+    }
+    out
+}
+
+/// The sign of f at parameter t of the boxed segment of [`isolate_segment`], proven
+/// for every a ∈ `ea`, b ∈ `eb` (true: f > 0), or `None` when 0 is in the enclosure.
+pub fn segment_sign(f: &dyn Implicit, ea: &IBox, eb: &IBox, t: f64) -> Option<bool> {
+    let tt = Interval::try_from((t, t)).ok()?;
+    let x: IBox = [0, 1, 2].map(|k| ea[k] + tt * (eb[k] - ea[k]));
+    let v = f.eval_interval(&x);
+    if v.is_empty() {
+        None
+    } else if v.inf() > 0.0 {
+        Some(true)
+    } else if v.sup() < 0.0 {
+        Some(false)
+    } else {
+        None
+    }
+}
+
+/// A float point of a root isolated by [`isolate_segment`] on the float segment
+/// a → b: bisection on the sign of f inside its piece to `tol` (in t).
+pub fn segment_root_point(
+    f: &dyn Implicit,
+    a: [f64; 3],
+    b: [f64; 3],
+    root: &SegmentRoot,
+    tol: f64,
+) -> ([f64; 3], f64) {
+    let pa = lerp(a, b, root.t0);
+    let pb = lerp(a, b, root.t1);
+    let (fa, fb) = (f.eval(pa), f.eval(pb));
+    let s = if (fa < 0.0) == (fb < 0.0) && fa != 0.0 && fb != 0.0 {
+        0.5 // the float signs disagree with the certified ones: the piece is tiny
+    } else {
+        crossing_t(f, pa, fa, pb, fb, Crossing::Bisection, tol / (root.t1 - root.t0).max(tol))
+    };
+    let t = root.t0 + s * (root.t1 - root.t0);
+    (lerp(a, b, t), t)
 }

@@ -35,6 +35,7 @@ pub mod ply;
 pub mod stl;
 pub mod svg;
 pub mod vtk;
+pub mod xyz;
 
 mod text;
 
@@ -272,6 +273,13 @@ pub fn write_curve(path: impl AsRef<Path>, curve: &Curve2) -> Result<()> {
         Format::Svg => svg::write(w, curve),
         _ => csv::write(w, curve, csv::CsvLayout::Vertices),
     })
+}
+
+/// Read a point file (`x y z` per line, see [`xyz`]).
+pub fn read_points(path: impl AsRef<Path>) -> Result<Vec<[f64; 3]>> {
+    let path = path.as_ref();
+    let data = read_file(path)?;
+    xyz::read(&data[..])
 }
 
 /// Write a mesher's output, choosing by extension: a surface to a triangle format; a

@@ -27,6 +27,26 @@ pub enum Claim {
     Conforming { nonmanifold_edges: usize },
     /// The number of tetrahedra with non-positive orientation (exact orient3d).
     InvertedTetrahedra { count: usize },
+    /// The output is exactly the restricted Delaunay triangulation of its vertex set:
+    /// the Delaunay triangulation (with the far-box corners; exact predicates with
+    /// symbolic perturbation) passed its exact check, and on each of the
+    /// `voronoi_edges` dual segments (interval circumcentres) every crossing with
+    /// f = 0 was isolated by interval arithmetic, none undecided.
+    RestrictedDelaunay {
+        facets: usize,
+        voronoi_edges: usize,
+        /// Dual segments crossing f = 0 more than once.
+        multiple_crossings: usize,
+    },
+    /// Every surface Delaunay ball of the restricted triangulation has radius at most
+    /// `psi` = 0.099 × `reach_lower_bound`, a certified lower bound of the reach (hence
+    /// of lfs): the weak ε-sample condition, ε = 0.099 < 0.1, of the chapter "Meshing of Surfaces"
+    /// (Boissonnat et al., 2007, §1.3.1) on every ball.
+    WeakSample {
+        psi: f64,
+        reach_lower_bound: f64,
+        max_ball_radius: f64,
+    },
 }
 
 impl fmt::Display for Claim {
@@ -68,6 +88,27 @@ impl fmt::Display for Claim {
             Claim::InvertedTetrahedra { count } => {
                 write!(f, "{count} inverted tetrahedra (exact orient3d)")
             }
+            Claim::RestrictedDelaunay {
+                facets,
+                voronoi_edges,
+                multiple_crossings,
+            } => write!(
+                f,
+                "exactly the restricted Delaunay triangulation of its vertices: {facets} facets; \
+                 all crossings of f = 0 with {voronoi_edges} dual Voronoi edges isolated by interval \
+                 arithmetic ({multiple_crossings} edges cross more than once), Delaunay \
+                 triangulation checked with exact predicates"
+            ),
+            Claim::WeakSample {
+                psi,
+                reach_lower_bound,
+                max_ball_radius,
+            } => write!(
+                f,
+                "every surface Delaunay ball has radius <= {max_ball_radius:.3e} <= psi = {psi:.3e} = 0.099 x \
+                 {reach_lower_bound:.3e} (a certified lower bound of the reach, hence of lfs): \
+                 the weak 0.099-sample condition on every ball (interval arithmetic)"
+            ),
         }
     }
 }

@@ -33,6 +33,20 @@ pub struct MesherOptions {
     pub max_boxes: Option<u64>,
     /// Wall-clock limit in seconds (subdivision meshers; `--time-limit`).
     pub time_limit: Option<f64>,
+    /// Smallest triangle angle in degrees (restricted-Delaunay meshers; CGAL's
+    /// `facet_angle`).
+    pub facet_angle: Option<f64>,
+    /// Largest surface Delaunay ball radius (CGAL's `facet_size`).
+    pub facet_size: Option<f64>,
+    /// Largest distance from a facet's circumcentre to the surface (CGAL's
+    /// `facet_distance`).
+    pub facet_distance: Option<f64>,
+    /// Refine until the output is a 2-manifold (CGAL's `Manifold_tag`).
+    pub manifold: bool,
+    /// Vertex budget (refinement meshers; `--max-vertices`).
+    pub max_vertices: Option<usize>,
+    /// Run the (slower) certification pass (meshers whose certificate is optional).
+    pub certify: bool,
     /// Algorithm-specific settings, `key=value`.
     pub extra: BTreeMap<String, String>,
 }
@@ -86,6 +100,12 @@ impl MesherOptions {
         add(self.graded, "graded");
         add(self.max_boxes.is_some(), "max-boxes");
         add(self.time_limit.is_some(), "time-limit");
+        add(self.facet_angle.is_some(), "facet-angle");
+        add(self.facet_size.is_some(), "facet-size");
+        add(self.facet_distance.is_some(), "facet-distance");
+        add(self.manifold, "manifold");
+        add(self.max_vertices.is_some(), "max-vertices");
+        add(self.certify, "certify");
         v
     }
     /// The same options with every one a mesher does not read (not in `reads`) back at
@@ -106,6 +126,12 @@ impl MesherOptions {
             graded: self.graded && r("graded"),
             max_boxes: self.max_boxes.filter(|_| r("max-boxes")),
             time_limit: self.time_limit.filter(|_| r("time-limit")),
+            facet_angle: self.facet_angle.filter(|_| r("facet-angle")),
+            facet_size: self.facet_size.filter(|_| r("facet-size")),
+            facet_distance: self.facet_distance.filter(|_| r("facet-distance")),
+            manifold: self.manifold && r("manifold"),
+            max_vertices: self.max_vertices.filter(|_| r("max-vertices")),
+            certify: self.certify && r("certify"),
             extra: self.extra.clone(),
         }
     }

@@ -46,6 +46,16 @@ const STUFFING: &[&str] = &[
     "graded",
 ];
 
+const BO: &[&str] = &[
+    "facet-angle",
+    "facet-size",
+    "facet-distance",
+    "manifold",
+    "max-vertices",
+    "time-limit",
+    "certify",
+];
+
 type Ctor = fn(&MesherOptions) -> Result<Box<dyn Mesher>>;
 
 macro_rules! entry {
@@ -143,6 +153,14 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             "Boissonnat–Cohen-Steiner–Vegter PL interpolation on Kuhn tetrahedra: W-certified (Thm 8 conditions), isotopy not claimed",
             crate::morse::bcsv::Bcsv,
             &["resolution"]
+        ),
+        entry!(
+            "bo",
+            3,
+            true,
+            "Boissonnat-Oudot restricted-Delaunay refinement, CGAL's criteria; --certify: exact restricted triangulation (isotopy not claimed)",
+            crate::restricted_delaunay::BoissonnatOudot,
+            BO
         ),
         entry!(
             "ms",

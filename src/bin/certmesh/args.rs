@@ -93,6 +93,29 @@ pub(crate) struct OptArgs {
     /// refinement_complete: false, and certifies nothing.
     #[arg(long, value_name = "SECONDS")]
     pub(crate) time_limit: Option<f64>,
+    /// Smallest triangle angle in degrees (bo; CGAL's facet_angle, default 30;
+    /// termination is proven up to 30).
+    #[arg(long, value_name = "DEGREES")]
+    pub(crate) facet_angle: Option<f64>,
+    /// Largest surface Delaunay ball radius (bo; CGAL's facet_size; default the
+    /// domain diagonal / 20).
+    #[arg(long, value_name = "R")]
+    pub(crate) facet_size: Option<f64>,
+    /// Largest distance from a facet's circumcentre to its surface point (bo; CGAL's
+    /// facet_distance; default the domain diagonal / 200).
+    #[arg(long, value_name = "D")]
+    pub(crate) facet_distance: Option<f64>,
+    /// Refine until the output is a closed 2-manifold (bo; CGAL's Manifold_tag).
+    #[arg(long)]
+    pub(crate) manifold: bool,
+    /// Vertex budget of refinement meshers (bo; default 1000000). A run stopped by
+    /// it says refinement_complete: false and why.
+    #[arg(long, value_name = "N")]
+    pub(crate) max_vertices: Option<usize>,
+    /// Run the certification pass (bo: re-derive the restricted triangulation with
+    /// interval arithmetic).
+    #[arg(long)]
+    pub(crate) certify: bool,
     /// Algorithm-specific settings, key=value (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub(crate) set: Vec<String>,
@@ -117,6 +140,12 @@ impl OptArgs {
             time_limit: self.time_limit,
             params: self.params.clone(),
             graded: self.graded,
+            facet_angle: self.facet_angle,
+            facet_size: self.facet_size,
+            facet_distance: self.facet_distance,
+            manifold: self.manifold,
+            max_vertices: self.max_vertices,
+            certify: self.certify,
             extra: Default::default(),
         };
         if let Some(r) = o.resolution {
