@@ -70,7 +70,10 @@ pub(crate) fn table_format(p: &Path) -> CliResult<TableFormat> {
     }
 }
 
-pub(crate) fn compare_cmd(a: CompareArgs, quiet: bool) -> CliResult<()> {
+pub(crate) fn compare_cmd(mut a: CompareArgs, quiet: bool) -> CliResult<()> {
+    for n in a.algos.iter_mut() {
+        *n = algorithms::canonical(n).to_string();
+    }
     let o = a.opts.to_options()?;
     let (mut s, c) = (a.surfaces, a.curves);
     if s.is_empty() && c.is_empty() {
