@@ -333,7 +333,7 @@ fn table_degree8_mix() {
 
 #[test]
 fn vertical_line_component_takes_the_shear_path() {
-    let r = table("x*(x^2 + y^2 - 1)", sq(2.0), 1, 0, "F[4,4]{O2 b2 b2 b3 b3}");
+    let r = table("x*(x^2 + y^2 - 1)", sq(2.0), 1, 4, "F[4,4]{O2 b2 b2 b3 b3}");
     assert_eq!(r.rejected_shears[0].0, 0);
 }
 
@@ -369,5 +369,390 @@ fn dbg_all() {
         eprintln!("{f}: check {:?}", check_curve(&r.cert).err().map(|e| e.to_string()));
         eprintln!("  sig {:?}", embedding_signature(&r.curve, Some(&d)));
         eprintln!("  verts {:?}\n  segs {:?}", r.curve.vertices, r.curve.segments);
+    }
+}
+
+#[test]
+fn cluster_real_node_with_complex_double_roots() {
+    // x = 0: y²·(y² + 1)²: three multiple roots (0, ±i), one real: the real-only test
+    // keeps shear 0 and isolates the node as a cluster.
+    let r = table("(y^2 - x^2)*((y^2 + 1)^2 + x^2)", dom(-2.0, -1.5, 2.0, 1.5), 0, 1, "F[4]{O4 b3 b3 b3 b3}");
+    let e = r.events.iter().find(|e| e.critical).unwrap();
+    assert_eq!((e.k, e.generic, e.real_multiple_roots), (Some(3), Some(false), Some(1)));
+    assert_eq!(e.branches, Some((2, 2)));
+    assert_eq!(e.label, Some(Label::Singular));
+}
+
+// ---- Property tests of the exact primitives, against independent references. ----
+
+/// Determinant of a rational matrix by Gaussian elimination (independent of the
+/// library's fraction-free Bareiss over Z[x]).
+fn det_q(mut m: Vec<Vec<BigRational>>) -> BigRational {
+    let n = m.len();
+    let mut det = BigRational::one();
+    for k in 0..n {
+        let Some(p) = (k..n).find(|&r| !m[r][k].is_zero()) else {
+            return BigRational::zero();
+        };
+        if p != k {
+            m.swap(p, k);
+            det = -det;
+        }
+        det *= m[k][k].clone();
+        for i in k + 1..n {
+            let t = &m[i][k] / &m[k][k];
+            for j in k..n {
+                let v = &m[k][j] * &t;
+                m[i][j] -= v;
+            }
+        }
+    }
+    det
+}
+
+/// det_{j,i} of two univariate rational polynomials from the Sylvester submatrix
+/// (rows yᵏ·P, yᵏ·Q; columns y^(p+q−j−1) … y^(j+1) and yⁱ).
+fn sub_coef_q(p: &[BigRational], q: &[BigRational], j: usize, i: usize) -> BigRational {
+    let (dp, dq) = (p.len() - 1, q.len() - 1);
+    let mut rows: Vec<(&[BigRational], usize)> = Vec::new();
+    for r in 0..dq - j {
+        rows.push((p, dq - j - 1 - r));
+    }
+    for r in 0..dp - j {
+        rows.push((q, dp - j - 1 - r));
+    }
+    let mut cols: Vec<usize> = (j + 1..dp + dq - j).rev().collect();
+    cols.push(i);
+    let m = rows
+        .iter()
+        .map(|(poly, sh)| {
+            cols.iter()
+                .map(|&c| if c >= *sh && c - sh < poly.len() { poly[c - sh].clone() } else { BigRational::zero() })
+                .collect()
+        })
+        .collect();
+    det_q(m)
+}
+
+fn bipoly_strategy(dy: usize, dx: usize) -> impl Strategy<Value = BiPoly> {
+    proptest::collection::vec(proptest::collection::vec(-6i64..=6, dx + 1), dy + 1).prop_map(move |rows| {
+        let mut c: Vec<UPoly> = rows.iter().map(|r| UPoly::from_i64(r)).collect();
+        // A non-zero constant leading coefficient in y.
+        c[dy] = UPoly::from_i64(&[if rows[dy][0] == 0 { 1 } else { rows[dy][0] }]);
+        BiPoly::new(c)
+    })
+}
+
+fn upoly_strategy() -> impl Strategy<Value = UPoly> {
+    proptest::collection::vec(-8i64..=8, 2..8).prop_map(|mut v| {
+        let n = v.len() - 1;
+        if v[n] == 0 {
+            v[n] = 1;
+        }
+        UPoly::from_i64(&v)
+    })
+}
+
+fn spec(p: &BiPoly, x: &BigRational) -> Vec<BigRational> {
+    p.c.iter().map(|c| c.eval_q(x)).collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Every subresultant coefficient det_{j,i}(P, Q) over Z[x], specialised at x0,
+    /// equals the Sylvester-submatrix determinant of the specialised polynomials
+    /// computed by rational Gaussian elimination: the subresultants are the
+    /// determinants, and specialisation commutes (lc_y constant).
+    #[test]
+    fn subresultants_are_sylvester_determinants(p in bipoly_strategy(4, 2), x0 in -3i64..=3) {
+        let qy = p.dy();
+        let x = q(x0, 1);
+        let (ps, qs) = (spec(&p, &x), spec(&qy, &x));
+        for j in 0..qy.deg_y() as usize {
+            for i in 0..=j {
+                let a = subres::sub_coef(&p, &qy, j, i).eval_q(&x);
+                prop_assert_eq!(a, sub_coef_q(&ps, &qs, j, i), "j = {}, i = {}", j, i);
+            }
+        }
+    }
+
+    /// Specialisation commutes with the resultant, and the first non-vanishing
+    /// principal subresultant at x0 has the index of the degree of the gcd.
+    #[test]
+    fn resultant_specialises_and_gcd_degree(p in bipoly_strategy(3, 2), r in bipoly_strategy(2, 2), x0 in -3i64..=3) {
+        let x = q(x0, 1);
+        let res = subres::resultant(&p, &r).eval_q(&x);
+        prop_assert_eq!(res, sub_coef_q(&spec(&p, &x), &spec(&r, &x), 0, 0));
+        let a = p.at_x(&x);
+        let b = r.at_x(&x);
+        let g = a.gcd(&b);
+        let pr = subres::principal(&p, &r);
+        let k = (0..pr.len()).find(|&j| !pr[j].eval_q(&x).is_zero()).unwrap();
+        prop_assert_eq!(k as isize, g.deg());
+    }
+
+    /// Root isolation: the count equals the Sturm count; intervals are sorted,
+    /// disjoint, each holds exactly one root (Sturm) with a sign change at its ends.
+    #[test]
+    fn isolation_matches_sturm(p in upoly_strategy()) {
+        let roots = isolate(&p).unwrap();
+        let b = q(1 << 20, 1);
+        prop_assert_eq!(roots.len(), sturm_count(&p, &-b.clone(), &b));
+        let sq = p.squarefree();
+        for (i, r) in roots.iter().enumerate() {
+            if r.is_exact() {
+                prop_assert_eq!(p.sign_at(&r.lo), 0);
+            } else {
+                prop_assert!(r.p.sign_at(&r.lo) * r.p.sign_at(&r.hi) < 0);
+                prop_assert_eq!(sturm_count(&sq, &r.lo, &r.hi) - usize::from(sq.sign_at(&r.hi) == 0), 1);
+            }
+            if i > 0 {
+                prop_assert!(roots[i - 1].hi <= r.lo);
+                prop_assert!(!(roots[i - 1].is_exact() && r.is_exact() && roots[i - 1].lo == r.lo));
+            }
+        }
+    }
+
+    /// The Sturm–Habicht count (signed principal subresultants of f and f_y,
+    /// permanences minus variations) equals the Sturm count of distinct real roots.
+    #[test]
+    fn sturm_habicht_count_matches_sturm(p in bipoly_strategy(5, 1), x0 in -3i64..=3) {
+        let x = q(x0, 1);
+        let d = p.deg_y() as usize;
+        let pr = subres::principal(&p, &p.dy());
+        let signs: Vec<i32> = pr.iter().map(|s| certmesh::algebraic::upoly::sign(&s.eval_hom(x.numer(), x.denom()))).collect();
+        let lc = certmesh::algebraic::upoly::sign(&p.lc_y().coef(0));
+        let n = subres::distinct_real_roots(d, lc, &signs);
+        let b = q(1 << 30, 1);
+        prop_assert_eq!(n as usize, sturm_count(&p.at_x(&x), &-b.clone(), &b));
+    }
+
+    /// Real algebraic numbers: the sign of q at a root agrees with the sign of q at a
+    /// rational point of a tiny isolating interval, or is 0 exactly at common roots.
+    #[test]
+    fn sign_at_algebraic_numbers(p in upoly_strategy(), r in upoly_strategy()) {
+        for mut a in isolate(&p).unwrap() {
+            let s = a.sign_of(&r).unwrap();
+            let common = p.gcd(&r);
+            let zero = a.is_root_of(&common);
+            prop_assert_eq!(s == 0, zero);
+            if s != 0 {
+                a.refine_to(&q(1, 1 << 30));
+                let (l, h) = certmesh::algebraic::algnum::eval_interval(&r, &a.lo, &a.hi);
+                let by_interval = if s > 0 { l > BigRational::zero() } else { h < BigRational::zero() };
+                prop_assert!(by_interval || r.sign_at(&a.mid()) == s);
+            }
+        }
+    }
+}
+
+// ---- The certificate checker rejects tampered certificates. ----
+
+fn certs() -> &'static Vec<certmesh::algebraic::CurveCert> {
+    static C: std::sync::OnceLock<Vec<certmesh::algebraic::CurveCert>> = std::sync::OnceLock::new();
+    C.get_or_init(|| {
+        [
+            ("x^2 + y^2 - 1", sq(2.0)),
+            ("(x^2 + y^2)^2 - 2*(x^2 - y^2)", dom(-1.7, -1.0, 1.7, 1.0)),
+            ("(x^2 + y^2 - 1)*((x - 1/5)^2 + y^2)", sq(3.0)),
+            ("x*y - 1", sq(3.0)),
+            ("(y^2 - x^2)*((y^2 + 1)^2 + x^2)", dom(-2.0, -1.5, 2.0, 1.5)),
+            ("(x^2 + y^2 - x)^2 - (x^2 + y^2)/4", sq(2.0)),
+        ]
+        .iter()
+        .map(|(f, d)| {
+            let c = run(f, *d).cert;
+            check_curve(&c).unwrap();
+            c
+        })
+        .collect()
+    })
+}
+
+fn bump(s: &str, by: i64) -> String {
+    let v: BigRational = s.parse().unwrap();
+    (v + q(by, 1)).to_string()
+}
+
+/// Apply tampering `kind` (at a position chosen by `pick`); false if it does not
+/// apply to this certificate.
+fn tamper(c: &mut certmesh::algebraic::CurveCert, kind: usize, pick: usize) -> bool {
+    let ne = c.events.len();
+    let crit: Vec<usize> = (0..ne).filter(|&i| c.events[i].critical).collect();
+    let ev = |p: usize| p % ne.max(1);
+    match kind {
+        0 => c.shear += 1,
+        1 => {
+            let rows: Vec<(usize, usize)> = c.f.iter().enumerate().filter(|(_, r)| !r.is_empty()).map(|(j, r)| (j, r.len())).collect();
+            let (j, row) = rows[pick % rows.len()];
+            let i = pick % row;
+            c.f[j][i] = bump(&c.f[j][i], 1);
+        }
+        2 if ne > 0 => {
+            // Move an event past itself.
+            let e = &mut c.events[ev(pick)];
+            let hi = e.hi.clone();
+            e.lo = bump(&hi, 1);
+            e.hi = bump(&hi, 2);
+        }
+        3 if ne > 0 => c.events[ev(pick)].critical ^= true,
+        4 if !crit.is_empty() => {
+            let e = &mut c.events[crit[pick % crit.len()]];
+            let j = 1 + pick % (e.signs.len() - 1).max(1);
+            if j >= e.signs.len() {
+                return false;
+            }
+            e.signs[j] = if e.signs[j] == 0 { 1 } else { -e.signs[j] };
+        }
+        5 if !crit.is_empty() => {
+            let e = &mut c.events[crit[pick % crit.len()]];
+            e.k = e.k.map(|k| k + 1);
+        }
+        6 if ne > 0 => c.events[ev(pick)].m += 1,
+        7 if !crit.is_empty() => {
+            let e = &mut c.events[crit[pick % crit.len()]];
+            e.generic = e.generic.map(|g| !g);
+        }
+        8..=12 => {
+            let roots: Vec<(usize, usize)> = (0..ne).flat_map(|i| (0..c.events[i].roots.len()).map(move |r| (i, r))).collect();
+            if roots.is_empty() {
+                return false;
+            }
+            let (i, r) = roots[pick % roots.len()];
+            let x = &mut c.events[i].roots[r];
+            match kind {
+                8 => {
+                    if x.lo == x.hi {
+                        x.lo = bump(&x.lo, -1);
+                    } else {
+                        std::mem::swap(&mut x.lo, &mut x.hi);
+                    }
+                }
+                9 => x.special ^= true,
+                10 => x.boundary ^= true,
+                11 => x.keep ^= true,
+                _ => x.left += 1,
+            }
+        }
+        13 => {
+            let b: Vec<usize> = (0..ne).filter(|&i| c.events[i].branches.is_some()).collect();
+            if b.is_empty() {
+                return false;
+            }
+            let e = &mut c.events[b[pick % b.len()]];
+            e.branches = e.branches.map(|(l, r)| (r + 1, l));
+        }
+        14 => {
+            let b: Vec<usize> = (0..ne).filter(|&i| c.events[i].label.is_some()).collect();
+            if b.is_empty() {
+                return false;
+            }
+            let e = &mut c.events[b[pick % b.len()]];
+            e.label = Some(if e.label == Some(Label::Singular) { Label::Isolated } else { Label::Singular });
+        }
+        15 if !c.fibres.is_empty() => {
+            // A fibre with an output vertex (moving one without is a valid certificate).
+            let fs: Vec<usize> = (0..c.fibres.len()).filter(|&i| c.fibres[i].inside.contains(&true)).collect();
+            if fs.is_empty() {
+                return false;
+            }
+            let f = &mut c.fibres[fs[pick % fs.len()]];
+            let v: BigRational = f.q.parse().unwrap();
+            f.q = (v + q(1, 1000)).to_string();
+        }
+        16 | 17 => {
+            let rs: Vec<(usize, usize)> = (0..c.fibres.len()).flat_map(|i| (0..c.fibres[i].roots.len()).map(move |r| (i, r))).collect();
+            if rs.is_empty() {
+                return false;
+            }
+            let (i, r) = rs[pick % rs.len()];
+            if kind == 16 {
+                let x = &mut c.fibres[i].roots[r];
+                if x.lo == x.hi {
+                    x.lo = bump(&x.lo, -1);
+                } else {
+                    std::mem::swap(&mut x.lo, &mut x.hi);
+                }
+            } else {
+                c.fibres[i].inside[r] ^= true;
+            }
+        }
+        18 if !c.strips.is_empty() => {
+            let n = c.strips.len();
+            let s = &mut c.strips[pick % n];
+            s.0 = Some(s.0.map_or(0, |x| x + 1));
+        }
+        19 if !c.segments.is_empty() => {
+            let n = c.segments.len();
+            if pick % 2 == 0 {
+                c.segments.remove(pick % n);
+            } else {
+                let s = &mut c.segments[pick % n];
+                s[1] = (s[1] + 1) % c.vertices.len() as u32;
+                if s[1] == s[0] {
+                    s[1] = (s[1] + 1) % c.vertices.len() as u32;
+                }
+            }
+        }
+        20 if !c.vertices.is_empty() => {
+            c.vertices.pop();
+        }
+        21 => {
+            // Shrink the domain to a hundredth of its width.
+            let (a, b): (BigRational, BigRational) = (c.domain[0].parse().unwrap(), c.domain[2].parse().unwrap());
+            c.domain[2] = (&a + (b - &a) / q(100, 1)).to_string();
+        }
+        22 => {
+            let b: Vec<usize> = (0..ne).filter(|&i| !c.events[i].bpoints.is_empty()).collect();
+            if b.is_empty() {
+                return false;
+            }
+            c.events[b[pick % b.len()]].bpoints.pop();
+        }
+        23 => {
+            let b: Vec<usize> = (0..ne).filter(|&i| !c.events[i].excluded.is_empty()).collect();
+            if b.is_empty() {
+                return false;
+            }
+            let e = &mut c.events[b[pick % b.len()]];
+            let n = e.excluded.len();
+            e.excluded.remove(pick % n);
+        }
+        24 => {
+            let b: Vec<usize> = (0..ne).filter(|&i| !c.events[i].r_signs.is_empty()).collect();
+            if b.is_empty() {
+                return false;
+            }
+            let e = &mut c.events[b[pick % b.len()]];
+            let n = e.r_signs.len();
+            let j = pick % n;
+            e.r_signs[j] = if e.r_signs[j] == 0 { 1 } else { 0 };
+        }
+        25 => c.format.push('x'),
+        _ => return false,
+    }
+    true
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(160))]
+    #[test]
+    fn checker_rejects_tampered_certificates(ci in 0usize..6, kind in 0usize..26, pick in 0usize..10_000) {
+        let mut c = certs()[ci].clone();
+        prop_assume!(tamper(&mut c, kind, pick));
+        prop_assert!(check_curve(&c).is_err(), "tampering {} (pick {}) on certificate {} was accepted", kind, pick, ci);
+    }
+}
+
+#[test]
+fn every_tampering_kind_applies_somewhere() {
+    // Guard against a tamper test that silently skips: each kind changes some certificate.
+    for kind in 0..26 {
+        let applied = (0..certs().len()).any(|ci| {
+            let mut c = certs()[ci].clone();
+            (0..20).any(|p| tamper(&mut c, kind, p))
+        });
+        assert!(applied, "tampering kind {kind} applies to no certificate");
     }
 }

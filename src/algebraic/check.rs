@@ -648,7 +648,8 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 let (v0, v1) = (pq(&bp[0])?, pq(&bp[1])?);
                 let vb = iadd(&(v0.clone(), v0), &imul(&iu, &(v1.clone(), v1)));
                 let hits: Vec<usize> = (0..m).filter(|&i| !(vb.1 < boxes[i].0 || vb.0 > boxes[i].1)).collect();
-                if hits.len() != 1 || !(vb.0 > boxes[hits[0]].0 && vb.1 < boxes[hits[0]].1) || e.roots[hits[0]].special || hit[hits[0]] {
+                let inb = |b: &Iv| (vb.0 > b.0 && vb.1 < b.1) || (b.0 == b.1 && vb.0 == vb.1 && vb.0 == b.0);
+                if hits.len() != 1 || !inb(&boxes[hits[0]]) || e.roots[hits[0]].special || hit[hits[0]] {
                     return Err(bad(format!("event {ei}: a side crossing is not located on one simple root")));
                 }
                 hit[hits[0]] = true;
@@ -795,6 +796,39 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
             if si < strips.len() {
                 columns.push(col_f(si));
                 si += 1;
+            }
+        }
+    }
+    // Each vertex lies (up to float rounding) in its certified box.
+    let near = |x: f64, lo: &BigRational, hi: &BigRational| {
+        let (l, h) = (super::algnum::q_to_f64(lo), super::algnum::q_to_f64(hi));
+        let tol = 1e-7 * (1.0 + l.abs().max(h.abs()));
+        x >= l - tol && x <= h + tol
+    };
+    let uv_of = |i: u32| {
+        let p = c.vertices[i as usize];
+        [p[0] - sf * p[1], p[1]]
+    };
+    for (si, fb) in c.fibres.iter().enumerate() {
+        let qv = pq(&fb.q)?;
+        for (ri, id) in fib_ids[si].iter().enumerate() {
+            if let Some(id) = id {
+                let p = uv_of(*id);
+                let (lo, hi) = (pq(&fb.roots[ri].lo)?, pq(&fb.roots[ri].hi)?);
+                if !near(p[0], &qv, &qv) || !near(p[1], &lo, &hi) {
+                    return Err(bad(format!("fibre {si}: vertex {id} is not at its certified position")));
+                }
+            }
+        }
+    }
+    for (ei, e) in c.events.iter().enumerate() {
+        for (ri, (id, _, _)) in ev_ids[ei].iter().enumerate() {
+            if let Some(id) = id {
+                let p = uv_of(*id);
+                let (lo, hi) = (pq(&e.roots[ri].lo)?, pq(&e.roots[ri].hi)?);
+                if !near(p[0], &alphas[ei].lo, &alphas[ei].hi) || !near(p[1], &lo, &hi) {
+                    return Err(bad(format!("event {ei}: vertex {id} is not at its certified position")));
+                }
             }
         }
     }

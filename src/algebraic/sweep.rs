@@ -1056,7 +1056,11 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
                 let hits: Vec<usize> = (0..roots.len())
                     .filter(|&i| !(vb.hi < roots[i].lo || vb.lo > roots[i].hi))
                     .collect();
-                if hits.len() == 1 && vb.lo > roots[hits[0]].lo && vb.hi < roots[hits[0]].hi {
+                let strictly_in = |r: &FRoot| {
+                    (vb.lo > r.lo && vb.hi < r.hi)
+                        || (r.lo == r.hi && vb.lo == vb.hi && vb.lo == r.lo)
+                };
+                if hits.len() == 1 && strictly_in(&roots[hits[0]]) {
                     let i = hits[0];
                     if roots[i].special {
                         if !generic {
