@@ -3,7 +3,7 @@
 //! roots, Sylvester determinants by cofactor expansion), and the sweep on curves with
 //! known topology, checked against an independent count of crossings along dense
 //! vertical lines (exact Sturm root counts).
-use certmesh::algebraic::algnum::{isolate, RealAlg};
+use certmesh::algebraic::algnum::isolate;
 use certmesh::algebraic::bipoly::{from_formula, BiPoly};
 use certmesh::algebraic::subres;
 use certmesh::algebraic::check::check_curve;
@@ -11,7 +11,6 @@ use certmesh::algebraic::sweep::{analyse, Label, SweepParams, SweepResult};
 use certmesh::metrics::embedding_signature;
 use certmesh::algebraic::upoly::{q, sturm_count, UPoly};
 use certmesh::Aabb;
-use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
 use proptest::prelude::*;
@@ -109,21 +108,6 @@ fn check_crossings(f: &str, d: Aabb, r: &SweepResult) {
     }
 }
 
-fn case(f: &str, d: Aabb, shear: i64, comps: usize, cycles: usize, degs: &[usize]) -> SweepResult {
-    let r = run(f, d);
-    let t = topo(&r);
-    assert_eq!(r.shear, shear, "{f}: shear {:?}", r.rejected_shears);
-    assert_eq!(
-        (t.components, t.cycles, t.special_degrees.as_slice()),
-        (comps, cycles, degs),
-        "{f}: {t:?} events {:?}",
-        r.events
-    );
-    check_crossings(f, d, &r);
-    r
-}
-
-
 /// One curve of the design note's table: the shear chosen, the number of critical
 /// events (real roots of the discriminant in the domain), the embedding signature
 /// (components, degrees ≠ 2, faces with dual degrees, nesting; clipped curves closed
@@ -146,9 +130,23 @@ fn table(f: &str, d: Aabb, shear: i64, events: usize, signature: &str) -> SweepR
     if r.shear == 0 || !boundary {
         check_crossings(f, d, &r);
     }
-    // A singular vertex has degree a_L + a_R.
-    let t = topo(&r);
-    let _ = t;
+    // A singular (or isolated) vertex has degree a_L + a_R.
+    let mut deg = vec![0usize; r.curve.vertices.len()];
+    for sg in &r.curve.segments {
+        deg[sg[0] as usize] += 1;
+        deg[sg[1] as usize] += 1;
+    }
+    let special = |l: Label| l == Label::Singular || l == Label::Isolated;
+    let mut got: Vec<usize> = (0..deg.len()).filter(|&i| special(r.labels[i])).map(|i| deg[i]).collect();
+    let mut want: Vec<usize> = r
+        .events
+        .iter()
+        .filter(|e| e.inside == Some(true) && e.label.is_some_and(special))
+        .map(|e| e.branches.map_or(0, |(a, b)| a + b))
+        .collect();
+    got.sort();
+    want.sort();
+    assert_eq!(got, want, "{f}: singular vertex degrees");
     r
 }
 
@@ -321,6 +319,7 @@ fn table_t4_ellipses() {
 }
 
 #[test]
+#[ignore = "degree 8 with a shear: several minutes in the test build (interval root isolation on BigRational is the bottleneck); run with --ignored"]
 fn table_degree8_mix() {
     table(
         "((x^2 + y^2)^2 - 2*(x^2 - y^2))*(x^2 + y^2 - 4)*(x - y^2 + 1)",
@@ -349,27 +348,6 @@ fn non_polynomial_rejected_naming_the_term() {
     assert!(e.contains("sqrt"), "{e}");
     let e = from_formula("x/y - 1").unwrap_err().to_string();
     assert!(e.contains("non-constant"), "{e}");
-}
-
-#[test]
-#[ignore]
-fn dbg_all() {
-    let p = from_formula("(x^2 + y^2 - 1)*(x^2 + y^2 - 4)").unwrap();
-    for r in isolate(&p.at_x(&q(0, 1))).unwrap() {
-        eprintln!("root {} {} {:?}", r.lo, r.hi, r.p);
-    }
-    for (f, d) in [
-        ("x^2 + y^2 - 1", sq(2.0)),
-        ("x^2 + y^2", sq(2.0)),
-        ("x^2 + y^2 + 1", sq(2.0)),
-        ("(x^2 + y^2 - 1)*(x^2 + y^2 - 4)", sq(3.0)),
-        ("x*y - 1", sq(3.0)),
-    ] {
-        let r = run(f, d);
-        eprintln!("{f}: check {:?}", check_curve(&r.cert).err().map(|e| e.to_string()));
-        eprintln!("  sig {:?}", embedding_signature(&r.curve, Some(&d)));
-        eprintln!("  verts {:?}\n  segs {:?}", r.curve.vertices, r.curve.segments);
-    }
 }
 
 #[test]

@@ -1262,6 +1262,10 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
     Ok(out)
 }
 
+/// The key of the re-checkable certificate in the mesher's stats map (the CLI writes
+/// it to the `--certificate` file and removes it from the report).
+pub const CERT_STATS_KEY: &str = "recheckable_certificate";
+
 /// Counts of what the sweep found (the `stats` of the report).
 #[derive(Clone, Debug, Serialize)]
 pub struct SweepStats {
@@ -1316,15 +1320,20 @@ impl Mesher for Sweep {
         let claim = Claim::Isotopic {
             inside: d,
             theorem: format!(
-                "exact: González-Vega–Necula sweep in the frame x + {}·y, resultant and Sturm–Habicht signs, Descartes isolation, exact genericity test; straight segments between fibres (geometry between fibres not certified)",
+                "exact: González-Vega–Necula sweep in the frame x + {}·y (unsheared, determinant 1), resultant and Sturm–Habicht signs, Descartes isolation, real-only genericity test, re-checkable certificate (certmesh check-curve); straight segments between fibres (geometry between fibres not certified)",
                 r.shear
             ),
             generic_position: false,
         };
+        let mut stats = crate::mesher::stats_map(&stats);
+        stats.insert(
+            CERT_STATS_KEY.into(),
+            serde_json::to_value(&r.cert).expect("certificate serializes"),
+        );
         Ok(MeshOutput {
             mesh: Mesh::Curve(r.curve),
             certificate: Certificate::certified(vec![claim]),
-            stats: crate::mesher::stats_map(&stats),
+            stats,
         })
     }
 }

@@ -154,7 +154,7 @@ pub(crate) fn compare_cmd(mut a: CompareArgs, quiet: bool) -> CliResult<()> {
     let bar = Bar::new(quiet);
     let rows = compare::compare(&es, &algos, &o, &bar);
     bar.finish();
-    let table = compare::markdown(&rows);
+    let table = compare::markdown(&rows) + &compare::signatures_markdown(&rows);
     if let (Some(p), Some(f)) = (&a.output, fmt) {
         let text = match f {
             TableFormat::Markdown => table.clone(),
