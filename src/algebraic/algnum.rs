@@ -98,7 +98,8 @@ pub fn isolate(p: &UPoly) -> Result<Vec<RealAlg>> {
             r.p = core.clone();
         }
     }
-    out.sort_by(|a, b| a.lo.cmp(&b.lo));
+    // An exact root may equal the left end of an open interval: it comes first.
+    out.sort_by(|a, b| a.lo.cmp(&b.lo).then(b.is_exact().cmp(&a.is_exact())));
     Ok(out)
 }
 

@@ -5,10 +5,12 @@
 //! rational arithmetic; floating point appears only in the output coordinates.
 pub mod algnum;
 pub mod bipoly;
+pub mod check;
 pub mod subres;
 pub mod sweep;
 pub mod upoly;
 
 pub use bipoly::{from_expr, from_formula, BiPoly};
+pub use check::{check_curve, CurveCert};
 pub use sweep::{analyse, Sweep, SweepParams};
 pub use upoly::UPoly;

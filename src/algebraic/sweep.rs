@@ -22,6 +22,7 @@
 use super::algnum::{eval_interval, isolate, q_to_f64, RealAlg};
 use super::bipoly::BiPoly;
 use super::subres;
+use super::check::{CertEvent, CertFibre, CertInterval, CertRoot, CurveCert};
 use super::upoly::{sign, UPoly};
 use crate::error::{Error, Result};
 use crate::implicit::Implicit;
@@ -32,7 +33,7 @@ use crate::mesher::{Certificate, Claim, Mesh, MeshOutput, Mesher, Progress};
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::cmp::Ordering;
 
 /// Budgets of the sweep.
@@ -84,7 +85,7 @@ impl Sweep {
 }
 
 /// What an event vertex is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Label {
     /// A smooth point of a non-critical fibre (a sample or a box event).
@@ -97,6 +98,9 @@ pub enum Label {
     Isolated,
     /// On the domain boundary.
     Boundary,
+    /// The real multiple root of a non-generic fibre with two branches: topologically
+    /// a regular point; smooth (vertical tangent) or singular (a cusp) not decided.
+    Multiple,
 }
 
 /// One event of the sweep, as the certificate records it.
@@ -117,6 +121,13 @@ pub struct EventInfo {
     pub n_right: usize,
     /// Branches into the multiple root from the left and the right.
     pub branches: Option<(usize, usize)>,
+    /// Multiplicity of the multiple root (generic fibres: k + 1).
+    pub multiplicity: Option<usize>,
+    /// Did the fibre pass the genericity test S_k(α, v) = sres_k(α)·(v − β)^k?
+    pub generic: Option<bool>,
+    /// When it did not: the distinct real roots of S_k(α, ·) (0: a phantom event,
+    /// 1: one real multiple root, clustered).
+    pub real_multiple_roots: Option<usize>,
     /// Label of the multiple root (critical events).
     pub label: Option<Label>,
     /// Is the multiple root inside the domain?
@@ -142,6 +153,45 @@ pub struct SweepResult {
     pub curve: Curve2,
     /// Per output vertex, its label.
     pub labels: Vec<Label>,
+    /// The re-checkable certificate ([`super::check::check_curve`]).
+    #[serde(skip)]
+    pub cert: CurveCert,
+}
+
+/// The coefficients of a polynomial as decimal strings.
+pub fn poly_strings(p: &UPoly) -> Vec<String> {
+    p.c.iter().map(|a| a.to_string()).collect()
+}
+
+/// The i-th genericity condition of the k-th subresultant, a polynomial in u that
+/// vanishes at α iff the coefficient of vⁱ of S_k(α, v) matches sres_k(α)·(v − β)^k
+/// with β = −sres_{k,k−1}/(k·sres_k):
+/// `sres_{k,i}·(k·sres_k)^{k−i} − sres_k·C(k,i)·sres_{k,k−1}^{k−i}`.
+pub fn genericity_condition(sres_k: &UPoly, sk: &[UPoly], k: usize, i: usize) -> UPoly {
+    let mut binom = BigInt::one();
+    for t in 0..i {
+        binom = binom * BigInt::from(k - t) / BigInt::from(t + 1);
+    }
+    let ksk = sres_k.scale(&BigInt::from(k));
+    let lhs = sk[i].mul(&ksk.pow((k - i) as u32));
+    let rhs = sres_k.mul(&sk[k - 1].pow((k - i) as u32)).scale(&binom);
+    lhs.sub(&rhs)
+}
+
+/// S_k as a polynomial in v: coefficients `sk` (v⁰ … v^(k−1)) and sres_k.
+pub fn sk_poly(sres_k: &UPoly, sk: &[UPoly]) -> BiPoly {
+    let mut c = sk.to_vec();
+    c.push(sres_k.clone());
+    BiPoly::new(c)
+}
+
+/// den^d·h(u, num/den) for h = Σ h_j(u) vʲ: zero at α iff h(α, β(α)) = 0.
+pub fn at_beta(h: &BiPoly, num: &UPoly, den: &UPoly, d: usize) -> UPoly {
+    let mut acc = UPoly::zero();
+    for (j, c) in h.c.iter().enumerate() {
+        acc = acc.add(&c.mul(&num.pow(j as u32)).mul(&den.pow((d - j) as u32)));
+    }
+    acc
 }
 
 fn rat(x: f64) -> Result<BigRational> {
@@ -234,6 +284,8 @@ struct FRoot {
     hi: BigRational,
     special: bool,
     boundary: bool,
+    /// On a side of the domain (not a vertical side at shear 0): v = v0 + v1·u.
+    snap: Option<BPoint>,
 }
 
 /// β(α) = num(α)/den(α), the fibre's multiple root.
@@ -255,20 +307,35 @@ fn special_box(s: &Special, a: &RealAlg) -> Option<Ri> {
     })
 }
 
-/// Certify the distinct real roots of g(α, ·): `m` of them, one of which is the
-/// multiple root `special` when given. Boxes: simple roots with strictly opposite
-/// endpoint signs and 0 ∉ g_v(I, box); every other box has 0 ∉ g(I, box); the box
-/// N around β is never examined, and success (exactly m − 1 certified boxes outside
-/// it) proves N holds β alone, because m is exact.
+/// How the roots of an event fibre are isolated.
+#[derive(Clone, Copy)]
+enum Mode<'a> {
+    /// All m roots are simple (non-critical fibres and phantom events).
+    Plain,
+    /// m − 1 simple roots and the multiple root β(α) = num/den (the N rule).
+    Generic(&'a Special<'a>),
+    /// m − 1 simple roots and one real multiple root of unknown position: it lies in
+    /// the one contiguous cluster of undecided boxes left after excluding the rest.
+    Cluster,
+}
+
+/// Certify the distinct real roots of g(α, ·): `m` of them. Boxes: simple roots with
+/// strictly opposite endpoint signs and 0 ∉ g_v(I, box); every other box has
+/// 0 ∉ g(I, box). Generic mode: the box N around β is never examined, and success
+/// (exactly m − 1 certified boxes outside it) proves N holds β alone, because m is
+/// exact. Cluster mode: the boxes left undecided at the smallest width must form one
+/// interval; with m − 1 simple boxes and everything else excluded, it holds the
+/// remaining root. Returns the roots and, in cluster mode, the excluded boxes.
+#[allow(clippy::type_complexity)]
 fn fibre_roots(
     g: &BiPoly,
     gy: &BiPoly,
     alpha: &mut RealAlg,
     m: usize,
-    special: Option<&Special>,
-) -> Result<Vec<FRoot>> {
+    mode: Mode,
+) -> Result<(Vec<FRoot>, Vec<(BigRational, BigRational)>)> {
     let lc = g.lc_y().coef(0).abs();
-    let want = m - usize::from(special.is_some());
+    let want = m - usize::from(!matches!(mode, Mode::Plain));
     for round in 0..12u64 {
         let prec = 96 + 24 * round;
         alpha.refine_to(&pow2q(-(12 + 8 * round as i64)));
@@ -281,7 +348,7 @@ fn fibre_roots(
         let y = BigRational::one() + bound / BigRational::from_integer(lc.clone());
         let mut regions = Vec::new();
         let mut nbox = None;
-        if let Some(s) = special {
+        if let Mode::Generic(s) = mode {
             let Some(b) = special_box(s, alpha) else {
                 continue;
             };
@@ -300,8 +367,11 @@ fn fibre_roots(
         } else {
             regions.push((-y.clone(), y.clone()));
         }
+        let cluster = matches!(mode, Mode::Cluster);
         let minw = pow2q(-(24 + 8 * round as i64));
         let mut found = Vec::new();
+        let mut undecided: Vec<(BigRational, BigRational)> = Vec::new();
+        let mut excluded: Vec<(BigRational, BigRational)> = Vec::new();
         let mut ok = true;
         let mut budget = 40_000usize;
         let mut stack = regions;
@@ -316,6 +386,9 @@ fn fibre_roots(
                 hi: b.clone(),
             };
             if !eval2(&cs, &j, prec).has_zero() {
+                if cluster {
+                    excluded.push((a, b));
+                }
                 continue;
             }
             if !eval2(&csy, &j, prec).has_zero() {
@@ -328,12 +401,19 @@ fn fibre_roots(
                             hi: b,
                             special: false,
                             boundary: false,
+                            snap: None,
                         });
+                    } else if cluster {
+                        excluded.push((a, b));
                     }
                     continue;
                 }
             }
             if &b - &a < minw {
+                if cluster {
+                    undecided.push((a, b));
+                    continue;
+                }
                 ok = false;
                 break;
             }
@@ -350,10 +430,24 @@ fn fibre_roots(
                 hi: n.hi,
                 special: true,
                 boundary: false,
+                snap: None,
+            });
+        }
+        if cluster {
+            undecided.sort();
+            if undecided.is_empty() || undecided.windows(2).any(|w| w[0].1 != w[1].0) {
+                continue;
+            }
+            found.push(FRoot {
+                lo: undecided[0].0.clone(),
+                hi: undecided.last().unwrap().1.clone(),
+                special: true,
+                boundary: false,
+                snap: None,
             });
         }
         found.sort_by(|x, y| x.lo.cmp(&y.lo));
-        return Ok(found);
+        return Ok((found, excluded));
     }
     Err(Error::TooLarge(format!(
         "event fibre near u = {:.6}: the {want} simple roots were not certified within the refinement budget",
@@ -470,12 +564,12 @@ pub fn analyse(f: &BiPoly, domain: &Aabb, p: &SweepParams) -> Result<SweepResult
     }
     for s in shears {
         let g = f.shear(s);
-        if d > 0 && g.deg_y() < d {
+        if d > 0 && (g.deg_y() <= 0 || g.lc_y().deg() != 0) {
             rejected.push((s, "not y-regular (the leading coefficient in y is not constant)".into()));
             continue;
         }
         let g = g.squarefree_y();
-        match analyse_frame(&g, s, domain) {
+        match analyse_frame(f, &g, s, domain) {
             Ok(mut r) => {
                 r.rejected_shears = rejected;
                 return Ok(r);
@@ -525,7 +619,7 @@ fn insert_event(events: &mut Vec<Event>, mut e: Event) -> Result<()> {
     Ok(())
 }
 
-fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
+fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
     let fr = Frame {
         s: BigRational::from_integer(BigInt::from(s)),
         xmin: rat(domain.min[0])?,
@@ -552,10 +646,24 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
             segments: Vec::new(),
         },
         labels: Vec::new(),
+        cert: CurveCert::default(),
+    };
+    let mut cert = CurveCert {
+        format: super::check::CERT_FORMAT.to_string(),
+        f: f.c.iter().map(poly_strings).collect(),
+        shear: s,
+        domain: [
+            fr.xmin.to_string(),
+            fr.ymin.to_string(),
+            fr.xmax.to_string(),
+            fr.ymax.to_string(),
+        ],
+        ..Default::default()
     };
     let dy = g.deg_y();
     if dy <= 0 {
         // A non-zero constant: the real zero set is empty.
+        out.cert = cert;
         return Ok(out);
     }
     let d = dy as usize;
@@ -720,6 +828,8 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
         vid: Vec<Option<u32>>,
     }
     let mut samples = Vec::new();
+    let (mut cfib_roots, mut cfib_inside) = (Vec::new(), Vec::new());
+    cert.strips = strips.iter().map(|st| (st.0, st.1)).collect();
     for (_, _, q) in &strips {
         let roots = isolate(&g.at_x(q))?;
         let mut vid = Vec::new();
@@ -742,7 +852,14 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
             } else {
                 vid.push(None);
             }
+            cfib_roots.push(CertInterval::new(&r.lo, &r.hi));
+            cfib_inside.push(inside);
         }
+        cert.fibres.push(CertFibre {
+            q: q.to_string(),
+            roots: std::mem::take(&mut cfib_roots),
+            inside: std::mem::take(&mut cfib_inside),
+        });
         out.fibre_counts.push(roots.len());
         samples.push(Sample {
             count: roots.len(),
@@ -754,6 +871,7 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
     let mut segs: Vec<[u32; 2]> = Vec::new();
     // Per event, per fibre root: (vertex id when kept, branches left, branches right).
     let mut ev_vertices: Vec<Vec<(Option<u32>, usize, usize)>> = Vec::new();
+    let gx = g.dx();
     for (ei, ev) in events.iter_mut().enumerate() {
         let left = strips.iter().position(|st| st.1 == Some(ei));
         let right = strips.iter().position(|st| st.0 == Some(ei));
@@ -767,16 +885,43 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
             boundary: ev.side || !ev.bpoints.is_empty(),
             k: None,
             m: n_any,
+            multiplicity: None,
+            generic: None,
+            real_multiple_roots: None,
             n_left: n_l.unwrap_or(0),
             n_right: n_r.unwrap_or(0),
             branches: None,
             label: None,
             inside: None,
         };
+        let mut cev = CertEvent {
+            poly: poly_strings(&ev.u.p),
+            lo: String::new(),
+            hi: String::new(),
+            critical: ev.critical,
+            side: ev.side,
+            bpoints: ev
+                .bpoints
+                .iter()
+                .map(|b| [b.v0.to_string(), b.v1.to_string()])
+                .collect(),
+            signs: Vec::new(),
+            k: None,
+            m: n_any,
+            generic: None,
+            r_signs: Vec::new(),
+            r: None,
+            roots: Vec::new(),
+            excluded: Vec::new(),
+            branches: None,
+            label: None,
+        };
         let mut num = UPoly::zero();
         let mut den = UPoly::zero();
         let mut m = n_any;
-        let mut kk = 0;
+        // The multiple root: generic (β = num/den), clustered (r = 1), none (phantom).
+        let mut generic = false;
+        let mut cluster = false;
         if ev.critical {
             let mut signs = vec![0i32; d];
             let mut k = None;
@@ -788,37 +933,58 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
                 }
             }
             let k = k.ok_or_else(|| Error::Param("internal: no non-zero subresultant".into()))?;
-            kk = k;
             info.k = Some(k);
+            cev.k = Some(k);
+            cev.signs = signs.clone();
+            m = subres::distinct_real_roots(d, lc_sign, &signs).max(0) as usize;
+            info.m = m;
+            cev.m = m;
             let sk = sk_cache
                 .entry(k)
                 .or_insert_with(|| (0..k).map(|i| subres::sub_coef(g, &gy, k, i)).collect());
             // Genericity: S_k(α, v) = sres_k(α)·(v − β)^k.
-            let kb = BigInt::from(k);
-            let ksk = sres[k].scale(&kb);
-            let mut binom = BigInt::one();
-            for i in 0..k.saturating_sub(1) {
-                // binom = C(k, i)
-                let lhs = sk[i].mul(&ksk.pow((k - i) as u32));
-                let rhs = sres[k].mul(&sk[k - 1].pow((k - i) as u32)).scale(&binom);
-                if !ev.u.is_root_of(&lhs.sub(&rhs)) {
+            generic = (0..k.saturating_sub(1))
+                .all(|i| ev.u.is_root_of(&genericity_condition(&sres[k], sk, k, i)));
+            info.generic = Some(generic);
+            cev.generic = Some(generic);
+            if generic {
+                num = sk[k - 1].neg();
+                den = sres[k].scale(&BigInt::from(k));
+                info.multiplicity = Some(k + 1);
+            } else {
+                // The real-only test: r = the distinct real roots of S_k(α, ·).
+                let skp = sk_poly(&sres[k], sk);
+                let ps = subres::principal(&skp, &skp.dy());
+                let mut rs = vec![0i32; k];
+                for j in 0..k {
+                    rs[j] = ev.u.sign_of(&ps[j])?;
+                }
+                let lck = ev.u.sign_of(&sres[k])?;
+                let r = subres::distinct_real_roots(k, lck, &rs).max(0) as usize;
+                info.real_multiple_roots = Some(r);
+                cev.r = Some(r);
+                cev.r_signs = rs;
+                if r >= 2 {
                     return Err(nongeneric(format!(
-                        "the fibre over u ≈ {:.6} has more than one multiple root (k = {k})",
+                        "the fibre over u ≈ {:.6} has {r} real multiple roots (k = {k})",
                         ev.u.to_f64()
                     )));
                 }
-                binom = binom * BigInt::from(k - i) / BigInt::from(i + 1);
+                cluster = r == 1;
             }
-            num = sk[k - 1].neg();
-            den = ksk;
-            m = subres::distinct_real_roots(d, lc_sign, &signs).max(0) as usize;
-            info.m = m;
         }
         let special = Special {
             num: &num,
             den: &den,
         };
-        let sp = if ev.critical { Some(&special) } else { None };
+        let mode = if generic {
+            Mode::Generic(&special)
+        } else if cluster {
+            Mode::Cluster
+        } else {
+            Mode::Plain
+        };
+        let sp = if generic { Some(&special) } else { None };
         let mut roots: Vec<FRoot> = if ev.u.is_exact() && !ev.critical {
             let qv = ev.u.lo.clone();
             isolate(&g.at_x(&qv))?
@@ -828,14 +994,17 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
                     hi: r.hi,
                     special: false,
                     boundary: false,
+                    snap: None,
                 })
                 .collect()
         } else if m == 0 {
             Vec::new()
         } else {
-            fibre_roots(g, &gy, &mut ev.u, m, sp)?
+            let (r, ex) = fibre_roots(g, &gy, &mut ev.u, m, mode)?;
+            cev.excluded = ex.iter().map(|(a, b)| CertInterval::new(a, b)).collect();
+            r
         };
-        if roots.len() != m && !(ev.critical && m == 0) {
+        if roots.len() != m {
             return Err(Error::Param(format!(
                 "internal: fibre over u ≈ {:.6} has {} roots, expected {m}",
                 ev.u.to_f64(),
@@ -860,6 +1029,12 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
             bl[i] = al as usize;
             br[i] = ar as usize;
             info.branches = Some((bl[i], br[i]));
+            cev.branches = info.branches;
+        } else if ev.critical && (n_l != Some(m) || n_r != Some(m)) {
+            return Err(Error::Param(format!(
+                "internal: phantom event at u ≈ {:.6} with {m} roots between fibres of {n_l:?} and {n_r:?}",
+                ev.u.to_f64()
+            )));
         }
         // Boundary points: which root each lies on.
         for bp in ev.bpoints.clone() {
@@ -871,17 +1046,28 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
                         "locating a boundary crossing: refinement budget exhausted".into(),
                     ));
                 }
-                let vb = Ri::pt(&bp.v0).add(&Ri {
-                    lo: ev.u.lo.clone(),
-                    hi: ev.u.hi.clone(),
-                }
-                .mul(&Ri::pt(&bp.v1)));
+                let vb = Ri::pt(&bp.v0).add(
+                    &Ri {
+                        lo: ev.u.lo.clone(),
+                        hi: ev.u.hi.clone(),
+                    }
+                    .mul(&Ri::pt(&bp.v1)),
+                );
                 let hits: Vec<usize> = (0..roots.len())
                     .filter(|&i| !(vb.hi < roots[i].lo || vb.lo > roots[i].hi))
                     .collect();
-                if hits.len() == 1 && vb.lo > roots[hits[0]].lo && vb.hi < roots[hits[0]].hi {
+                let strictly_in = |r: &FRoot| {
+                    (vb.lo > r.lo && vb.hi < r.hi)
+                        || (r.lo == r.hi && vb.lo == vb.hi && vb.lo == r.lo)
+                };
+                if hits.len() == 1 && strictly_in(&roots[hits[0]]) {
                     let i = hits[0];
                     if roots[i].special {
+                        if !generic {
+                            return Err(boundary_error(
+                                "a side of the domain passes near a multiple root of a non-generic fibre",
+                            ));
+                        }
                         // Is the crossing exactly β? (v0 + v1·x)·den − num at α.
                         let lin = super::bipoly::q_to_primitive(&[bp.v0.clone(), bp.v1.clone()]);
                         // q_to_primitive scales by a positive factor: zero test unaffected.
@@ -897,6 +1083,7 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
                             ));
                         }
                         roots[i].boundary = true;
+                        roots[i].snap = Some(bp.clone());
                         break;
                     }
                 }
@@ -905,13 +1092,18 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
         }
         // Vertices: keep those inside or on the boundary.
         let mut evv = Vec::new();
+        let mut keeps = Vec::new();
         for i in 0..roots.len() {
             let mut keep = None;
             if roots[i].boundary {
                 keep = Some(true);
             } else if ev.side {
                 // A vertical side fibre (s = 0): roots strictly within (ymin, ymax).
-                let mut r = RealAlg::new(g.at_x(&ev.u.lo).squarefree(), roots[i].lo.clone(), roots[i].hi.clone());
+                let mut r = RealAlg::new(
+                    g.at_x(&ev.u.lo).squarefree(),
+                    roots[i].lo.clone(),
+                    roots[i].hi.clone(),
+                );
                 if roots[i].lo == roots[i].hi {
                     r = RealAlg::exact(roots[i].lo.clone());
                 }
@@ -947,46 +1139,73 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
                     shrink(g, &mut ev.u, &mut roots, sp);
                 }
             }
+            keeps.push(keep == Some(true));
+        }
+        for i in 0..roots.len() {
+            let keep = keeps[i];
             let label = if roots[i].boundary {
                 Label::Boundary
             } else if roots[i].special {
                 let (a, b) = (bl[i], br[i]);
                 if a == 0 && b == 0 {
                     Label::Isolated
-                } else {
-                    // Singular iff g_u(α, β(α)) = 0: Σ_j gx_j(x)·num^j·den^(d−j).
-                    let gx = g.dx();
-                    let mut acc = UPoly::zero();
-                    for (j, c) in gx.c.iter().enumerate() {
-                        let t = c.mul(&num.pow(j as u32)).mul(&den.pow((d - j) as u32));
-                        acc = acc.add(&t);
-                    }
-                    if ev.u.is_root_of(&acc) {
+                } else if generic {
+                    // Singular iff g_u(α, β(α)) = 0.
+                    if ev.u.is_root_of(&at_beta(&gx, &num, &den, d)) {
                         Label::Singular
-                    } else if kk == 1 && (a == 0 || b == 0) {
+                    } else if a == 0 || b == 0 {
                         Label::XExtreme
                     } else {
-                        Label::Singular
+                        // Smooth with a vertical tangent and branches on both sides.
+                        Label::Regular
                     }
+                } else if a + b != 2 {
+                    // A smooth point has exactly two branches.
+                    Label::Singular
+                } else {
+                    Label::Multiple
                 }
             } else {
                 Label::Regular
             };
             if roots[i].special {
                 info.label = Some(label);
-                info.inside = Some(keep == Some(true));
+                info.inside = Some(keep);
+                cev.label = Some(label);
             }
-            if keep == Some(true) {
+            if keep {
                 let u = ev.u.to_f64();
                 let v = q_to_f64(&((&roots[i].lo + &roots[i].hi) / two()));
                 evv.push((Some(verts.len() as u32), bl[i], br[i]));
-                verts.push(unshear(u, v));
+                let mut p = unshear(u, v);
+                if let Some(bp) = &roots[i].snap {
+                    // Exactly on the side: y = v0, or x = c with v = v0 + v1·u.
+                    let vv = q_to_f64(&bp.v0) + q_to_f64(&bp.v1) * u;
+                    p = unshear(u, vv);
+                    if bp.v1.is_zero() {
+                        p[1] = q_to_f64(&bp.v0);
+                    } else {
+                        p[0] = q_to_f64(&(&bp.v0 * sq));
+                    }
+                }
+                verts.push(p);
                 labels.push(label);
             } else {
                 evv.push((None, bl[i], br[i]));
             }
+            cev.roots.push(CertRoot {
+                lo: roots[i].lo.to_string(),
+                hi: roots[i].hi.to_string(),
+                special: roots[i].special,
+                boundary: roots[i].boundary,
+                keep,
+                left: bl[i],
+                right: br[i],
+            });
         }
-        let _ = kk;
+        cev.lo = ev.u.lo.to_string();
+        cev.hi = ev.u.hi.to_string();
+        cert.events.push(cev);
         ev_vertices.push(evv);
         out.events.push(info);
     }
@@ -1037,8 +1256,15 @@ fn analyse_frame(g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepResult> {
         segments: segs,
     };
     out.labels = labels;
+    cert.vertices = out.curve.vertices.clone();
+    cert.segments = out.curve.segments.clone();
+    out.cert = cert;
     Ok(out)
 }
+
+/// The key of the re-checkable certificate in the mesher's stats map (the CLI writes
+/// it to the `--certificate` file and removes it from the report).
+pub const CERT_STATS_KEY: &str = "recheckable_certificate";
 
 /// Counts of what the sweep found (the `stats` of the report).
 #[derive(Clone, Debug, Serialize)]
@@ -1094,15 +1320,20 @@ impl Mesher for Sweep {
         let claim = Claim::Isotopic {
             inside: d,
             theorem: format!(
-                "exact: González-Vega–Necula sweep in the frame x + {}·y, resultant and Sturm–Habicht signs, Descartes isolation, exact genericity test; straight segments between fibres (geometry between fibres not certified)",
+                "exact: González-Vega–Necula sweep in the frame x + {}·y (unsheared, determinant 1), resultant and Sturm–Habicht signs, Descartes isolation, real-only genericity test, re-checkable certificate (certmesh check-curve); straight segments between fibres (geometry between fibres not certified)",
                 r.shear
             ),
             generic_position: false,
         };
+        let mut stats = crate::mesher::stats_map(&stats);
+        stats.insert(
+            CERT_STATS_KEY.into(),
+            serde_json::to_value(&r.cert).expect("certificate serializes"),
+        );
         Ok(MeshOutput {
             mesh: Mesh::Curve(r.curve),
             certificate: Certificate::certified(vec![claim]),
-            stats: crate::mesher::stats_map(&stats),
+            stats,
         })
     }
 }

@@ -55,6 +55,13 @@ pub struct Row {
     pub certified_chi: Option<i64>,
     /// Why `certified_chi` is absent.
     pub certified_chi_note: Option<String>,
+    /// Curves: the embedding signature of the output (components, degrees ≠ 2, faces
+    /// with dual degrees, nesting; [`metrics::embedding_signature`]), clipped curves
+    /// closed by the domain frame.
+    pub signature: Option<String>,
+    /// Curves: does the signature equal the one of the certified runs on the same
+    /// curve (the exact sweep's first)? `None` when no run on the curve is certified.
+    pub isotopy_agrees: Option<bool>,
 }
 
 impl Row {
@@ -87,6 +94,8 @@ impl Row {
             mesh_chi: None,
             certified_chi: None,
             certified_chi_note: None,
+            signature: None,
+            isotopy_agrees: None,
         }
     }
 }
@@ -123,6 +132,7 @@ pub fn evaluate(
             row.manifold = s.topology.branch_points == 0;
             row.vertices = c.vertices.len();
             row.faces = c.segments.len();
+            row.signature = metrics::embedding_signature(c, Some(domain)).ok();
             set_hausdorff(&mut row, s.fidelity.as_ref());
             if let Some(t) = expected {
                 set_verdict(&mut row, metrics::curve_verdict(&s.topology, t));
@@ -249,7 +259,29 @@ pub fn compare_with(
         progress.inc(1);
     }
     progress.finish();
+    set_isotopy_agreement(&mut rows);
     rows
+}
+
+/// For every curve, compare each run's embedding signature with the reference: the
+/// certified sweep's (`sweep`), else the first certified run's.
+pub fn set_isotopy_agreement(rows: &mut [Row]) {
+    let curves: Vec<String> = rows.iter().filter(|r| r.dim == 2).map(|r| r.surface.clone()).collect();
+    for c in curves {
+        let on = |r: &&Row| r.surface == c && r.dim == 2 && r.error.is_none() && r.certified && r.signature.is_some();
+        let reference = rows
+            .iter()
+            .filter(on)
+            .find(|r| r.algo == "sweep")
+            .or_else(|| rows.iter().find(on))
+            .and_then(|r| r.signature.clone());
+        for r in rows.iter_mut().filter(|r| r.surface == c && r.dim == 2) {
+            r.isotopy_agrees = match (&reference, &r.signature) {
+                (Some(a), Some(b)) => Some(a == b),
+                _ => None,
+            };
+        }
+    }
 }
 
 fn fmt_opt(x: Option<f64>, prec: usize) -> String {
@@ -374,6 +406,31 @@ pub fn markdown(rows: &[Row]) -> String {
             r.evaluations,
             cert.replace('|', "/"),
             chis
+        );
+    }
+    s
+}
+
+/// The curves' embedding signatures and whether each run agrees with the certified
+/// reference (a markdown list; empty without curves).
+pub fn signatures_markdown(rows: &[Row]) -> String {
+    let curves: Vec<&Row> = rows.iter().filter(|r| r.dim == 2 && r.error.is_none()).collect();
+    if curves.is_empty() {
+        return String::new();
+    }
+    let mut s = String::from("\nIsotopy (embedding signatures; reference: the certified runs):\n\n| curve | algo | signature | agrees |\n|---|---|---|---|\n");
+    for r in curves {
+        let agrees = match r.isotopy_agrees {
+            Some(true) => "yes",
+            Some(false) => "**no**",
+            None => "n/a (nothing certified)",
+        };
+        s += &format!(
+            "| {} | {} | `{}` | {} |\n",
+            r.surface,
+            r.algo,
+            r.signature.as_deref().unwrap_or("–").replace('|', "/"),
+            agrees
         );
     }
     s

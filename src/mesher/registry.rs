@@ -216,6 +216,7 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
 /// Build `name` for a comparison matrix: the options it does not read are dropped
 /// (the matrix checks with [`check_used`] that each option is read by some mesher).
 pub fn build_shared(name: &str, dim: usize, o: &MesherOptions) -> Result<Box<dyn Mesher>> {
+    let name = canonical(name);
     match table().iter().find(|(i, _)| i.name == name && i.dim == dim) {
         Some((info, _)) => build(name, dim, &o.restricted_to(info.reads)),
         None => build(name, dim, o),
@@ -247,9 +248,18 @@ pub fn list() -> Vec<AlgoInfo> {
     table().into_iter().map(|(i, _)| i).collect()
 }
 
+/// Alternative names: `gvn` is the González-Vega–Necula sweep `sweep`.
+pub fn canonical(name: &str) -> &str {
+    match name {
+        "gvn" => "sweep",
+        n => n,
+    }
+}
+
 /// Build the mesher `name` for functions of dimension `dim` (2 curve, 3 surface). An
 /// option it does not read is an error naming the option and the mesher.
 pub fn build(name: &str, dim: usize, o: &MesherOptions) -> Result<Box<dyn Mesher>> {
+    let name = canonical(name);
     let t = table();
     if let Some((info, ctor)) = t.iter().find(|(i, _)| i.name == name && i.dim == dim) {
         if let Some(x) = o.given().into_iter().find(|x| !info.reads.contains(x)) {

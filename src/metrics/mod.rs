@@ -2,9 +2,11 @@
 //! verdict ([`topology`]), fidelity to the implicit surface ([`fidelity`]), and the
 //! [`Stats`] summary that `certmesh stats` prints.
 pub mod angles;
+pub mod embedding;
 pub mod fidelity;
 pub mod topology;
 
+pub use embedding::embedding_signature;
 pub use angles::{Histogram, TetAngles, TetRanges, TriangleAngles};
 pub use fidelity::{Fidelity, FidelityParams};
 pub use topology::{

@@ -44,6 +44,10 @@ pub(crate) struct MeshArgs {
     /// For volume meshers: also write the boundary surface here (obj off ply stl).
     #[arg(long)]
     pub(crate) boundary: Option<PathBuf>,
+    /// Write the re-checkable certificate (JSON) here: the exact sweep only
+    /// (`--algo gvn`, alias `sweep`); verify it with `certmesh check-curve FILE`.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) certificate: Option<PathBuf>,
     /// Print the report as JSON.
     #[arg(long)]
     pub(crate) json: bool,

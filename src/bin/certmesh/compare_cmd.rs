@@ -70,7 +70,10 @@ pub(crate) fn table_format(p: &Path) -> CliResult<TableFormat> {
     }
 }
 
-pub(crate) fn compare_cmd(a: CompareArgs, quiet: bool) -> CliResult<()> {
+pub(crate) fn compare_cmd(mut a: CompareArgs, quiet: bool) -> CliResult<()> {
+    for n in a.algos.iter_mut() {
+        *n = algorithms::canonical(n).to_string();
+    }
     let o = a.opts.to_options()?;
     let (mut s, c) = (a.surfaces, a.curves);
     if s.is_empty() && c.is_empty() {
@@ -151,7 +154,7 @@ pub(crate) fn compare_cmd(a: CompareArgs, quiet: bool) -> CliResult<()> {
     let bar = Bar::new(quiet);
     let rows = compare::compare(&es, &algos, &o, &bar);
     bar.finish();
-    let table = compare::markdown(&rows);
+    let table = compare::markdown(&rows) + &compare::signatures_markdown(&rows);
     if let (Some(p), Some(f)) = (&a.output, fmt) {
         let text = match f {
             TableFormat::Markdown => table.clone(),

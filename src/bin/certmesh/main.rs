@@ -90,6 +90,22 @@ enum Cmd {
     ///   certmesh curve --formula "x^2 + 4*y^2 - 1" --algo pv -o e.csv
     #[command(verbatim_doc_comment)]
     Curve(MeshArgs),
+    /// Re-verify the certificate of an exact curve sweep (`certmesh curve --algo gvn
+    /// --certificate CERT.json`) with exact rationals, without re-running the sweep:
+    /// every sign, root count, root box, branch count and inside decision, the
+    /// completeness of the events, and the output graph rebuilt from the counts.
+    /// Exit status 1 when the certificate is rejected (the message says which claim).
+    ///
+    /// Example:
+    ///   certmesh curve lemniscate --algo gvn --certificate lem.json -o lem.svg
+    ///   certmesh check-curve lem.json
+    #[command(verbatim_doc_comment)]
+    CheckCurve {
+        /// The certificate (JSON).
+        file: PathBuf,
+        #[arg(long)]
+        json: bool,
+    },
     /// Statistics of a mesh file: counts, topology, angles; fidelity when a surface is given.
     ///
     /// Triangle meshes (obj off ply stl) and tetrahedral meshes (vtk mesh). Fidelity
@@ -270,6 +286,7 @@ fn run(cmd: Cmd, quiet: bool) -> CliResult<()> {
         Cmd::Mesh(a) => mesh_cmd(a, 3, quiet)?,
         Cmd::Curve(a) => mesh_cmd(a, 2, quiet)?,
         Cmd::Stats(a) => stats_cmd(a, quiet)?,
+        Cmd::CheckCurve { file, json } => check_curve_cmd(&file, json)?,
         Cmd::Compare(a) => compare_cmd(a, quiet)?,
         Cmd::Delaunay(a) => delaunay_cmd::delaunay_cmd(a)?,
         Cmd::Morse(a) => morse_cmd::morse_cmd(a, quiet)?,

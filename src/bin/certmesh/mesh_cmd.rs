@@ -19,11 +19,28 @@ pub(crate) fn mesh_cmd(a: MeshArgs, dim: usize, quiet: bool) -> CliResult<()> {
     if let Some(b) = &a.boundary {
         check_mesh_output(b, 3)?;
     }
+    if let Some(c) = &a.certificate {
+        if algorithms::canonical(&a.algo) != "sweep" {
+            return Err(CliError::from(certmesh::error::Error::Param(format!(
+                "--certificate: '{}' writes no re-checkable certificate (only gvn/sweep does)",
+                a.algo
+            ))));
+        }
+        check_writable(c)?;
+    }
     let bar = Bar::new(quiet);
     bar.phase("preparing");
     let t = target(&a, dim)?;
     bar.phase(&a.algo);
-    let run = mesher::run(m.as_ref(), t.f.as_ref(), &t.domain, &bar)?;
+    let mut run = mesher::run(m.as_ref(), t.f.as_ref(), &t.domain, &bar)?;
+    // The sweep's re-checkable certificate travels in its stats; it is written to its
+    // own file, not printed with the report.
+    let recheck = run.output.stats.remove(certmesh::algebraic::sweep::CERT_STATS_KEY);
+    if let (Some(path), Some(cert)) = (&a.certificate, &recheck) {
+        let text = serde_json::to_string(cert).expect("certificate serializes") + "\n";
+        std::fs::write(path, text)
+            .map_err(|e| CliError::from(certmesh::error::Error::io(path, e)).runtime())?;
+    }
     bar.phase("writing");
     if let Some(out) = &a.output {
         io::write_mesh(out, &run.output.mesh).runtime()?;
@@ -55,6 +72,37 @@ pub(crate) fn mesh_cmd(a: MeshArgs, dim: usize, quiet: bool) -> CliResult<()> {
         for line in report.text(10) {
             out!("{line}");
         }
+    }
+    Ok(())
+}
+
+/// `certmesh check-curve CERT.json`: re-verify a sweep certificate with exact
+/// rationals, without re-running the sweep.
+pub(crate) fn check_curve_cmd(path: &std::path::Path, json: bool) -> CliResult<()> {
+    use certmesh::error::Error;
+    let text = std::fs::read_to_string(path).map_err(|e| CliError::from(Error::io(path, e)))?;
+    let cert: certmesh::algebraic::CurveCert = serde_json::from_str(&text).map_err(|e| {
+        CliError::from(Error::Format {
+            format: "certificate",
+            line: e.line(),
+            message: e.to_string(),
+        })
+    })?;
+    let rep = certmesh::algebraic::check_curve(&cert).map_err(|e| CliError::from(e).runtime())?;
+    if json {
+        print_json(&rep);
+    } else {
+        out!(
+            "certificate verified: shear {}, degree {}, {} events ({} critical), {} rational fibres, {} vertices, {} segments; {} claims re-checked with exact rationals",
+            rep.shear,
+            rep.degree,
+            rep.events,
+            rep.critical_events,
+            rep.fibres,
+            rep.vertices,
+            rep.segments,
+            rep.claims
+        );
     }
     Ok(())
 }

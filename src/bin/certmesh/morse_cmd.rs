@@ -117,6 +117,7 @@ pub(crate) fn morse_cmd(a: MorseArgs, quiet: bool) -> CliResult<()> {
         opts: OptArgs::default(),
         output: None,
         boundary: None,
+        certificate: None,
         json: a.json,
     };
     let t = target(&mesh_args, 3)?;
