@@ -958,15 +958,33 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
             });
         }
         let ids: Vec<u32> = cyc.iter().map(|&c| point(c, &mut mesh)).collect();
-        let ps: Vec<[f64; 3]> = ids.iter().map(|&i| mesh.vertices[i as usize]).collect();
-        let cen = [0, 1, 2].map(|q| ps.iter().map(|p| p[q]).sum::<f64>() / ps.len() as f64);
+        // Orientation, combinatorially: the same cycle through the edge midpoints is
+        // the zero set of the interpolant of the signs (±1), whose gradient points
+        // towards f̂ > 0; compare with that cycle's Newell normal (grid points only,
+        // so degenerate cut points near a vertex cannot flip it).
         use crate::kernel::geom::{cross, dot, sub};
-        let nrm = cross(sub(ps[1], ps[0]), sub(ps[2], ps[0]));
-        let plus = (0..4)
-            .find(|&q| sg[q] > 0)
-            .map(|q| g.pos(t[q]))
-            .unwrap_or(cen);
-        let flip = dot(nrm, sub(plus, cen)) < 0.0;
+        let mids: Vec<[f64; 3]> = cyc
+            .iter()
+            .map(|&c| {
+                let VKey::Cut(a, b) = c else {
+                    unreachable!("cut polygons have cut vertices")
+                };
+                let (pa, pb) = (g.pos(a), g.pos(b));
+                [0, 1, 2].map(|q| 0.5 * (pa[q] + pb[q]))
+            })
+            .collect();
+        let mut nrm = [0.0; 3];
+        for q in 0..mids.len() {
+            let c = cross(mids[q], mids[(q + 1) % mids.len()]);
+            nrm = [0, 1, 2].map(|r| nrm[r] + c[r]);
+        }
+        let p = t.map(|v| g.pos(v));
+        let e = [1, 2, 3].map(|q| sub(p[q], p[0]));
+        let dv = [1, 2, 3].map(|q| f64::from(sg[q] - sg[0]));
+        let cr = [cross(e[1], e[2]), cross(e[2], e[0]), cross(e[0], e[1])];
+        let det = dot(e[0], cr[0]);
+        let grad = [0, 1, 2].map(|r| (dv[0] * cr[0][r] + dv[1] * cr[1][r] + dv[2] * cr[2][r]) / det);
+        let flip = dot(nrm, grad) < 0.0;
         for q in 1..ids.len() - 1 {
             let tri = [ids[0], ids[q], ids[q + 1]];
             mesh.triangles
