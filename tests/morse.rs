@@ -717,7 +717,14 @@ fn bcsv_manifold_check() {
     use certmesh::morse::bcsv::check_manifold;
     let vid = |i: u32, j: u32, k: u32| i + 3 * (j + 3 * k);
     let kuhn = |c: [u32; 3]| -> Vec<[u32; 4]> {
-        let perms = [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]];
+        let perms = [
+            [0, 1, 2],
+            [0, 2, 1],
+            [1, 0, 2],
+            [1, 2, 0],
+            [2, 0, 1],
+            [2, 1, 0],
+        ];
         perms
             .iter()
             .map(|p| {
@@ -739,7 +746,10 @@ fn bcsv_manifold_check() {
     };
     assert!(check_manifold(&two([0, 0, 0], [1, 0, 0])).is_ok());
     assert!(check_manifold(&two([0, 0, 0], [1, 1, 0])).is_err(), "edge");
-    assert!(check_manifold(&two([0, 0, 0], [1, 1, 1])).is_err(), "vertex");
+    assert!(
+        check_manifold(&two([0, 0, 0], [1, 1, 1])).is_err(),
+        "vertex"
+    );
     assert!(check_manifold(&[[0, 1, 2, 3], [0, 1, 4, 5]]).is_err());
     assert!(check_manifold(&[[0, 1, 2, 3], [0, 1, 2, 4]]).is_ok());
 }
@@ -800,4 +810,42 @@ proptest! {
             prop_assert_eq!(nv, if plus == 2 { 4 } else { 3 });
         }
     }
+}
+
+/// `certmesh reproduce morse --quick` (sphere and double cone): the tables are there,
+/// the sphere's row agrees with an independent count, the double cone is never
+/// certified by any method.
+#[test]
+fn reproduce_morse_quick() {
+    let dir = std::env::temp_dir().join(format!("certmesh-morse-{}", std::process::id()));
+    certmesh::reproduce::reproduce("morse", &dir, true).unwrap();
+    let md = std::fs::read_to_string(dir.join("morse.md")).unwrap();
+    for h in ["## 1. BCSV", "## 2. The Morse census", "## 3. Stander–Hart"] {
+        assert!(md.contains(h), "{h}");
+    }
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("morse.json")).unwrap()).unwrap();
+    let cmp = j["comparison"].as_array().unwrap();
+    let sphere = cmp.iter().find(|r| r[0] == "sphere").unwrap();
+    for m in sphere[2].as_array().unwrap() {
+        assert_eq!(m["certified"], true, "{m}");
+        assert_eq!(m["right"], true, "{m}");
+        assert_eq!(m["chi"], 2, "{m}");
+    }
+    let cone = cmp.iter().find(|r| r[0] == "double-cone").unwrap();
+    assert!(cone[2]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|m| m["certified"] == false));
+    let census = j["census"].as_array().unwrap();
+    let s = census.iter().find(|r| r["surface"] == "sphere").unwrap();
+    assert_eq!(s["indices"], serde_json::json!([1, 0, 0, 0]));
+    assert_eq!(s["chi"], 2);
+    let c = census
+        .iter()
+        .find(|r| r["surface"] == "double-cone")
+        .unwrap();
+    assert!(c["chi"].is_null());
+    std::fs::remove_dir_all(&dir).ok();
 }

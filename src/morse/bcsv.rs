@@ -65,7 +65,9 @@ impl Bcsv {
         let max_resolution = o.resolution.unwrap_or(64);
         let census_boxes = o.get::<usize>("census-boxes")?.unwrap_or(20_000);
         if census_boxes == 0 {
-            return Err(Error::Param("bcsv: --set census-boxes must be at least 1".into()));
+            return Err(Error::Param(
+                "bcsv: --set census-boxes must be at least 1".into(),
+            ));
         }
         if !(4..=256).contains(&max_resolution) {
             return Err(Error::Param(format!(
@@ -575,10 +577,7 @@ fn manifold_defects(tets: &[[u32; 4]]) -> Vec<(u32, String)> {
     let mut links: HashMap<u32, Vec<[u32; 3]>> = HashMap::new();
     for t in tets {
         for (q, face) in TET_FACES.iter().enumerate() {
-            links
-                .entry(t[q])
-                .or_default()
-                .push(face.map(|i| t[i]));
+            links.entry(t[q]).or_default().push(face.map(|i| t[i]));
         }
     }
     fn find(p: &mut HashMap<u32, u32>, x: u32) -> u32 {
@@ -614,9 +613,10 @@ fn manifold_defects(tets: &[[u32; 4]]) -> Vec<(u32, String)> {
             }
         }
         if let Some((e, c)) = edges.iter().find(|(_, &c)| c > 2) {
-            bad.push((v, format!(
-                "W is not a 3-manifold at vertex {v}: link edge {e:?} in {c} triangles"
-            )));
+            bad.push((
+                v,
+                format!("W is not a 3-manifold at vertex {v}: link edge {e:?} in {c} triangles"),
+            ));
             continue;
         }
         let mut broken = None;
@@ -648,10 +648,17 @@ fn manifold_defects(tets: &[[u32; 4]]) -> Vec<(u32, String)> {
         let boundary = edges.values().any(|&c| c == 1);
         let want = if boundary { 1 } else { 2 };
         if chi != want {
-            bad.push((v, format!(
-                "W is not a 3-manifold at vertex {v}: its link has chi {chi}{}",
-                if boundary { " and a boundary (not a disc)" } else { " (not a sphere)" }
-            )));
+            bad.push((
+                v,
+                format!(
+                    "W is not a 3-manifold at vertex {v}: its link has chi {chi}{}",
+                    if boundary {
+                        " and a boundary (not a disc)"
+                    } else {
+                        " (not a sphere)"
+                    }
+                ),
+            ));
         }
     }
     bad.sort();
@@ -818,10 +825,7 @@ fn loop_w(
         }
         round += 1;
         if added == 0 || round > MAX_REPAIR {
-            rep.failure = Some(format!(
-                "{} (after {round} repair rounds)",
-                defects[0].1
-            ));
+            rep.failure = Some(format!("{} (after {round} repair rounds)", defects[0].1));
             break None;
         }
     }
@@ -983,7 +987,8 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
         let dv = [1, 2, 3].map(|q| f64::from(sg[q] - sg[0]));
         let cr = [cross(e[1], e[2]), cross(e[2], e[0]), cross(e[0], e[1])];
         let det = dot(e[0], cr[0]);
-        let grad = [0, 1, 2].map(|r| (dv[0] * cr[0][r] + dv[1] * cr[1][r] + dv[2] * cr[2][r]) / det);
+        let grad =
+            [0, 1, 2].map(|r| (dv[0] * cr[0][r] + dv[1] * cr[1][r] + dv[2] * cr[2][r]) / det);
         let flip = dot(nrm, grad) < 0.0;
         for q in 1..ids.len() - 1 {
             let tri = [ids[0], ids[q], ids[q + 1]];
@@ -1036,7 +1041,10 @@ impl Mesher for Bcsv {
                 5 * self.census_boxes,
             )
         } else {
-            (None, Some("the oracle's interval methods are not rigorous".into()))
+            (
+                None,
+                Some("the oracle's interval methods are not rigorous".into()),
+            )
         };
         let census_seconds = t0.elapsed().as_secs_f64();
         let mut attempts: Vec<Attempt> = Vec::new();
@@ -1088,7 +1096,10 @@ impl Mesher for Bcsv {
             "attempts".into(),
             serde_json::to_value(&attempts).expect("serialises"),
         );
-        stats.insert("chi_certified".into(), serde_json::to_value(chi_s).expect("serialises"));
+        stats.insert(
+            "chi_certified".into(),
+            serde_json::to_value(chi_s).expect("serialises"),
+        );
         stats.insert(
             "chi_certified_reason".into(),
             serde_json::to_value(&chi_reason).expect("serialises"),

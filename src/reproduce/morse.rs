@@ -132,7 +132,11 @@ pub fn compute(quick: bool) -> Result<Report> {
             method_run(&e, "pv", &MesherOptions::default())?,
             method_run(&e, "snyder", &MesherOptions::default())?,
         ];
-        comparison.push((e.name.to_string(), super::meshing_of_surfaces::expected(&e), runs));
+        comparison.push((
+            e.name.to_string(),
+            super::meshing_of_surfaces::expected(&e),
+            runs,
+        ));
         let t = std::time::Instant::now();
         let r = morse::analyze(
             &e.function(),
