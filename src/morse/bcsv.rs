@@ -2,42 +2,39 @@
 //! "Meshing of Surfaces", §1.5.2, Theorem 8, Figs. 1.23–1.24): `--algo bcsv`.
 //!
 //! **What is built.** T is the Kuhn (Freudenthal) triangulation of a uniform n³ grid
-//! of the domain (6 tetrahedra per cube, conforming). f̂ is the linear interpolation on
-//! T of values at the grid vertices whose *signs are f's, proven* (the midpoint of an
-//! interval enclosure of f at the vertex that excludes 0). Ŝ = f̂⁻¹(0) is extracted
-//! exactly (marching tetrahedra on f̂). The complex W is the union of the tetrahedra of
-//! every cube that is not proven free of S (0 ∈ □f over the cube, or f not proven
-//! continuous there); this contains every sign-changing tetrahedron. Attempts run at
-//! n = 4, 8, 16, … up to `--resolution` (default 64): a uniform refinement, not the
-//! chapter's adaptive octree (which needs 2:1 balancing and a conforming Kuhn split of
-//! unequal cubes; not implemented).
+//! of the domain (6 tetrahedra per cube, conforming). Cubes are excluded by an octree
+//! over the grid (a block with 0 ∉ □f is excluded at once; a single cube also by up
+//! to 64 octant sub-proofs). W is the union of the cubes not excluded, grown by
+//! repair rounds until it is a PL 3-manifold. f̂ is the linear interpolation of values
+//! at the vertices of W: f's proven sign on ∂W, f's midpoint elsewhere (any nonzero
+//! value at an interior vertex whose sign is undecided). Ŝ = f̂⁻¹(0) is extracted
+//! exactly (marching tetrahedra on f̂). Attempts run at n = 4, 8, 16, … up to
+//! `--resolution` (default 64): a uniform refinement, not the chapter's adaptive
+//! octree with 2:1 balancing (not implemented).
 //!
-//! **What is proven per attempt (interval arithmetic).**
-//! * S ⊂ int W ∪ ∂D-free: every cube outside W has 0 ∉ □f with f continuous on it;
-//!   the faces of W cubes on ∂D have 0 ∉ □f (else the attempt fails: S may meet ∂D).
-//! * Condition (1), f ≠ 0 on ∂W: a face of ∂W is a face of a cube outside W (0 ∉ □f
-//!   on that closed cube) or lies on ∂D (checked).
-//! * Condition (2), no critical point of f in W: every W cube is proven C^∞ (regularity
-//!   flags) with 0 ∉ □∂f/∂x_k for some k.
-//! * Condition (3), W collapses onto Ŝ after subdivision: W is cut by Ŝ into the
-//!   convex polyhedral cells tet ∩ {f̂ ≥ 0}, tet ∩ {f̂ ≤ 0} with their faces (a
-//!   polyhedral complex in which Ŝ is a subcomplex, since f̂ is linear on each
-//!   tetrahedron and the cut points on a shared edge are shared). A greedy sequence of
-//!   elementary collapses (remove a cell τ ∉ Ŝ with exactly one coface σ, and σ) is
-//!   searched; it is recorded and replayed by an independent checker ([`replay`]).
-//!   An elementary collapse of a convex cell through a free facet is an elementary
-//!   collapse of polyhedra (the cell is a ball meeting the rest in a ball of its
-//!   boundary), so a simplicial subdivision of W collapses onto one of Ŝ (Rourke and
-//!   Sanderson, *Introduction to Piecewise-Linear Topology*, 1972, Ch. 3). A greedy
-//!   failure proves nothing: the next attempt refines.
+//! **What is proven per attempt** (papers/meshing-of-surfaces/bcsv.md states and proves
+//! Theorem B from exactly these):
+//! * (E) S ∩ D ⊂ W: every cube outside W has 0 ∉ □f with f continuous on it.
+//! * (1) f ≠ 0 on ∂W: a face of ∂W is a face of a cube outside W or lies on ∂D, where
+//!   0 ∉ □f is checked (else the attempt fails: S may meet ∂D).
+//! * (2) no critical point of f in W: every W cube is proven C^∞ (regularity flags)
+//!   with 0 ∉ □∂f/∂x_k for some k, on each octant piece.
+//! * (M) W is a PL 3-manifold: every vertex link of its Kuhn complex is a 2-sphere or a
+//!   2-disc ([`check_manifold`]); where not, the cubes around the vertex are added.
+//! * (3) W collapses onto Ŝ after subdivision: W is cut by Ŝ into the convex cells
+//!   tet ∩ {f̂ ≥ 0}, tet ∩ {f̂ ≤ 0} with their faces (a polyhedral complex in which Ŝ is
+//!   a subcomplex); a greedy sequence of elementary collapses (remove a cell τ ∉ Ŝ with
+//!   exactly one coface σ, and σ) is searched, recorded and replayed by an independent
+//!   checker ([`replay`]). A greedy failure proves nothing: the next attempt refines.
+//! * (χ) the certified χ(S) of the Morse census ([`crate::morse::certified_chi`]) equals
+//!   χ(Ŝ) ([`chi_of_s`], exact); if not, the next attempt refines.
 //!
-//! **What is not proven.** Theorem 8's premises — f and f̂ have the same critical
-//! points, the same critical values and the same lower-link Euler characteristics —
-//! concern the critical points of f outside W, which are irrational in general and not
-//! vertices of T. The original paper's relaxed interval conditions are not among the
-//! papers here and are not reconstructed. So the output is reported as
-//! **W-certified** (conditions (1)–(3) and S ⊂ int W), never as isotopic: the
-//! certificate is `uncertified`, with the proven regularity claim and the statement.
+//! **Certificate.** With all of them, S and Ŝ are isotopic (Theorem B; it replaces
+//! Theorem 8's premises on the critical points of f and f̂, which concern irrational
+//! points and cannot be checked as stated, by the certified χ(S)): claim `Isotopic`.
+//! With all but (χ): **W-certified**, never isotopic (conditions (1)–(3) do not give
+//! isotopy by themselves; bcsv.md has the example). Otherwise nothing is certified and
+//! the output is the finest grid's marching tetrahedra.
 use crate::error::{Error, Result};
 use crate::implicit::critical::linalg::{excludes_zero, pt, sign};
 use crate::implicit::{IBox, Implicit, Regularity};
@@ -355,7 +352,7 @@ pub fn replay(cx: &Complex, seq: &[(u32, u32)]) -> std::result::Result<(), Strin
 }
 
 /// One attempt, as reported.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct Attempt {
     pub resolution: usize,
     pub w_cubes: usize,
@@ -503,14 +500,7 @@ pub fn w_complex(
 ) -> std::result::Result<(Complex, Vec<(u32, u32)>), String> {
     let mut rep = Attempt {
         resolution: n,
-        w_cubes: 0,
-        w_tets: 0,
-        cells: 0,
-        collapse_steps: 0,
-        free_vertices: 0,
-        repair_rounds: 0,
-        chi_hat: None,
-        failure: None,
+        ..Default::default()
     };
     match attempt(f, domain, n, &mut rep) {
         Some(s) => Ok((s.complex, s.seq)),
@@ -1003,22 +993,6 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
         empty_cubes,
         w_cubes: rep.w_cubes,
     })
-}
-
-impl Default for Attempt {
-    fn default() -> Self {
-        Attempt {
-            resolution: 0,
-            w_cubes: 0,
-            w_tets: 0,
-            cells: 0,
-            collapse_steps: 0,
-            free_vertices: 0,
-            repair_rounds: 0,
-            chi_hat: None,
-            failure: None,
-        }
-    }
 }
 
 impl Mesher for Bcsv {
