@@ -1508,8 +1508,9 @@ fn stander_hart_from_the_command_line() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// `--algo bcsv`: W-certified on the sphere (never "certified": isotopy is not
-/// claimed), the attempts in the JSON stats; a bad --resolution is an error.
+/// `--algo bcsv`: certified isotopic on the sphere (Theorem B: the census χ(S) = 2
+/// equals χ(Ŝ)); with a census budget of one box only W-certified, never certified;
+/// the attempts in the JSON stats; a bad --resolution is an error.
 #[test]
 fn bcsv_from_the_command_line() {
     let dir = tmp("bcsv");
@@ -1519,14 +1520,33 @@ fn bcsv_from_the_command_line() {
     );
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert_eq!(v["certified"], false);
+    assert_eq!(v["certified"], true);
     assert_eq!(v["topology_ok"], true);
+    assert_eq!(v["stats"]["isotopy_certified"], true);
+    assert_eq!(v["stats"]["chi_certified"], 2);
+    assert!(v["stats"]["attempts"].as_array().unwrap().len() >= 1);
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bcsv",
+            "--set",
+            "census-boxes=1",
+            "-o",
+            "s.obj",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["certified"], false);
     assert_eq!(v["stats"]["w_certified"], true);
     assert!(v["certificate"]["reason"]
         .as_str()
         .unwrap()
         .starts_with("W-certified"));
-    assert!(v["stats"]["attempts"].as_array().unwrap().len() >= 1);
     let (code, out, _) = certmesh_in(
         &dir,
         &[

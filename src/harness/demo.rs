@@ -128,7 +128,7 @@ pub const PAPERS: &[&str] = &crate::reproduce::PAPERS;
 
 /// Regenerate a paper's reproduction folder.
 pub fn reproduce(paper: &str, out: Option<&Path>, quick: bool) -> Result<()> {
-    let default = Path::new("papers").join(paper);
+    let default = crate::reproduce::default_out(paper);
     let out = out.unwrap_or(&default);
     crate::reproduce::reproduce(paper, out, quick)
 }

@@ -150,7 +150,7 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             "bcsv",
             3,
             false,
-            "Boissonnat–Cohen-Steiner–Vegter PL interpolation on Kuhn tetrahedra: W-certified (Thm 8 conditions), isotopy not claimed",
+            "Boissonnat–Cohen-Steiner–Vegter PL interpolation on Kuhn tetrahedra: isotopic when Thm 8's conditions hold, W is a 3-manifold and the certified chi(S) equals chi(S-hat) (Theorem B, bcsv.md); else W-certified at most",
             crate::morse::bcsv::Bcsv,
             &["resolution"]
         ),

@@ -2,44 +2,41 @@
 //! "Meshing of Surfaces", §1.5.2, Theorem 8, Figs. 1.23–1.24): `--algo bcsv`.
 //!
 //! **What is built.** T is the Kuhn (Freudenthal) triangulation of a uniform n³ grid
-//! of the domain (6 tetrahedra per cube, conforming). f̂ is the linear interpolation on
-//! T of values at the grid vertices whose *signs are f's, proven* (the midpoint of an
-//! interval enclosure of f at the vertex that excludes 0). Ŝ = f̂⁻¹(0) is extracted
-//! exactly (marching tetrahedra on f̂). The complex W is the union of the tetrahedra of
-//! every cube that is not proven free of S (0 ∈ □f over the cube, or f not proven
-//! continuous there); this contains every sign-changing tetrahedron. Attempts run at
-//! n = 4, 8, 16, … up to `--resolution` (default 64): a uniform refinement, not the
-//! chapter's adaptive octree (which needs 2:1 balancing and a conforming Kuhn split of
-//! unequal cubes; not implemented).
+//! of the domain (6 tetrahedra per cube, conforming). Cubes are excluded by an octree
+//! over the grid (a block with 0 ∉ □f is excluded at once; a single cube also by up
+//! to 64 octant sub-proofs). W is the union of the cubes not excluded, grown by
+//! repair rounds until it is a PL 3-manifold. f̂ is the linear interpolation of values
+//! at the vertices of W: f's proven sign on ∂W, f's midpoint elsewhere (any nonzero
+//! value at an interior vertex whose sign is undecided). Ŝ = f̂⁻¹(0) is extracted
+//! exactly (marching tetrahedra on f̂). Attempts run at n = 4, 8, 16, … up to
+//! `--resolution` (default 64): a uniform refinement, not the chapter's adaptive
+//! octree with 2:1 balancing (not implemented).
 //!
-//! **What is proven per attempt (interval arithmetic).**
-//! * S ⊂ int W ∪ ∂D-free: every cube outside W has 0 ∉ □f with f continuous on it;
-//!   the faces of W cubes on ∂D have 0 ∉ □f (else the attempt fails: S may meet ∂D).
-//! * Condition (1), f ≠ 0 on ∂W: a face of ∂W is a face of a cube outside W (0 ∉ □f
-//!   on that closed cube) or lies on ∂D (checked).
-//! * Condition (2), no critical point of f in W: every W cube is proven C^∞ (regularity
-//!   flags) with 0 ∉ □∂f/∂x_k for some k.
-//! * Condition (3), W collapses onto Ŝ after subdivision: W is cut by Ŝ into the
-//!   convex polyhedral cells tet ∩ {f̂ ≥ 0}, tet ∩ {f̂ ≤ 0} with their faces (a
-//!   polyhedral complex in which Ŝ is a subcomplex, since f̂ is linear on each
-//!   tetrahedron and the cut points on a shared edge are shared). A greedy sequence of
-//!   elementary collapses (remove a cell τ ∉ Ŝ with exactly one coface σ, and σ) is
-//!   searched; it is recorded and replayed by an independent checker ([`replay`]).
-//!   An elementary collapse of a convex cell through a free facet is an elementary
-//!   collapse of polyhedra (the cell is a ball meeting the rest in a ball of its
-//!   boundary), so a simplicial subdivision of W collapses onto one of Ŝ (Rourke and
-//!   Sanderson, *Introduction to Piecewise-Linear Topology*, 1972, Ch. 3). A greedy
-//!   failure proves nothing: the next attempt refines.
+//! **What is proven per attempt** (papers/meshing-of-surfaces/bcsv.md states and proves
+//! Theorem B from exactly these):
+//! * (E) S ∩ D ⊂ W: every cube outside W has 0 ∉ □f with f continuous on it.
+//! * (1) f ≠ 0 on ∂W: a face of ∂W is a face of a cube outside W or lies on ∂D, where
+//!   0 ∉ □f is checked (else the attempt fails: S may meet ∂D).
+//! * (2) no critical point of f in W: every W cube is proven C^∞ (regularity flags)
+//!   with 0 ∉ □∂f/∂x_k for some k, on each octant piece.
+//! * (M) W is a PL 3-manifold: every vertex link of its Kuhn complex is a 2-sphere or a
+//!   2-disc ([`check_manifold`]); where not, the cubes around the vertex are added.
+//! * (3) W collapses onto Ŝ after subdivision: W is cut by Ŝ into the convex cells
+//!   tet ∩ {f̂ ≥ 0}, tet ∩ {f̂ ≤ 0} with their faces (a polyhedral complex in which Ŝ is
+//!   a subcomplex); a greedy sequence of elementary collapses (remove a cell τ ∉ Ŝ with
+//!   exactly one coface σ, and σ) is searched, recorded and replayed by an independent
+//!   checker ([`replay`]). A greedy failure proves nothing: the next attempt refines.
+//! * (χ) the certified χ(S) of the Morse census ([`crate::morse::certified_chi`]) equals
+//!   χ(Ŝ) ([`chi_of_s`], exact); if not, the next attempt refines.
 //!
-//! **What is not proven.** Theorem 8's premises — f and f̂ have the same critical
-//! points, the same critical values and the same lower-link Euler characteristics —
-//! concern the critical points of f outside W, which are irrational in general and not
-//! vertices of T. The original paper's relaxed interval conditions are not among the
-//! papers here and are not reconstructed. So the output is reported as
-//! **W-certified** (conditions (1)–(3) and S ⊂ int W), never as isotopic: the
-//! certificate is `uncertified`, with the proven regularity claim and the statement.
+//! **Certificate.** With all of them, S and Ŝ are isotopic (Theorem B; it replaces
+//! Theorem 8's premises on the critical points of f and f̂, which concern irrational
+//! points and cannot be checked as stated, by the certified χ(S)): claim `Isotopic`.
+//! With all but (χ): **W-certified**, never isotopic (conditions (1)–(3) do not give
+//! isotopy by themselves; bcsv.md has the example). Otherwise nothing is certified and
+//! the output is the finest grid's marching tetrahedra.
 use crate::error::{Error, Result};
-use crate::implicit::critical::linalg::{excludes_zero, pt};
+use crate::implicit::critical::linalg::{excludes_zero, pt, sign};
 use crate::implicit::{IBox, Implicit, Regularity};
 use crate::kernel::geom::Aabb;
 use crate::mesh::TriMesh;
@@ -54,18 +51,30 @@ use std::collections::HashMap;
 pub struct Bcsv {
     /// The finest grid (cells per axis) tried (default 64, `--resolution`).
     pub max_resolution: usize,
+    /// Box budget of the Morse census giving the certified χ(S) (default 20 000 for
+    /// ∇f = 0, five times that for the height on S; `--set census-boxes=N`).
+    pub census_boxes: usize,
 }
 
 impl Bcsv {
     pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        o.check_keys("bcsv", &[])?;
+        o.check_keys("bcsv", &["census-boxes"])?;
         let max_resolution = o.resolution.unwrap_or(64);
+        let census_boxes = o.get::<usize>("census-boxes")?.unwrap_or(20_000);
+        if census_boxes == 0 {
+            return Err(Error::Param(
+                "bcsv: --set census-boxes must be at least 1".into(),
+            ));
+        }
         if !(4..=256).contains(&max_resolution) {
             return Err(Error::Param(format!(
                 "bcsv: --resolution {max_resolution} must lie in 4..=256"
             )));
         }
-        Ok(Bcsv { max_resolution })
+        Ok(Bcsv {
+            max_resolution,
+            census_boxes,
+        })
     }
 }
 
@@ -343,13 +352,20 @@ pub fn replay(cx: &Complex, seq: &[(u32, u32)]) -> std::result::Result<(), Strin
 }
 
 /// One attempt, as reported.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct Attempt {
     pub resolution: usize,
     pub w_cubes: usize,
     pub w_tets: usize,
     pub cells: usize,
     pub collapse_steps: usize,
+    /// Interior vertices of W whose sign of f is undecided (f̂ is given a nonzero
+    /// value there; allowed by Theorem B).
+    pub free_vertices: usize,
+    /// Rounds that grew W to make it a 3-manifold.
+    pub repair_rounds: usize,
+    /// χ(Ŝ), exact, when the collapse was replayed.
+    pub chi_hat: Option<i64>,
     /// `None` when every condition held.
     pub failure: Option<String>,
 }
@@ -369,6 +385,13 @@ impl Grid {
         let m = (self.n + 1) as u32;
         let ijk = [v % m, (v / m) % m, v / (m * m)];
         [0, 1, 2].map(|a| self.lo[a] + self.h[a] * ijk[a] as f64)
+    }
+    fn block(&self, lo: [usize; 3], hi: [usize; 3]) -> IBox {
+        [0, 1, 2].map(|a| {
+            let l = self.lo[a] + self.h[a] * lo[a] as f64;
+            let h = self.lo[a] + self.h[a] * hi[a] as f64;
+            Interval::try_from((l, h)).unwrap_or(Interval::ENTIRE)
+        })
     }
     fn cube(&self, i: usize, j: usize, k: usize) -> IBox {
         let c = [i, j, k];
@@ -397,14 +420,26 @@ fn octants(b: &IBox) -> Vec<IBox> {
     out
 }
 
-/// Is the box proven free of S (f continuous, 0 ∉ □f), splitting into octants up to
-/// `depth` times?
-fn proven_empty(f: &dyn Implicit, b: &IBox, depth: u32) -> bool {
+/// The proven sign of f on the box (f continuous, 0 ∉ □f), splitting into octants up
+/// to `depth` times; `None` when not proven.
+fn proven_sign(f: &dyn Implicit, b: &IBox, depth: u32) -> Option<i8> {
     let (v, _) = crate::implicit::ops::enclose(f, b);
-    if f.regularity(b) >= Regularity::Continuous && excludes_zero(v) {
-        return true;
+    if f.regularity(b) >= Regularity::Continuous {
+        if let Some(s) = sign(v) {
+            return Some(s);
+        }
     }
-    depth > 0 && octants(b).iter().all(|o| proven_empty(f, o, depth - 1))
+    if depth == 0 {
+        return None;
+    }
+    let mut out = None;
+    for o in octants(b) {
+        let s = proven_sign(f, &o, depth - 1)?;
+        if *out.get_or_insert(s) != s {
+            return None;
+        }
+    }
+    out
 }
 
 /// Is the box proven free of critical points of f (f C^∞, some 0 ∉ □∂f/∂x_k on each
@@ -445,6 +480,7 @@ struct Success {
     complex: Complex,
     seq: Vec<(u32, u32)>,
     empty_cubes: usize,
+    w_cubes: usize,
 }
 
 /// The complex of one tetrahedron with grid vertex ids `t` and signs `s` (±1) cut by
@@ -464,15 +500,324 @@ pub fn w_complex(
 ) -> std::result::Result<(Complex, Vec<(u32, u32)>), String> {
     let mut rep = Attempt {
         resolution: n,
-        w_cubes: 0,
-        w_tets: 0,
-        cells: 0,
-        collapse_steps: 0,
-        failure: None,
+        ..Default::default()
     };
     match attempt(f, domain, n, &mut rep) {
         Some(s) => Ok((s.complex, s.seq)),
         None => Err(rep.failure.unwrap_or_default()),
+    }
+}
+
+/// Classify the cubes of the index block `lo..hi` (an octree over the grid): a block
+/// proven free of S marks all its cubes with the proven sign of f, at once; a single
+/// cube gets the octant sub-proofs; everything else is left 0 (in W).
+fn classify(f: &dyn Implicit, g: &Grid, lo: [usize; 3], hi: [usize; 3], state: &mut [i8]) {
+    let n = g.n;
+    let single = (0..3).all(|a| hi[a] - lo[a] == 1);
+    let b = g.block(lo, hi);
+    if let Some(s) = proven_sign(f, &b, if single { PROOF_DEPTH } else { 0 }) {
+        for k in lo[2]..hi[2] {
+            for j in lo[1]..hi[1] {
+                for i in lo[0]..hi[0] {
+                    state[i + n * (j + n * k)] = s;
+                }
+            }
+        }
+        return;
+    }
+    if single {
+        return;
+    }
+    let mid = [0, 1, 2].map(|a| (lo[a] + hi[a]) / 2);
+    for m in 0..8usize {
+        let mut l = lo;
+        let mut h = hi;
+        let mut skip = false;
+        for a in 0..3 {
+            if hi[a] - lo[a] == 1 {
+                if m >> a & 1 == 1 {
+                    skip = true;
+                }
+            } else if m >> a & 1 == 0 {
+                h[a] = mid[a];
+            } else {
+                l[a] = mid[a];
+            }
+        }
+        if !skip {
+            classify(f, g, l, h, state);
+        }
+    }
+}
+
+/// Check that the union of the tetrahedra `tets` (a simplicial complex: they meet in
+/// common faces) is a PL 3-manifold with boundary: the link of every vertex is a
+/// combinatorial 2-sphere or 2-disc (every link vertex's own link a path or a cycle,
+/// the link connected, χ = 2 without boundary, χ = 1 with boundary).
+pub fn check_manifold(tets: &[[u32; 4]]) -> std::result::Result<(), String> {
+    match manifold_defects(tets).into_iter().next() {
+        None => Ok(()),
+        Some((_, why)) => Err(why),
+    }
+}
+
+/// The vertices at which the union of `tets` is not a 3-manifold, with why.
+fn manifold_defects(tets: &[[u32; 4]]) -> Vec<(u32, String)> {
+    let mut bad = Vec::new();
+    let mut links: HashMap<u32, Vec<[u32; 3]>> = HashMap::new();
+    for t in tets {
+        for (q, face) in TET_FACES.iter().enumerate() {
+            links.entry(t[q]).or_default().push(face.map(|i| t[i]));
+        }
+    }
+    fn find(p: &mut HashMap<u32, u32>, x: u32) -> u32 {
+        let mut r = x;
+        while let Some(&q) = p.get(&r) {
+            if q == r {
+                break;
+            }
+            r = q;
+        }
+        p.insert(x, r);
+        r
+    }
+    for (&v, tris) in &links {
+        let mut edges: HashMap<(u32, u32), usize> = HashMap::new();
+        // Per link vertex x, the union-find of its neighbours joined by triangles.
+        let mut fans: HashMap<u32, HashMap<u32, u32>> = HashMap::new();
+        let mut comp: HashMap<u32, u32> = HashMap::new();
+        for t in tris {
+            for e in 0..3 {
+                let (a, b) = (t[e], t[(e + 1) % 3]);
+                *edges.entry((a.min(b), a.max(b))).or_default() += 1;
+                let c = t[(e + 2) % 3];
+                let fan = fans.entry(c).or_default();
+                fan.entry(a).or_insert(a);
+                fan.entry(b).or_insert(b);
+                let (ra, rb) = (find(fan, a), find(fan, b));
+                fan.insert(ra, rb);
+                comp.entry(a).or_insert(a);
+                comp.entry(b).or_insert(b);
+                let (ra, rb) = (find(&mut comp, a), find(&mut comp, b));
+                comp.insert(ra, rb);
+            }
+        }
+        if let Some((e, c)) = edges.iter().find(|(_, &c)| c > 2) {
+            bad.push((
+                v,
+                format!("W is not a 3-manifold at vertex {v}: link edge {e:?} in {c} triangles"),
+            ));
+            continue;
+        }
+        let mut broken = None;
+        for (x, fan) in fans.iter_mut() {
+            let keys: Vec<u32> = fan.keys().copied().collect();
+            let r0 = find(fan, keys[0]);
+            if keys.iter().any(|&k| find(fan, k) != r0) {
+                broken = Some(*x);
+                break;
+            }
+        }
+        if let Some(x) = broken {
+            bad.push((
+                v,
+                format!("W is not a 3-manifold at the edge ({v}, {x}): its link is disconnected"),
+            ));
+            continue;
+        }
+        let keys: Vec<u32> = comp.keys().copied().collect();
+        let r0 = find(&mut comp, keys[0]);
+        if keys.iter().any(|&k| find(&mut comp, k) != r0) {
+            bad.push((
+                v,
+                format!("W is not a 3-manifold at vertex {v}: its link is disconnected"),
+            ));
+            continue;
+        }
+        let chi = keys.len() as i64 - edges.len() as i64 + tris.len() as i64;
+        let boundary = edges.values().any(|&c| c == 1);
+        let want = if boundary { 1 } else { 2 };
+        if chi != want {
+            bad.push((
+                v,
+                format!(
+                    "W is not a 3-manifold at vertex {v}: its link has chi {chi}{}",
+                    if boundary {
+                        " and a boundary (not a disc)"
+                    } else {
+                        " (not a sphere)"
+                    }
+                ),
+            ));
+        }
+    }
+    bad.sort();
+    bad
+}
+
+/// χ of the cells of Ŝ in the cut complex (V − E + F, exact).
+pub fn chi_of_s(cx: &Complex) -> i64 {
+    cx.cells
+        .iter()
+        .filter(|c| c.in_s)
+        .map(|c| if c.dim == 1 { -1 } else { 1 })
+        .sum()
+}
+
+/// Repair rounds of W allowed per attempt (each adds the cubes around the vertices
+/// where W is not a 3-manifold).
+const MAX_REPAIR: usize = 8;
+
+/// The W cubes (not proven free of S, plus repairs) with conditions (1) and (2)
+/// proven on them, the proven signs of f at the vertices of ∂W, and the Kuhn
+/// tetrahedra of W, checked to form a 3-manifold; `None` with `rep.failure` else.
+#[allow(clippy::type_complexity)]
+fn loop_w(
+    f: &dyn Implicit,
+    g: &Grid,
+    state: &[i8],
+    rep: &mut Attempt,
+) -> Option<(Vec<[usize; 3]>, HashMap<u32, i8>, Vec<[u32; 4]>)> {
+    let n = g.n;
+    // W: the cubes not proven free of S, grown by the repair rounds below.
+    let mut inw: Vec<bool> = state.iter().map(|&s| s == 0).collect();
+    let mut checked = vec![false; n * n * n];
+    let mut round = 0usize;
+    loop {
+        // Proven signs of f at the vertices of ∂W: from an incident cube outside W
+        // (proven free of S), or from a boundary face of the domain on which 0 ∉ □f.
+        let out_sign = |c: [i64; 3]| -> Option<i8> {
+            if c.iter().any(|&x| x < 0 || x >= n as i64) {
+                return None;
+            }
+            let ci = c[0] as usize + n * (c[1] as usize + n * c[2] as usize);
+            (!inw[ci]).then_some(state[ci])
+        };
+        let mut proven: HashMap<u32, i8> = HashMap::new();
+        let mut w_cubes: Vec<[usize; 3]> = Vec::new();
+        for k in 0..n {
+            for j in 0..n {
+                for i in 0..n {
+                    let ci = i + n * (j + n * k);
+                    if !inw[ci] {
+                        continue;
+                    }
+                    w_cubes.push([i, j, k]);
+                    let b = g.cube(i, j, k);
+                    if !checked[ci] {
+                        checked[ci] = true;
+                        let Ok(regular) = proven_regular(f, &b, PROOF_DEPTH) else {
+                            rep.failure = Some(format!(
+                                "f is not proven smooth on a W cube near {:?}",
+                                g.pos(g.vid(i, j, k))
+                            ));
+                            return None;
+                        };
+                        if !regular {
+                            rep.failure = Some(format!(
+                                "condition (2): 0 in the gradient enclosure of a W cube near {:?} (a critical point may be in W)",
+                                g.pos(g.vid(i, j, k))
+                            ));
+                            return None;
+                        }
+                    }
+                    let c = [i, j, k];
+                    for a in 0..3 {
+                        for side in [0, n - 1] {
+                            if c[a] != side {
+                                continue;
+                            }
+                            let up = side != 0;
+                            // A cube added by a repair round has its proven sign.
+                            let s = if state[ci] != 0 {
+                                Some(state[ci])
+                            } else {
+                                let mut face = b;
+                                face[a] = pt(if up { b[a].sup() } else { b[a].inf() });
+                                sign(crate::implicit::ops::enclose(f, &face).0)
+                            };
+                            let Some(s) = s else {
+                                rep.failure = Some("S may meet the domain boundary (0 in the enclosure of f on a boundary face of W)".into());
+                                return None;
+                            };
+                            for u in 0..2 {
+                                for w in 0..2 {
+                                    let mut q = c;
+                                    q[a] += usize::from(up);
+                                    q[(a + 1) % 3] += u;
+                                    q[(a + 2) % 3] += w;
+                                    let id = g.vid(q[0], q[1], q[2]);
+                                    if *proven.entry(id).or_insert(s) != s {
+                                        rep.failure = Some(format!(
+                                            "two proven signs of f at the grid vertex {:?} (an internal inconsistency)",
+                                            g.pos(id)
+                                        ));
+                                        return None;
+                                    }
+                                }
+                            }
+                        }
+                    }
+                    for corner in 0..8usize {
+                        let v = [0, 1, 2].map(|a| c[a] + (corner >> a & 1));
+                        for around in 0..8usize {
+                            let q = [0, 1, 2].map(|a| v[a] as i64 - (around >> a & 1) as i64);
+                            if let Some(s) = out_sign(q) {
+                                let id = g.vid(v[0], v[1], v[2]);
+                                if *proven.entry(id).or_insert(s) != s {
+                                    rep.failure = Some(format!(
+                                        "two proven signs of f at the grid vertex {:?} (an internal inconsistency)",
+                                        g.pos(id)
+                                    ));
+                                    return None;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        rep.w_cubes = w_cubes.len();
+        rep.repair_rounds = round;
+        // The Kuhn tetrahedra of W, and the manifold check (repair: add the cubes
+        // around each defective vertex; they are proven free of S, and get the
+        // condition (2) proof in the next round).
+        let mut tets: Vec<[u32; 4]> = Vec::with_capacity(6 * w_cubes.len());
+        for &[i, j, k] in &w_cubes {
+            for p in PERMS.iter() {
+                let mut c = [i, j, k];
+                let mut t = [g.vid(i, j, k); 4];
+                for s in 0..3 {
+                    c[p[s]] += 1;
+                    t[s + 1] = g.vid(c[0], c[1], c[2]);
+                }
+                tets.push(t);
+            }
+        }
+        let defects = manifold_defects(&tets);
+        if defects.is_empty() {
+            break Some((w_cubes, proven, tets));
+        }
+        let mut added = 0;
+        for (v, _) in &defects {
+            let m = (n + 1) as u32;
+            let ijk = [v % m, (v / m) % m, v / (m * m)].map(|x| x as i64);
+            for around in 0..8usize {
+                let q = [0, 1, 2].map(|a| ijk[a] - (around >> a & 1) as i64);
+                if q.iter().all(|&x| x >= 0 && x < n as i64) {
+                    let ci = q[0] as usize + n * (q[1] as usize + n * q[2] as usize);
+                    if !inw[ci] {
+                        inw[ci] = true;
+                        added += 1;
+                    }
+                }
+            }
+        }
+        round += 1;
+        if added == 0 || round > MAX_REPAIR {
+            rep.failure = Some(format!("{} (after {round} repair rounds)", defects[0].1));
+            break None;
+        }
     }
 }
 
@@ -483,94 +828,82 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
         h: [0, 1, 2].map(|a| size[a] / n as f64),
         n,
     };
-    let m = n + 1;
-    // Vertex signs, proven, and f̂'s values.
-    let mut val = vec![0.0f64; m * m * m];
-    for v in 0..(m * m * m) as u32 {
-        let p = g.pos(v);
-        let e = f.eval_interval(&p.map(pt));
-        if !excludes_zero(e) {
-            rep.failure = Some(format!(
-                "the sign of f at the grid vertex {p:?} is undecided"
-            ));
-            return None;
-        }
-        val[v as usize] = 0.5 * (e.inf() + e.sup());
-        if val[v as usize] == 0.0 || !val[v as usize].is_finite() {
-            val[v as usize] = if e.inf() > 0.0 { e.inf() } else { e.sup() };
-        }
-    }
-    // W: cubes not proven free of S; conditions (1), (2) and the boundary.
-    let mut w = vec![false; n * n * n];
-    let mut empty_cubes = 0;
-    for k in 0..n {
-        for j in 0..n {
-            for i in 0..n {
-                let b = g.cube(i, j, k);
-                if proven_empty(f, &b, PROOF_DEPTH) {
-                    empty_cubes += 1;
-                    continue;
-                }
-                w[i + n * (j + n * k)] = true;
-                rep.w_cubes += 1;
-                let Ok(regular) = proven_regular(f, &b, PROOF_DEPTH) else {
+    // The cubes: ±1 proven free of S with that sign of f (octree exclusion), 0 in W.
+    let mut state = vec![0i8; n * n * n];
+    classify(f, &g, [0; 3], [n; 3], &mut state);
+    let empty_cubes = state.iter().filter(|&&s| s != 0).count();
+    let (w_cubes, proven, tets) = loop_w(f, &g, &state, rep)?;
+    // f̂'s values at the vertices of W: f's midpoint where its sign is proven (and equal
+    // to the proven sign on ∂W); at a vertex of ∂W whose point enclosure straddles 0,
+    // the proven sign with a tiny magnitude; at an interior vertex of W with an
+    // undecided sign, any nonzero value (Theorem B of bcsv.md does not use f̂ = f
+    // there).
+    let mut val: HashMap<u32, f64> = HashMap::new();
+    for c in &w_cubes {
+        for corner in 0..8usize {
+            let v = [0, 1, 2].map(|a| c[a] + (corner >> a & 1));
+            let id = g.vid(v[0], v[1], v[2]);
+            if val.contains_key(&id) {
+                continue;
+            }
+            let e = f.eval_interval(&g.pos(id).map(pt));
+            let mid = 0.5 * (e.inf() + e.sup());
+            let x = match (sign(e), proven.get(&id)) {
+                (Some(s), Some(&p)) if s != p => {
                     rep.failure = Some(format!(
-                        "f is not proven smooth on a W cube near {:?}",
-                        g.pos(g.vid(i, j, k))
-                    ));
-                    return None;
-                };
-                if !regular {
-                    rep.failure = Some(format!(
-                        "condition (2): 0 in the gradient enclosure of a W cube near {:?} (a critical point may be in W)",
-                        g.pos(g.vid(i, j, k))
+                        "the point sign of f at {:?} contradicts a proven cube sign (an internal inconsistency)",
+                        g.pos(id)
                     ));
                     return None;
                 }
-                let c = [i, j, k];
-                for a in 0..3 {
-                    for side in [0, n - 1] {
-                        if c[a] == side {
-                            let mut face = b;
-                            let x = if side == 0 { b[a].inf() } else { b[a].sup() };
-                            face[a] = pt(x);
-                            let (fv, _) = crate::implicit::ops::enclose(f, &face);
-                            if !excludes_zero(fv) {
-                                rep.failure = Some("S may meet the domain boundary (0 in the enclosure of f on a boundary face of W)".into());
-                                return None;
-                            }
-                        }
+                (Some(s), _) => {
+                    if mid != 0.0 && mid.is_finite() && (mid > 0.0) == (s > 0) {
+                        mid
+                    } else if s > 0 {
+                        e.inf()
+                    } else {
+                        e.sup()
                     }
                 }
-            }
+                (None, Some(&p)) => f64::from(p) * mid.abs().max(f64::MIN_POSITIVE),
+                (None, None) => {
+                    if !mid.is_finite() {
+                        rep.failure = Some(format!(
+                            "f has no finite enclosure at the grid vertex {:?}",
+                            g.pos(id)
+                        ));
+                        return None;
+                    }
+                    rep.free_vertices += 1;
+                    if mid == 0.0 {
+                        f64::MIN_POSITIVE
+                    } else {
+                        mid
+                    }
+                }
+            };
+            val.insert(id, x);
         }
     }
     // The cut complex and Ŝ.
     let mut bld = Builder::default();
     let mut cuts: Vec<([u32; 4], [i8; 4], Vec<(VKey, VKey)>)> = Vec::new();
-    for k in 0..n {
-        for j in 0..n {
-            for i in 0..n {
-                let ci = i + n * (j + n * k);
-                if !w[ci] {
-                    continue;
-                }
-                for (pi, p) in PERMS.iter().enumerate() {
-                    let mut c = [i, j, k];
-                    let mut t = [g.vid(i, j, k); 4];
-                    for s in 0..3 {
-                        c[p[s]] += 1;
-                        t[s + 1] = g.vid(c[0], c[1], c[2]);
-                    }
-                    let sg = t.map(|v| if val[v as usize] > 0.0 { 1i8 } else { -1 });
-                    rep.w_tets += 1;
-                    if let Some(segs) = add_tet(&mut bld, (ci as u32, pi as u8), t, sg) {
-                        cuts.push((t, sg, segs));
-                    }
-                }
+    for &[i, j, k] in &w_cubes {
+        let ci = i + n * (j + n * k);
+        for (pi, p) in PERMS.iter().enumerate() {
+            let mut c = [i, j, k];
+            let mut t = [g.vid(i, j, k); 4];
+            for s in 0..3 {
+                c[p[s]] += 1;
+                t[s + 1] = g.vid(c[0], c[1], c[2]);
+            }
+            let sg = t.map(|v| if val[&v] > 0.0 { 1i8 } else { -1 });
+            if let Some(segs) = add_tet(&mut bld, (ci as u32, pi as u8), t, sg) {
+                cuts.push((t, sg, segs));
             }
         }
     }
+    rep.w_tets = tets.len();
     let cx = bld.cx;
     rep.cells = cx.cells.len();
     let Some(seq) = greedy_collapse(&cx) else {
@@ -582,6 +915,7 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
         return None;
     }
     rep.collapse_steps = seq.len();
+    rep.chi_hat = Some(chi_of_s(&cx));
     // Ŝ as triangles, oriented towards f̂ > 0.
     let mut mesh = TriMesh::default();
     let mut vid: HashMap<VKey, u32> = HashMap::new();
@@ -591,7 +925,7 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
                 unreachable!("cut polygons have cut vertices")
             };
             let (pa, pb) = (g.pos(a), g.pos(b));
-            let (fa, fb) = (val[a as usize], val[b as usize]);
+            let (fa, fb) = (val[&a], val[&b]);
             let s = fa / (fa - fb);
             mesh.vertices
                 .push([0, 1, 2].map(|q| pa[q] + s * (pb[q] - pa[q])));
@@ -618,15 +952,34 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
             });
         }
         let ids: Vec<u32> = cyc.iter().map(|&c| point(c, &mut mesh)).collect();
-        let ps: Vec<[f64; 3]> = ids.iter().map(|&i| mesh.vertices[i as usize]).collect();
-        let cen = [0, 1, 2].map(|q| ps.iter().map(|p| p[q]).sum::<f64>() / ps.len() as f64);
+        // Orientation, combinatorially: the same cycle through the edge midpoints is
+        // the zero set of the interpolant of the signs (±1), whose gradient points
+        // towards f̂ > 0; compare with that cycle's Newell normal (grid points only,
+        // so degenerate cut points near a vertex cannot flip it).
         use crate::kernel::geom::{cross, dot, sub};
-        let nrm = cross(sub(ps[1], ps[0]), sub(ps[2], ps[0]));
-        let plus = (0..4)
-            .find(|&q| sg[q] > 0)
-            .map(|q| g.pos(t[q]))
-            .unwrap_or(cen);
-        let flip = dot(nrm, sub(plus, cen)) < 0.0;
+        let mids: Vec<[f64; 3]> = cyc
+            .iter()
+            .map(|&c| {
+                let VKey::Cut(a, b) = c else {
+                    unreachable!("cut polygons have cut vertices")
+                };
+                let (pa, pb) = (g.pos(a), g.pos(b));
+                [0, 1, 2].map(|q| 0.5 * (pa[q] + pb[q]))
+            })
+            .collect();
+        let mut nrm = [0.0; 3];
+        for q in 0..mids.len() {
+            let c = cross(mids[q], mids[(q + 1) % mids.len()]);
+            nrm = [0, 1, 2].map(|r| nrm[r] + c[r]);
+        }
+        let p = t.map(|v| g.pos(v));
+        let e = [1, 2, 3].map(|q| sub(p[q], p[0]));
+        let dv = [1, 2, 3].map(|q| f64::from(sg[q] - sg[0]));
+        let cr = [cross(e[1], e[2]), cross(e[2], e[0]), cross(e[0], e[1])];
+        let det = dot(e[0], cr[0]);
+        let grad =
+            [0, 1, 2].map(|r| (dv[0] * cr[0][r] + dv[1] * cr[1][r] + dv[2] * cr[2][r]) / det);
+        let flip = dot(nrm, grad) < 0.0;
         for q in 1..ids.len() - 1 {
             let tri = [ids[0], ids[q], ids[q + 1]];
             mesh.triangles
@@ -638,6 +991,7 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
         complex: cx,
         seq,
         empty_cubes,
+        w_cubes: rep.w_cubes,
     })
 }
 
@@ -650,18 +1004,32 @@ impl Mesher for Bcsv {
     }
     fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
         check_input(f, domain, 3, "bcsv")?;
+        let t0 = std::time::Instant::now();
+        // The certified χ(S) of the Morse census (the replacement of Theorem 8's
+        // premises, Theorem B of bcsv.md): computed once.
+        let (chi_s, chi_reason) = if f.is_rigorous() {
+            crate::morse::certified_chi(
+                f,
+                crate::implicit::critical::Bx::from(*domain),
+                self.census_boxes,
+                5 * self.census_boxes,
+            )
+        } else {
+            (
+                None,
+                Some("the oracle's interval methods are not rigorous".into()),
+            )
+        };
+        let census_seconds = t0.elapsed().as_secs_f64();
         let mut attempts: Vec<Attempt> = Vec::new();
         let mut n = 4usize.min(self.max_resolution);
         let mut found = None;
+        let mut w_found = None;
         progress.start("bcsv attempts", 0);
         loop {
             let mut rep = Attempt {
                 resolution: n,
-                w_cubes: 0,
-                w_tets: 0,
-                cells: 0,
-                collapse_steps: 0,
-                failure: None,
+                ..Default::default()
             };
             let r = if f.is_rigorous() {
                 attempt(f, domain, n, &mut rep)
@@ -669,12 +1037,28 @@ impl Mesher for Bcsv {
                 rep.failure = Some("the oracle's interval methods are not rigorous".into());
                 None
             };
+            if let Some(s) = r {
+                if chi_s.is_some() && chi_s == rep.chi_hat {
+                    attempts.push(rep);
+                    found = Some((n, s));
+                    break;
+                }
+                if let (Some(c), Some(h)) = (chi_s, rep.chi_hat) {
+                    rep.failure = Some(format!(
+                        "W-certified, but chi(S-hat) = {h} differs from the certified chi(S) = {c}: refine"
+                    ));
+                }
+                // Keep the first W-certified attempt in case no finer one is isotopic.
+                if w_found.is_none() {
+                    w_found = Some((n, s));
+                }
+                if chi_s.is_none() {
+                    attempts.push(rep);
+                    break;
+                }
+            }
             attempts.push(rep);
             progress.inc(1);
-            if r.is_some() {
-                found = r.map(|s| (n, s));
-                break;
-            }
             if n >= self.max_resolution || !f.is_rigorous() {
                 break;
             }
@@ -686,17 +1070,30 @@ impl Mesher for Bcsv {
             "attempts".into(),
             serde_json::to_value(&attempts).expect("serialises"),
         );
-        let statement = "W-certified: Theorem 8's conditions (1) f != 0 on the boundary of W, (2) no critical point of f in W, (3) a subdivision of W collapses onto the PL surface (sequence replayed), and S inside W, proven with intervals; the theorem's premises on the critical points of f and of its interpolation outside W are not checked, so isotopy is not claimed";
-        match found {
+        stats.insert(
+            "chi_certified".into(),
+            serde_json::to_value(chi_s).expect("serialises"),
+        );
+        stats.insert(
+            "chi_certified_reason".into(),
+            serde_json::to_value(&chi_reason).expect("serialises"),
+        );
+        stats.insert("census_seconds".into(), census_seconds.into());
+        let w_statement = "W-certified: Theorem 8's conditions (1) f != 0 on the boundary of W, (2) no critical point of f in W, (3) a subdivision of W collapses onto the PL surface (sequence replayed), W a 3-manifold and S inside W, proven with intervals";
+        let isotopic = found.is_some();
+        let chosen = found.or(w_found);
+        match chosen {
             Some((n, s)) => {
                 stats.insert("w_certified".into(), true.into());
+                stats.insert("isotopy_certified".into(), isotopic.into());
                 stats.insert("resolution".into(), n.into());
+                stats.insert("w_tetrahedra".into(), (6 * s.w_cubes).into());
                 stats.insert("tetrahedra".into(), (6 * n * n * n).into());
                 stats.insert("complex_cells".into(), s.complex.cells.len().into());
                 stats.insert("collapse_steps".into(), s.seq.len().into());
                 stats.insert("collapse_replayed".into(), true.into());
-                stats.insert("statement".into(), statement.into());
-                let claims = vec![
+                stats.insert("chi_hat".into(), chi_of_s(&s.complex).into());
+                let mut claims = vec![
                     Claim::RegularZeroSet {
                         dim: 3,
                         inside: *domain,
@@ -706,14 +1103,48 @@ impl Mesher for Bcsv {
                         boxes: n * n * n,
                     },
                 ];
+                let certificate = if isotopic {
+                    let statement = format!(
+                        "{w_statement}; in place of the theorem's premises on critical points, the certified chi(S) of the Morse census equals chi(S-hat) = {}: S and S-hat are isotopic (Theorem B, papers/meshing-of-surfaces/bcsv.md)",
+                        chi_of_s(&s.complex)
+                    );
+                    stats.insert("statement".into(), statement.into());
+                    claims.insert(
+                        0,
+                        Claim::Isotopic {
+                            inside: *domain,
+                            theorem: "BCSV Theorem 8 conditions with the certified chi(S) = chi(S-hat), Theorem B of papers/meshing-of-surfaces/bcsv.md".into(),
+                            generic_position: false,
+                        },
+                    );
+                    Certificate::certified(claims)
+                } else {
+                    let statement = format!(
+                        "{w_statement}; isotopy not claimed: {}",
+                        match (chi_s, &chi_reason) {
+                            (Some(c), _) => format!(
+                                "chi(S-hat) = {} differs from the certified chi(S) = {c} up to resolution {}",
+                                chi_of_s(&s.complex),
+                                self.max_resolution
+                            ),
+                            (None, r) => format!(
+                                "chi(S) is not certified by the Morse census ({})",
+                                r.as_deref().unwrap_or("")
+                            ),
+                        }
+                    );
+                    stats.insert("statement".into(), statement.clone().into());
+                    Certificate::uncertified(statement, claims, Vec::new())
+                };
                 Ok(MeshOutput {
                     mesh: Mesh::Surface(s.mesh),
-                    certificate: Certificate::uncertified(statement, claims, Vec::new()),
+                    certificate,
                     stats,
                 })
             }
             None => {
                 stats.insert("w_certified".into(), false.into());
+                stats.insert("isotopy_certified".into(), false.into());
                 let last = attempts
                     .last()
                     .and_then(|a| a.failure.clone())

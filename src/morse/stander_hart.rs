@@ -27,15 +27,20 @@
 //!    certificate, reported per level); the mesh of f = 0 is the last level and the
 //!    output. The chapter's patching of the previous mesh (ray-shot triangle removal
 //!    and a cylinder for a new handle, a cut and two caps for a pinch) is not
-//!    implemented: every level is meshed afresh, so no patched mesh is ever claimed.
+//!    offered: every level is meshed afresh, so the animation of the sweep is the
+//!    sequence of level meshes (`--set levels-dir=DIR`, each with its own certificate;
+//!    `--set steps=N` for more frames) and the slices of `certmesh reproduce morse`; a
+//!    patched mesh would be uncertified and add nothing those frames lack.
 //!
 //! **Certificate.** Certified when the critical data are certified and the last
 //! level's Plantinga–Vegter run is: the claims are then PV's isotopy claims for the
 //! output; the stats (`stander_hart`) state the critical values, indices, the levels
 //! and each level's own certificate. Otherwise uncertified, with why (e.g. the
 //! torus: f is not proven Morse, its circle of minima). The chapter's remedy for
-//! degenerate critical points (multiply f by a + ‖x − b‖) is not applied silently;
-//! it is not offered yet.
+//! degenerate critical points (multiply f by a + ‖x − b‖) is not offered: it changes
+//! every level set but f = 0, and is not smooth at b, where the certified interval
+//! Hessian of the index proof does not apply; non-Morse inputs are reported as such
+//! (`papers/meshing-of-surfaces/morse.md`, §3).
 use crate::error::{Error, Result};
 use crate::implicit::critical::{self, Budget, Bx, MorseIndex, Side};
 use crate::implicit::number::{Dual, Hyper};
@@ -401,7 +406,8 @@ impl Mesher for StanderHart {
                 ],
                 "not_certified": [
                     "which reading of an index-1 or index-2 transition happens (join vs tunnel; the chapter's Fig. 1.23)",
-                    "patched meshes: the chapter's ray-shot patching is not implemented; every level is meshed afresh",
+                    "patched meshes: the chapter's ray-shot patching is not offered; every level is meshed afresh (levels-dir writes the sequence)",
+                    "the a + |x - b| remedy for degenerate critical points is not offered (not smooth at b; changes every level but 0)",
                 ],
             }),
         );

@@ -485,7 +485,8 @@ pub fn compute(quick: bool) -> Result<Report> {
     Ok(rep)
 }
 
-fn expected(e: &Entry) -> String {
+/// The expected topology of a catalog entry, as the tables print it.
+pub fn expected(e: &Entry) -> String {
     match &e.topology {
         Some(t) => {
             let c = format!(

@@ -3,6 +3,8 @@
 //!
 //! * [`meshing_of_surfaces`]: Boissonnat, Cohen-Steiner, Mourrain, Rote, Vegter,
 //!   *Meshing of Surfaces* (2007), §1.2: Snyder and Plantinga–Vegter;
+//! * [`morse`]: the same chapter, §1.5 (BCSV, the Morse census, Stander–Hart), into
+//!   the same folder (`certmesh reproduce morse`);
 //! * [`gradnormal`], [`gradnormal_bunny`]: Hass, Trnkova, *Approximating isosurfaces by
 //!   guaranteed-quality triangular meshes* (SGP 2020): Table 1 and the bunny remesh;
 //! * [`stuffing`], [`stuffing_report`]: Labelle, Shewchuk, *Isosurface Stuffing*
@@ -11,6 +13,7 @@
 pub mod gradnormal;
 pub mod gradnormal_bunny;
 pub mod meshing_of_surfaces;
+pub mod morse;
 pub mod plot;
 pub mod plot_subdivision;
 pub mod stuffing;
@@ -20,7 +23,18 @@ use crate::error::{Error, Result};
 use std::path::Path;
 
 /// The papers that can be reproduced, by the name `certmesh reproduce` takes.
-pub const PAPERS: [&str; 3] = ["gradnormal", "stuffing", "meshing-of-surfaces"];
+pub const PAPERS: [&str; 4] = ["gradnormal", "stuffing", "meshing-of-surfaces", "morse"];
+
+/// The folder `certmesh reproduce NAME` writes by default: `papers/NAME`, except
+/// `morse`, which belongs to the meshing-of-surfaces chapter.
+pub fn default_out(name: &str) -> std::path::PathBuf {
+    let folder = if name == "morse" {
+        "meshing-of-surfaces"
+    } else {
+        name
+    };
+    Path::new("papers").join(folder)
+}
 
 /// Regenerate `papers/<name>/` into `out` (`quick`: a reduced set, seconds).
 pub fn reproduce(name: &str, out: &Path, quick: bool) -> Result<()> {
@@ -28,6 +42,7 @@ pub fn reproduce(name: &str, out: &Path, quick: bool) -> Result<()> {
         "gradnormal" => gradnormal::reproduce(out, quick),
         "stuffing" => stuffing_report::reproduce(out, quick),
         "meshing-of-surfaces" => meshing_of_surfaces::reproduce(out, quick),
+        "morse" => morse::reproduce(out, quick),
         _ => Err(Error::Unknown {
             kind: "paper",
             name: name.into(),

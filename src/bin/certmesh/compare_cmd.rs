@@ -238,7 +238,7 @@ pub(crate) fn reproduce_cmd(
             known: certmesh::harness::demo::PAPERS.join(" "),
         }));
     }
-    let default = Path::new("papers").join(paper);
+    let default = certmesh::reproduce::default_out(paper);
     check_out_dir(out.unwrap_or(&default))?;
     let bar = Bar::new(quiet);
     bar.phase(paper);
