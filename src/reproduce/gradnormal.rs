@@ -781,6 +781,7 @@ pub fn reproduce_with(out_dir: &Path, o: &ReproduceOptions) -> Result<()> {
     let _ = writeln!(md, "* **The valence-four diagonal** is not named in Algorithm 2; the Appendix analyses the triangle K L K₂, i.e. the diagonal K K₂ through the midpoint K of the vertical edge AB. We use that (`v4_rule=paper`) and offer `alternate` and `shorter`.");
     let _ = writeln!(md, "* **Table 1 vs Figs 1–2**: Fig 2's genus-5 mesh (55,122 faces, [29.2°, 113.4°]) is Table 1's k_M = 0.4 row, and its genus-2 mesh (10,346 faces, [22.1°, 129.0°]) is within 40 faces of the k_M = 0.29 row (10,306 faces, [22.2°, 129.0°]).");
     let _ = writeln!(md, "* **Table 1, genus 0**: the face counts grow by 6.3×, 4× and 17× between rows, so the four sphere rows are not one sphere at four scales; we follow the caption (radius 1/k_M at e = 1).");
+    let _ = writeln!(md, "\n## Other parameter choices\n\n[AUDIT.md](AUDIT.md): the certified angle range for a/e from 0.2 to 0.7 and the three diagonal rules (`proofs gradnormal --a RATIO --rule RULE`); the paper's a/e = √2/4 has the best smallest angle of them.");
     write(out_dir, "README.md", &md)
 }
 

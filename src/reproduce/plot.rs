@@ -207,26 +207,7 @@ pub fn lines(
                     .flat_map(|s| s.points.iter().copied())
                     .filter(|(x, y)| x.is_finite() && y.is_finite())
             };
-            let (mut x0, mut x1, mut y0, mut y1) = (
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-            );
-            for (x, y) in pts() {
-                x0 = x0.min(x);
-                x1 = x1.max(x);
-                y0 = y0.min(y);
-                y1 = y1.max(y);
-            }
-            if !(x1 > x0) {
-                x0 -= 1.0;
-                x1 += 1.0;
-            }
-            if !(y1 > y0) {
-                y0 -= 1.0;
-                y1 += 1.0;
-            }
+            let (x0, x1, y0, y1) = extent(pts());
             let (px, py) = (0.03 * (x1 - x0), 0.05 * (y1 - y0));
             let mut chart = ChartBuilder::on(area)
                 .caption(title, ("sans-serif", 22))
@@ -326,30 +307,11 @@ pub fn scatter(
         ($area:expr) => {{
             let area = $area;
             area.fill(&WHITE).map_err(perr)?;
-            let (mut x0, mut x1, mut y0, mut y1) = (
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
+            let (x0, x1, y0, y1) = extent(
+                sets.iter()
+                    .flat_map(|s| s.points.iter().copied())
+                    .filter(|(x, y)| x.is_finite() && y.is_finite()),
             );
-            for (x, y) in sets
-                .iter()
-                .flat_map(|s| s.points.iter().copied())
-                .filter(|(x, y)| x.is_finite() && y.is_finite())
-            {
-                x0 = x0.min(x);
-                x1 = x1.max(x);
-                y0 = y0.min(y);
-                y1 = y1.max(y);
-            }
-            if !(x1 > x0) {
-                x0 -= 1.0;
-                x1 += 1.0;
-            }
-            if !(y1 > y0) {
-                y0 -= 1.0;
-                y1 += 1.0;
-            }
             // Room on the right for the point labels.
             let (px, py) = (0.06 * (x1 - x0), 0.06 * (y1 - y0));
             let mut chart = ChartBuilder::on(area)
@@ -417,6 +379,32 @@ pub fn scatter(
         }};
     }
     both(base, (1100, 760), |a| draw!(a), |a| draw!(a))
+}
+
+/// The bounding ranges (x0, x1, y0, y1) of finite points, widened to a unit range where
+/// empty or degenerate.
+fn extent(pts: impl Iterator<Item = (f64, f64)>) -> (f64, f64, f64, f64) {
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for (x, y) in pts {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if !(x1 > x0) {
+        x0 = if x0.is_finite() { x0 - 1.0 } else { -1.0 };
+        x1 = x0 + 2.0;
+    }
+    if !(y1 > y0) {
+        y0 = if y0.is_finite() { y0 - 1.0 } else { -1.0 };
+        y1 = y0 + 2.0;
+    }
+    (x0, x1, y0, y1)
 }
 
 /// A tick label without spurious decimals: `160`, not `160.0`; `0.25`, not `0.250000`.
