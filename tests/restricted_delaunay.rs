@@ -496,3 +496,13 @@ fn sphere_weak_sample_claim_at_psi_from_the_certified_reach() {
         }
     }
 }
+
+/// The heavier catalog surfaces (release: `cargo test --release --test
+/// restricted_delaunay -- --ignored`): genus 2 and the tanglecube (genus 5) at CGAL's
+/// medium criteria, with the same checks as sphere and torus.
+#[test]
+#[ignore]
+fn genus2_and_tanglecube_release() {
+    check_output("genus2", 0.05, 0.005, true, 1, &[2]);
+    check_output("tanglecube", 0.1, 0.01, true, 1, &[5]);
+}

@@ -27,7 +27,7 @@ summary() { # certmesh JSON on stdin -> one line
     python3 -c 'import json,sys; d=json.load(sys.stdin); s=d.get("stats") or {}
 print("vertices", d["vertices"], "facets", d["faces"], "angles %.2f-%.2f" % (d["min_angle_deg"] or 0, d["max_angle_deg"] or 0),
       "chi", d["mesh_chi"], "found", repr(d["found"]), "seconds %.3f" % d["seconds"], "evals", d["evaluations"],
-      "certificate", repr(d["certificate"][:90]))'
+      "claims", len((d.get("certificate") or {}).get("claims") or []), "reason", repr((d.get("reason") or "")[:70]))'
 }
 for level in $levels; do
     for s in sphere torus genus2 tanglecube two-spheres thin-torus; do

@@ -526,7 +526,9 @@ pub fn segment_sign(f: &dyn Implicit, ea: &IBox, eb: &IBox, t: f64) -> Option<bo
 }
 
 /// A float point of a root isolated by [`isolate_segment`] on the float segment
-/// a → b: bisection on the sign of f inside its piece to `tol` (in t).
+/// a → b: the Illinois variant of regula falsi on f along the piece (the root is
+/// simple and unique there, so it converges superlinearly) until the bracket is
+/// narrower than `tol` in t or 60 steps; no certificate (the piece is the certificate).
 pub fn segment_root_point(
     f: &dyn Implicit,
     a: [f64; 3],
@@ -534,14 +536,48 @@ pub fn segment_root_point(
     root: &SegmentRoot,
     tol: f64,
 ) -> ([f64; 3], f64) {
-    let pa = lerp(a, b, root.t0);
-    let pb = lerp(a, b, root.t1);
-    let (fa, fb) = (f.eval(pa), f.eval(pb));
-    let s = if (fa < 0.0) == (fb < 0.0) && fa != 0.0 && fb != 0.0 {
-        0.5 // the float signs disagree with the certified ones: the piece is tiny
-    } else {
-        crossing_t(f, pa, fa, pb, fb, Crossing::Bisection, tol / (root.t1 - root.t0).max(tol))
-    };
-    let t = root.t0 + s * (root.t1 - root.t0);
+    let g = |t: f64| f.eval(lerp(a, b, t));
+    let (mut lo, mut hi) = (root.t0, root.t1);
+    let (mut glo, mut ghi) = (g(lo), g(hi));
+    if glo == 0.0 {
+        return (lerp(a, b, lo), lo);
+    }
+    if ghi == 0.0 || (glo < 0.0) == (ghi < 0.0) {
+        // An exact zero, or float signs that disagree with the certified ones (a tiny
+        // piece): its midpoint.
+        let t = if ghi == 0.0 { hi } else { 0.5 * (lo + hi) };
+        return (lerp(a, b, t), t);
+    }
+    let mut side = 0i8;
+    let mut t = 0.5 * (lo + hi);
+    for _ in 0..60 {
+        t = (lo * ghi - hi * glo) / (ghi - glo);
+        if !(t > lo && t < hi) {
+            t = 0.5 * (lo + hi);
+        }
+        let gt = g(t);
+        if gt == 0.0 || hi - lo <= tol {
+            break;
+        }
+        if (gt < 0.0) == (glo < 0.0) {
+            lo = t;
+            glo = gt;
+            if side == -1 {
+                ghi *= 0.5;
+            }
+            side = -1;
+        } else {
+            hi = t;
+            ghi = gt;
+            if side == 1 {
+                glo *= 0.5;
+            }
+            side = 1;
+        }
+        if hi - lo <= tol {
+            t = if glo.abs() < ghi.abs() { lo } else { hi };
+            break;
+        }
+    }
     (lerp(a, b, t), t)
 }
