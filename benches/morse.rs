@@ -1,6 +1,6 @@
 //! The certified Morse census: the search for ∇f = 0, the height census on S, and the
 //! Stander–Hart sweep against Plantinga–Vegter alone (criterion's throughput = boxes of
-//! the search).
+//! the search); BCSV against Plantinga–Vegter and Snyder.
 use certmesh::catalog;
 use certmesh::implicit::critical::{critical_points_of_f, euler_characteristic, Budget, Bx};
 use certmesh::mesher::{registry, Mesher, NoProgress};
@@ -56,5 +56,23 @@ fn sweep(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, census, sweep);
+/// BCSV (isotopy by Theorem B, census included) against Plantinga–Vegter and Snyder
+/// on surfaces where BCSV certifies at the default resolution.
+fn bcsv(c: &mut Criterion) {
+    let mut g = c.benchmark_group("bcsv");
+    g.sample_size(10);
+    for name in ["sphere", "torus", "tanglecube"] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        for algo in ["bcsv", "pv", "snyder"] {
+            let m: Box<dyn Mesher> = registry::build(algo, 3, &Default::default()).unwrap();
+            g.bench_function(format!("{algo}/{name}"), |b| {
+                b.iter(|| m.mesh(&f, &e.domain, &NoProgress).unwrap())
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, census, sweep, bcsv);
 criterion_main!(benches);

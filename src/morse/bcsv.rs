@@ -466,14 +466,16 @@ fn proven_regular(f: &dyn Implicit, b: &IBox, depth: u32) -> std::result::Result
 /// Octant splits allowed in the per-cube proofs (up to 64 pieces).
 const PROOF_DEPTH: u32 = 2;
 
-const PERMS: [[usize; 3]; 6] = [
-    [0, 1, 2],
-    [0, 2, 1],
-    [1, 0, 2],
-    [1, 2, 0],
-    [2, 0, 1],
-    [2, 1, 0],
-];
+/// The six Kuhn tetrahedra of the grid cube (i, j, k), as grid vertex ids (the one
+/// table of [`crate::marching::tets`]).
+fn kuhn(g: &Grid, c: [usize; 3]) -> [[u32; 4]; 6] {
+    crate::marching::tets::kuhn_tets().map(|t| {
+        t.map(|q| {
+            let v = [0, 1, 2].map(|a| c[a] + usize::from(q >> a & 1));
+            g.vid(v[0], v[1], v[2])
+        })
+    })
+}
 
 struct Success {
     mesh: TriMesh,
@@ -783,16 +785,8 @@ fn loop_w(
         // around each defective vertex; they are proven free of S, and get the
         // condition (2) proof in the next round).
         let mut tets: Vec<[u32; 4]> = Vec::with_capacity(6 * w_cubes.len());
-        for &[i, j, k] in &w_cubes {
-            for p in PERMS.iter() {
-                let mut c = [i, j, k];
-                let mut t = [g.vid(i, j, k); 4];
-                for s in 0..3 {
-                    c[p[s]] += 1;
-                    t[s + 1] = g.vid(c[0], c[1], c[2]);
-                }
-                tets.push(t);
-            }
+        for &c in &w_cubes {
+            tets.extend(kuhn(g, c));
         }
         let defects = manifold_defects(&tets);
         if defects.is_empty() {
@@ -890,13 +884,7 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
     let mut cuts: Vec<([u32; 4], [i8; 4], Vec<(VKey, VKey)>)> = Vec::new();
     for &[i, j, k] in &w_cubes {
         let ci = i + n * (j + n * k);
-        for (pi, p) in PERMS.iter().enumerate() {
-            let mut c = [i, j, k];
-            let mut t = [g.vid(i, j, k); 4];
-            for s in 0..3 {
-                c[p[s]] += 1;
-                t[s + 1] = g.vid(c[0], c[1], c[2]);
-            }
+        for (pi, t) in kuhn(&g, [i, j, k]).into_iter().enumerate() {
             let sg = t.map(|v| if val[&v] > 0.0 { 1i8 } else { -1 });
             if let Some(segs) = add_tet(&mut bld, (ci as u32, pi as u8), t, sg) {
                 cuts.push((t, sg, segs));

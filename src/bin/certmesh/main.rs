@@ -178,14 +178,16 @@ enum Cmd {
     },
     /// Regenerate a paper's reproduction folder (tables and figures) under papers/.
     ///
-    /// Papers: gradnormal, stuffing, meshing-of-surfaces.
+    /// Papers: gradnormal, stuffing, meshing-of-surfaces; morse (the same chapter's
+    /// §1.5: BCSV, the Morse census, Stander–Hart) writes morse.md into
+    /// papers/meshing-of-surfaces.
     ///
     /// Example: certmesh reproduce meshing-of-surfaces --quick --out papers-quick/meshing-of-surfaces
     #[command(verbatim_doc_comment)]
     Reproduce {
-        /// Which paper: gradnormal, stuffing or meshing-of-surfaces.
+        /// Which paper: gradnormal, stuffing, meshing-of-surfaces or morse.
         paper: String,
-        /// Output folder (default: papers/<paper>).
+        /// Output folder (default: papers/<paper>; papers/meshing-of-surfaces for morse).
         #[arg(long)]
         out: Option<PathBuf>,
         /// A fast, smaller run.
