@@ -131,13 +131,13 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
             BOUNDS.len()
         ));
     }
-    // Witnesses: re-evaluated, must lie in a problem of the row feeding their bound. A
-    // shard's witness may come from another shard's problem: every run is seeded at the
-    // corners and centre of every problem of the row (the search is deterministic so),
-    // and any configuration of the row is a valid witness of its bounds.
+    // Witnesses: re-evaluated, must lie in a problem (of this shard) feeding their bound.
     for (b, w) in cert.witnesses.iter().enumerate() {
         let Some(w) = w else { continue };
         let name = format!("witnesses[{b}] ({})", BOUNDS[b].0);
+        if !in_shard(w.case) {
+            return Err(format!("{name}.case: {} is not in this shard", w.case));
+        }
         let pr = probs
             .get(w.case)
             .and_then(|p| p.get(w.problem))
@@ -161,7 +161,11 @@ pub fn check(cert: &Certificate) -> Result<CheckReport, String> {
         }
     }
     let thr = thresholds(row);
-    let best = final_best(&cert.witnesses);
+    // The stopping rule is re-applied against what the search pruned with: the final
+    // witnesses and the seed of every problem of the row (recomputed here; for a whole
+    // row the witnesses already include it, for a shard it comes from other shards too).
+    let best =
+        super::search::better_of(final_best(&cert.witnesses), super::search::seed_best(probs));
     // Cheap checks first: leaf format, partition, depth limit, stopping rule; then
     // every derived field; then the re-evaluation of every leaf (the expensive part).
     let parsed: Vec<Result<Vec<Leaf>, String>> = cert

@@ -8,7 +8,9 @@
 //! problem found meanwhile. So each problem's leaves depend on the row and the tolerance
 //! alone, a shard holds exactly the problems of the unsharded run, and `proofs merge` of
 //! all shards gives the unsharded certificate field for field (only the wall-clock
-//! `seconds` differs). Ties between witnesses of equal cosine are broken by
+//! `seconds` differs). A certificate records the witnesses of its own problems only (so
+//! a shard's enclosures speak of its own cases); the checker recomputes the row's seed
+//! to re-apply the stopping rule. Ties between witnesses of equal cosine are broken by
 //! [`prefer`]: the smaller (case, problem, output, point).
 use super::cases::{self, Alphas};
 use super::eval::Problem;
@@ -130,10 +132,10 @@ impl Shared {
     }
 }
 
-/// The seed: corners and centre of every problem of the row, folded in problem order.
-fn seed(probs: &[Vec<Problem>]) -> Best {
-    let all: Vec<(usize, &Problem)> = probs.iter().flat_map(|ps| ps.iter().enumerate()).collect();
-    all.par_iter()
+/// The seed: corners and centre of every listed problem (the search prunes against the
+/// seed of every problem of the row; a certificate records the seed of its own problems).
+fn seed_over(list: &[(usize, &Problem)]) -> Best {
+    list.par_iter()
         .map(|&(pi, pr)| {
             let mut b = Best::new();
             let (lo, hi) = (vec![0.0; pr.dim], vec![1.0; pr.dim]);
@@ -150,6 +152,24 @@ fn seed(probs: &[Vec<Problem>]) -> Best {
             a.merge(b);
             a
         })
+}
+
+/// The per-bound best cosines of the seed of every problem of the row (what the search
+/// pruned against; the checker re-applies the stopping rule with it).
+pub(super) fn seed_best(probs: &[Vec<Problem>]) -> [f64; 6] {
+    let all: Vec<(usize, &Problem)> = probs.iter().flat_map(|ps| ps.iter().enumerate()).collect();
+    seed_over(&all).best
+}
+
+/// The better of two per-bound best cosines.
+pub(super) fn better_of(a: [f64; 6], b: [f64; 6]) -> [f64; 6] {
+    std::array::from_fn(|i| {
+        if BOUNDS[i].2 {
+            a[i].max(b[i])
+        } else {
+            a[i].min(b[i])
+        }
+    })
 }
 
 /// The box of a cell.
@@ -181,6 +201,9 @@ fn solve(
     budget: &Budget,
 ) -> Option<(ProblemCert, Best)> {
     let dim = pr.dim;
+    // The witnesses this problem itself found (the certificate records these); `best`
+    // also holds the row's seed, which the pruning uses.
+    let mut own = Best::new();
     let lim = depth_limit(dim, max_depth);
     let mut leaves = Vec::new();
     let mut stack: Vec<(u8, Vec<u64>)> = vec![(0, vec![0; dim])];
@@ -197,12 +220,14 @@ fn solve(
         let c: Vec<f64> = (0..dim).map(|k| 0.5 * (lo[k] + hi[k])).collect();
         if let Some(v) = pr.point(&c) {
             best.offer(pr, pi, &c, &v);
+            own.offer(pr, pi, &c, &v);
         }
         if sh.needs(&best, pr, &vals) {
             // Extremes sit on the boundary of the box more often than not.
             for x in corners(dim, &lo, &hi) {
                 if let Some(v) = pr.point(&x) {
                     best.offer(pr, pi, &x, &v);
+                    own.offer(pr, pi, &x, &v);
                 }
             }
         }
@@ -224,7 +249,7 @@ fn solve(
             leaves,
             unresolved: 0,
         },
-        best,
+        own,
     ))
 }
 
@@ -257,8 +282,9 @@ pub fn run(cfg: &Config) -> Result<Certificate, String> {
         thr: thresholds(row),
         tol: cfg.tol_cos(),
     };
-    // The seed covers every problem of the row, in every shard alike.
-    let seeded = seed(&probs);
+    // The pruning seed covers every problem of the row, in every shard alike.
+    let all: Vec<(usize, &Problem)> = probs.iter().flat_map(|ps| ps.iter().enumerate()).collect();
+    let seeded = seed_over(&all);
     let done = AtomicUsize::new(0);
     let total = mine.len();
     let certs: Vec<Option<(ProblemCert, Best)>> = mine
@@ -280,8 +306,14 @@ pub fn run(cfg: &Config) -> Result<Certificate, String> {
     if cfg.budget.is_exhausted() {
         return Err(format!("{}: {}", BUDGET_ERROR, cfg.budget.message()));
     }
-    // Fold every problem's witnesses into the seed (the fold is order-independent).
-    let mut found = seeded;
+    // The certificate's witnesses: the seed of this run's own problems and what each of
+    // them found (the fold is order-independent), so a shard's enclosures speak of its
+    // own problems and the merge of all shards has the unsharded run's witnesses.
+    let mut found = if shard.is_none() {
+        seeded
+    } else {
+        seed_over(&mine)
+    };
     let mut certs_out = Vec::with_capacity(certs.len());
     for (c, b) in certs.into_iter().flatten() {
         found.merge(b);
