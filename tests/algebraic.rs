@@ -734,3 +734,71 @@ fn every_tampering_kind_applies_somewhere() {
         assert!(applied, "tampering kind {kind} applies to no certificate");
     }
 }
+
+// ---- The command line and the comparison harness. ----
+
+fn certmesh_cli(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_certmesh"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn cli_gvn_certificate_written_checked_and_tampering_rejected() {
+    let dir = std::env::temp_dir().join(format!("certmesh-sweep2-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cert = dir.join("lem.json");
+    let svg = dir.join("lem.svg");
+    let (code, out, err) = certmesh_cli(&[
+        "curve", "lemniscate", "--algo", "gvn", "--certificate", cert.to_str().unwrap(), "-o", svg.to_str().unwrap(), "-q",
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("certified"), "{out}");
+    let (code, out, err) = certmesh_cli(&["check-curve", cert.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("certificate verified") && out.contains("3 critical"), "{out}");
+    // Flip one sign claim of the first critical event.
+    let mut c: certmesh::algebraic::CurveCert = serde_json::from_str(&std::fs::read_to_string(&cert).unwrap()).unwrap();
+    let e = c.events.iter_mut().find(|e| e.critical).unwrap();
+    e.signs[1] = -e.signs[1];
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, serde_json::to_string(&c).unwrap()).unwrap();
+    let (code, _, err) = certmesh_cli(&["check-curve", bad.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("rejected") && err.contains("sign"), "{err}");
+    // Not JSON: an input error (exit 2); a certificate asked of a non-exact mesher too.
+    std::fs::write(&bad, "{").unwrap();
+    assert_eq!(certmesh_cli(&["check-curve", bad.to_str().unwrap()]).0, 2);
+    let (code, _, err) = certmesh_cli(&["curve", "circle", "--algo", "pv", "--certificate", cert.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--certificate"), "{err}");
+    // A non-polynomial formula: a clear error naming the term.
+    let (code, _, err) = certmesh_cli(&["curve", "--formula", "sqrt(x^2 + y^2) - 1", "--algo", "gvn"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("sqrt(") && err.contains("not a polynomial"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn compare_uses_signatures_for_curves() {
+    use certmesh::harness::compare;
+    let es = vec![certmesh::catalog::get("lemniscate").unwrap(), certmesh::catalog::get("circle").unwrap()];
+    let algos = vec!["sweep".to_string(), "ms".to_string()];
+    let rows = compare::compare(&es, &algos, &Default::default(), &certmesh::mesher::NoProgress);
+    let get = |c: &str, a: &str| rows.iter().find(|r| r.surface == c && r.algo == a).unwrap();
+    let lem = get("lemniscate", "sweep");
+    assert_eq!(lem.signature.as_deref(), Some("C[4]{O2 b1 b1}"));
+    assert_eq!(lem.isotopy_agrees, Some(true));
+    assert_eq!(get("circle", "sweep").signature.as_deref(), Some("C[]{O1 b1}"));
+    // Marching squares is uncertified: it is judged against the sweep's signature.
+    let ms = get("circle", "ms");
+    assert_eq!(ms.isotopy_agrees, Some(ms.signature.as_deref() == Some("C[]{O1 b1}")));
+    let md = compare::signatures_markdown(&rows);
+    assert!(md.contains("`C[4]{O2 b1 b1}`"), "{md}");
+}
