@@ -802,3 +802,20 @@ fn compare_uses_signatures_for_curves() {
     let md = compare::signatures_markdown(&rows);
     assert!(md.contains("`C[4]{O2 b1 b1}`"), "{md}");
 }
+
+#[test]
+fn sweep_figures_draw_fibres_events_and_arcs() {
+    let dir = std::env::var("CERTMESH_FIG_OUT").map(std::path::PathBuf::from).unwrap_or_else(|_| {
+        std::env::temp_dir().join(format!("certmesh-sweep2-fig-{}", std::process::id()))
+    });
+    std::fs::create_dir_all(&dir).unwrap();
+    certmesh::reproduce::meshing_of_surfaces::sweep_figures(&dir).unwrap();
+    let svg = std::fs::read_to_string(dir.join("fig-gvn-lemniscate.svg")).unwrap();
+    // Three critical fibres (red), the dotted rational fibres, and one node (red disc).
+    assert_eq!(svg.matches(r##"stroke="#c33""##).count(), 3, "{svg}");
+    assert!(svg.contains("stroke-dasharray"));
+    assert_eq!(svg.matches(r##"fill="#c33""##).count(), 1);
+    if std::env::var("CERTMESH_FIG_OUT").is_err() {
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

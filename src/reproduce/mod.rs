@@ -13,6 +13,7 @@ pub mod gradnormal_bunny;
 pub mod meshing_of_surfaces;
 pub mod plot;
 pub mod plot_subdivision;
+pub mod plot_sweep;
 pub mod stuffing;
 pub mod stuffing_report;
 
