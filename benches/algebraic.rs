@@ -22,7 +22,9 @@ fn dense(d: usize, seed: u64) -> BiPoly {
     let mut t = Vec::new();
     for i in 0..=d {
         for j in 0..=d - i {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             let mut c = ((s >> 33) % 21) as i64 - 10;
             if i + j == d && j == d && c == 0 {
                 c = 1;
@@ -46,7 +48,11 @@ fn sweep(c: &mut Criterion) {
         ("devil", "y^2*(y^2 - 1) - x^2*(x^2 - 2)", 3.0),
         ("t4", "8*x^4 - 8*x^2 + 8*y^4 - 8*y^2 + 2", 2.0),
         ("hyperbola", "x*y - 1", 3.0),
-        ("degree8-mix", "((x^2 + y^2)^2 - 2*(x^2 - y^2))*(x^2 + y^2 - 4)*(x - y^2 + 1)", 3.0),
+        (
+            "degree8-mix",
+            "((x^2 + y^2)^2 - 2*(x^2 - y^2))*(x^2 + y^2 - 4)*(x - y^2 + 1)",
+            3.0,
+        ),
     ];
     let mut inputs: Vec<(String, BiPoly, Aabb)> = classical
         .iter()
@@ -69,8 +75,12 @@ fn sweep(c: &mut Criterion) {
                     t.elapsed().as_secs_f64()
                 );
                 let cert = r.cert.clone();
-                g.bench_function(format!("sweep/{name}"), |b| b.iter(|| analyse(f, dom, &p).unwrap()));
-                g.bench_function(format!("check/{name}"), |b| b.iter(|| check_curve(&cert).unwrap()));
+                g.bench_function(format!("sweep/{name}"), |b| {
+                    b.iter(|| analyse(f, dom, &p).unwrap())
+                });
+                g.bench_function(format!("check/{name}"), |b| {
+                    b.iter(|| check_curve(&cert).unwrap())
+                });
             }
             Err(e) => eprintln!("{name}: {e} (after {:.3} s)", t.elapsed().as_secs_f64()),
         }

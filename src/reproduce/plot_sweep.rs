@@ -30,9 +30,19 @@ pub fn draw_sweep_svg(r: &SweepResult, domain: &Aabb, title: &str) -> String {
         h + 24.0,
         h + 24.0
     );
-    let _ = writeln!(o, r#"<defs><clipPath id="dom"><rect x="0" y="0" width="{w:.1}" height="{h:.1}"/></clipPath></defs>"#);
-    let _ = writeln!(o, r#"<text x="4" y="-8" font-family="sans-serif" font-size="13">{title} (shear s = {})</text>"#, r.shear);
-    let _ = writeln!(o, r##"<rect x="0" y="0" width="{w:.1}" height="{h:.1}" fill="white" stroke="#888"/>"##);
+    let _ = writeln!(
+        o,
+        r#"<defs><clipPath id="dom"><rect x="0" y="0" width="{w:.1}" height="{h:.1}"/></clipPath></defs>"#
+    );
+    let _ = writeln!(
+        o,
+        r#"<text x="4" y="-8" font-family="sans-serif" font-size="13">{title} (shear s = {})</text>"#,
+        r.shear
+    );
+    let _ = writeln!(
+        o,
+        r##"<rect x="0" y="0" width="{w:.1}" height="{h:.1}" fill="white" stroke="#888"/>"##
+    );
     let _ = writeln!(o, r#"<g clip-path="url(#dom)">"#);
     // The fibre x − s·y = u across the domain.
     let line = |o: &mut String, u: f64, style: &str| {
@@ -56,10 +66,17 @@ pub fn draw_sweep_svg(r: &SweepResult, domain: &Aabb, title: &str) -> String {
         line(&mut o, u, style);
     }
     for f in &r.cert.fibres {
-        line(&mut o, qf(&f.q), r##"stroke="#999" stroke-width="0.8" stroke-dasharray="3 3""##);
+        line(
+            &mut o,
+            qf(&f.q),
+            r##"stroke="#999" stroke-width="0.8" stroke-dasharray="3 3""##,
+        );
     }
     for sg in &r.curve.segments {
-        let (a, b) = (r.curve.vertices[sg[0] as usize], r.curve.vertices[sg[1] as usize]);
+        let (a, b) = (
+            r.curve.vertices[sg[0] as usize],
+            r.curve.vertices[sg[1] as usize],
+        );
         let _ = writeln!(
             o,
             r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="black" stroke-width="1.6"/>"#,
