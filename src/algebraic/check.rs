@@ -659,7 +659,13 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 let mut all: Vec<Iv> = boxes.clone();
                 for x in &e.excluded {
                     let bx = (pq(&x.lo)?, pq(&x.hi)?);
-                    if bx.0 > bx.1 || isign(&eval2(&cs, &bx)).is_none() {
+                    // Excluded: 0 ∉ f(α, box), or f monotone on the box (0 ∉ f_v)
+                    // with the same strict sign at both ends.
+                    let end = |t: &BigRational| isign(&eval2(&cs, &(t.clone(), t.clone())));
+                    let monotone_same = isign(&eval2(&csy, &bx)).is_some()
+                        && end(&bx.0).is_some()
+                        && end(&bx.0) == end(&bx.1);
+                    if bx.0 > bx.1 || !(isign(&eval2(&cs, &bx)).is_some() || monotone_same) {
                         return Err(bad(format!("event {ei}: an excluded box is not excluded")));
                     }
                     all.push(bx);
