@@ -5,11 +5,11 @@
 //! vertical lines (exact Sturm root counts).
 use certmesh::algebraic::algnum::isolate;
 use certmesh::algebraic::bipoly::{from_formula, BiPoly};
-use certmesh::algebraic::subres;
 use certmesh::algebraic::check::check_curve;
+use certmesh::algebraic::subres;
 use certmesh::algebraic::sweep::{analyse, Label, SweepParams, SweepResult};
-use certmesh::metrics::embedding_signature;
 use certmesh::algebraic::upoly::{q, sturm_count, UPoly};
+use certmesh::metrics::embedding_signature;
 use certmesh::Aabb;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
@@ -79,12 +79,22 @@ fn check_crossings(f: &str, d: Aabb, r: &SweepResult) {
     let p = from_formula(f).unwrap().shear(r.shear);
     let s = r.shear as f64;
     let (ylo, yhi) = if r.shear == 0 {
-        (BigRational::from_float(d.min[1]).unwrap(), BigRational::from_float(d.max[1]).unwrap())
+        (
+            BigRational::from_float(d.min[1]).unwrap(),
+            BigRational::from_float(d.max[1]).unwrap(),
+        )
     } else {
         (q(-1_000_000, 1), q(1_000_000, 1))
     };
-    let uv: Vec<[f64; 2]> = r.curve.vertices.iter().map(|v| [v[0] - s * v[1], v[1]]).collect();
-    let (umin, umax) = uv.iter().fold((f64::MAX, f64::MIN), |a, v| (a.0.min(v[0]), a.1.max(v[0])));
+    let uv: Vec<[f64; 2]> = r
+        .curve
+        .vertices
+        .iter()
+        .map(|v| [v[0] - s * v[1], v[1]])
+        .collect();
+    let (umin, umax) = uv
+        .iter()
+        .fold((f64::MAX, f64::MIN), |a, v| (a.0.min(v[0]), a.1.max(v[0])));
     if uv.is_empty() {
         return;
     }
@@ -116,7 +126,11 @@ fn check_crossings(f: &str, d: Aabb, r: &SweepResult) {
 /// Sturm counts.
 fn table(f: &str, d: Aabb, shear: i64, events: usize, signature: &str) -> SweepResult {
     let r = run(f, d);
-    assert_eq!(r.shear, shear, "{f}: shear (rejected {:?})", r.rejected_shears);
+    assert_eq!(
+        r.shear, shear,
+        "{f}: shear (rejected {:?})",
+        r.rejected_shears
+    );
     let ncrit = r.events.iter().filter(|e| e.critical).count();
     assert_eq!(ncrit, events, "{f}: critical events {:?}", r.events);
     let sig = embedding_signature(&r.curve, Some(&d)).unwrap();
@@ -137,7 +151,10 @@ fn table(f: &str, d: Aabb, shear: i64, events: usize, signature: &str) -> SweepR
         deg[sg[1] as usize] += 1;
     }
     let special = |l: Label| l == Label::Singular || l == Label::Isolated;
-    let mut got: Vec<usize> = (0..deg.len()).filter(|&i| special(r.labels[i])).map(|i| deg[i]).collect();
+    let mut got: Vec<usize> = (0..deg.len())
+        .filter(|&i| special(r.labels[i]))
+        .map(|i| deg[i])
+        .collect();
     let mut want: Vec<usize> = r
         .events
         .iter()
@@ -172,7 +189,11 @@ fn table_lemniscate_catalog() {
     // The catalog's lemniscate, in the catalog's domain: one node of four branches.
     let e = certmesh::catalog::get("lemniscate").unwrap();
     let r = table(e.formula, e.domain, 0, 3, "C[4]{O2 b1 b1}");
-    let node: Vec<_> = r.events.iter().filter(|e| e.label == Some(Label::Singular)).collect();
+    let node: Vec<_> = r
+        .events
+        .iter()
+        .filter(|e| e.label == Some(Label::Singular))
+        .collect();
     assert_eq!(node.len(), 1);
     assert_eq!(node[0].branches, Some((2, 2)));
     assert_eq!(node[0].multiplicity, Some(2));
@@ -180,15 +201,37 @@ fn table_lemniscate_catalog() {
 
 #[test]
 fn table_lemniscate_rotated() {
-    let r = table("(x^2 + y^2)^2 - 2*(y^2 - x^2)", sq(2.0), 1, 3, "C[4]{O2 b1 b1}");
-    let node = r.events.iter().find(|e| e.label == Some(Label::Singular)).unwrap();
+    let r = table(
+        "(x^2 + y^2)^2 - 2*(y^2 - x^2)",
+        sq(2.0),
+        1,
+        3,
+        "C[4]{O2 b1 b1}",
+    );
+    let node = r
+        .events
+        .iter()
+        .find(|e| e.label == Some(Label::Singular))
+        .unwrap();
     assert_eq!(node.branches, Some((2, 2)));
 }
 
 #[test]
 fn table_limacon() {
-    let r = table("(x^2 + y^2 - x)^2 - (x^2 + y^2)/4", sq(2.0), 1, 5, "C[4]{O1 b1 b2}");
-    assert_eq!(r.events.iter().filter(|e| e.label == Some(Label::Singular)).count(), 1);
+    let r = table(
+        "(x^2 + y^2 - x)^2 - (x^2 + y^2)/4",
+        sq(2.0),
+        1,
+        5,
+        "C[4]{O1 b1 b2}",
+    );
+    assert_eq!(
+        r.events
+            .iter()
+            .filter(|e| e.label == Some(Label::Singular))
+            .count(),
+        1
+    );
 }
 
 #[test]
@@ -215,8 +258,17 @@ fn table_cusp() {
 
 #[test]
 fn table_acnode() {
-    let r = table("y^2 - x^2*(x - 1)", dom(-2.0, -3.0, 3.0, 3.0), 0, 2, "F[]{O2 b2 b2[C[0]{}]}");
-    assert_eq!(r.labels.iter().filter(|&&l| l == Label::Isolated).count(), 1);
+    let r = table(
+        "y^2 - x^2*(x - 1)",
+        dom(-2.0, -3.0, 3.0, 3.0),
+        0,
+        2,
+        "F[]{O2 b2 b2[C[0]{}]}",
+    );
+    assert_eq!(
+        r.labels.iter().filter(|&&l| l == Label::Isolated).count(),
+        1
+    );
     assert_eq!(branches(&r), vec![(0, 0), (0, 2)]);
 }
 
@@ -236,56 +288,104 @@ fn table_point() {
 fn table_tacnode() {
     let r = table("y^2 - x^4", sq(2.0), 0, 1, "F[4]{O4 b3 b3 b3 b3}");
     assert_eq!(branches(&r), vec![(2, 2)]);
-    assert_eq!(r.events.iter().find(|e| e.critical).unwrap().multiplicity, Some(2));
+    assert_eq!(
+        r.events.iter().find(|e| e.critical).unwrap().multiplicity,
+        Some(2)
+    );
 }
 
 #[test]
 fn table_ramphoid_cusp() {
-    let r = table("(y - x^2)^2 - x^5", dom(-1.0, -3.0, 1.5, 8.0), 0, 1, "F[]{O2 b2 b2}");
+    let r = table(
+        "(y - x^2)^2 - x^5",
+        dom(-1.0, -3.0, 1.5, 8.0),
+        0,
+        1,
+        "F[]{O2 b2 b2}",
+    );
     assert_eq!(branches(&r), vec![(0, 2)]);
 }
 
 #[test]
 fn table_trifolium() {
-    let r = table("(x^2 + y^2)^2 - (x^3 - 3*x*y^2)", sq(2.0), 1, 5, "C[6]{O3 b1 b1 b1}");
+    let r = table(
+        "(x^2 + y^2)^2 - (x^3 - 3*x*y^2)",
+        sq(2.0),
+        1,
+        5,
+        "C[6]{O3 b1 b1 b1}",
+    );
     assert!(branches(&r).contains(&(3, 3)));
 }
 
 #[test]
 fn table_quadrifolium() {
-    let r = table("(x^2 + y^2)^3 - 4*x^2*y^2", sq(2.0), 2, 7, "C[8]{O4 b1 b1 b1 b1}");
+    let r = table(
+        "(x^2 + y^2)^3 - 4*x^2*y^2",
+        sq(2.0),
+        2,
+        7,
+        "C[8]{O4 b1 b1 b1 b1}",
+    );
     assert!(branches(&r).contains(&(4, 4)));
 }
 
 #[test]
 fn table_nested_circles() {
-    table("(x^2 + y^2 - 1)*(x^2 + y^2 - 4)", sq(3.0), 0, 4, "C[]{O1 b1[C[]{O1 b1}]}");
+    table(
+        "(x^2 + y^2 - 1)*(x^2 + y^2 - 4)",
+        sq(3.0),
+        0,
+        4,
+        "C[]{O1 b1[C[]{O1 b1}]}",
+    );
 }
 
 #[test]
 fn table_stacked_circles() {
-    table("(x^2 + y^2 - 1)*(x^2 + (y - 3)^2 - 1)", dom(-3.0, -2.0, 3.0, 5.0), 1, 4, "C[]{O1 b1} | C[]{O1 b1}");
+    table(
+        "(x^2 + y^2 - 1)*(x^2 + (y - 3)^2 - 1)",
+        dom(-3.0, -2.0, 3.0, 5.0),
+        1,
+        4,
+        "C[]{O1 b1} | C[]{O1 b1}",
+    );
 }
 
 #[test]
 fn table_hyperbola_clipped() {
     let r = table("x*y - 1", sq(3.0), 1, 0, "F[]{O3 b2 b2 b3}");
-    assert_eq!(r.labels.iter().filter(|&&l| l == Label::Boundary).count(), 4);
+    assert_eq!(
+        r.labels.iter().filter(|&&l| l == Label::Boundary).count(),
+        4
+    );
 }
 
 #[test]
 fn parabola_clipped() {
     // lc_y = 1: y-regular without a shear, and no critical x-value.
     let r = table("y - x^2", sq(2.0), 0, 0, "F[]{O2 b2 b2}");
-    assert_eq!(r.labels.iter().filter(|&&l| l == Label::Boundary).count(), 2);
+    assert_eq!(
+        r.labels.iter().filter(|&&l| l == Label::Boundary).count(),
+        2
+    );
     // Shear 0: the x-parabola, y-regular as it is; its vertex is an x-extreme.
     let r = table("x - y^2 + 1", sq(2.0), 0, 1, "F[]{O2 b2 b2}");
-    assert_eq!(r.events.iter().find(|e| e.critical).unwrap().label, Some(Label::XExtreme));
+    assert_eq!(
+        r.events.iter().find(|e| e.critical).unwrap().label,
+        Some(Label::XExtreme)
+    );
 }
 
 #[test]
 fn table_cassini_two_ovals() {
-    table("(x^2 + y^2)^2 - 2*(x^2 - y^2) - (1/16 - 1)", sq(2.0), 0, 4, "C[]{O1 b1} | C[]{O1 b1}");
+    table(
+        "(x^2 + y^2)^2 - 2*(x^2 - y^2) - (1/16 - 1)",
+        sq(2.0),
+        0,
+        4,
+        "C[]{O1 b1} | C[]{O1 b1}",
+    );
 }
 
 #[test]
@@ -297,25 +397,58 @@ fn table_cassini_one_oval() {
 
 #[test]
 fn table_devils_curve() {
-    table("y^2*(y^2 - 1) - x^2*(x^2 - 2)", sq(3.0), 2, 3, "F[]{O3 b2 b2 b3[C[4]{O2 b1 b1}]}");
+    table(
+        "y^2*(y^2 - 1) - x^2*(x^2 - 2)",
+        sq(3.0),
+        2,
+        3,
+        "F[]{O3 b2 b2 b3[C[4]{O2 b1 b1}]}",
+    );
 }
 
 #[test]
 fn table_point_inside_circle_phantom() {
-    let r = table("(x^2 + y^2 - 1)*((x - 1/5)^2 + y^2)", sq(3.0), 0, 4, "C[]{O1 b1[C[0]{}]}");
+    let r = table(
+        "(x^2 + y^2 - 1)*((x - 1/5)^2 + y^2)",
+        sq(3.0),
+        0,
+        4,
+        "C[]{O1 b1[C[0]{}]}",
+    );
     // The phantom event at 13/5: no real multiple root, nothing happens.
-    let ph: Vec<_> = r.events.iter().filter(|e| e.critical && e.generic == Some(false)).collect();
-    assert!(ph.iter().any(|e| e.real_multiple_roots == Some(0) && e.branches.is_none()), "{:?}", r.events);
+    let ph: Vec<_> = r
+        .events
+        .iter()
+        .filter(|e| e.critical && e.generic == Some(false))
+        .collect();
+    assert!(
+        ph.iter()
+            .any(|e| e.real_multiple_roots == Some(0) && e.branches.is_none()),
+        "{:?}",
+        r.events
+    );
 }
 
 #[test]
 fn table_point_outside_circle_phantom() {
-    table("(x^2 + y^2 - 1)*((x - 2)^2 + y^2)", sq(3.0), 0, 4, "C[0]{} | C[]{O1 b1}");
+    table(
+        "(x^2 + y^2 - 1)*((x - 2)^2 + y^2)",
+        sq(3.0),
+        0,
+        4,
+        "C[0]{} | C[]{O1 b1}",
+    );
 }
 
 #[test]
 fn table_t4_ellipses() {
-    table("8*x^4 - 8*x^2 + 8*y^4 - 8*y^2 + 2", sq(2.0), 2, 8, "C[4,4,4,4]{O4 b2 b2 b2 b2 b4}");
+    table(
+        "8*x^4 - 8*x^2 + 8*y^4 - 8*y^2 + 2",
+        sq(2.0),
+        2,
+        8,
+        "C[4,4,4,4]{O4 b2 b2 b2 b2 b4}",
+    );
 }
 
 #[test]
@@ -354,9 +487,18 @@ fn non_polynomial_rejected_naming_the_term() {
 fn cluster_real_node_with_complex_double_roots() {
     // x = 0: y²·(y² + 1)²: three multiple roots (0, ±i), one real: the real-only test
     // keeps shear 0 and isolates the node as a cluster.
-    let r = table("(y^2 - x^2)*((y^2 + 1)^2 + x^2)", dom(-2.0, -1.5, 2.0, 1.5), 0, 1, "F[4]{O4 b3 b3 b3 b3}");
+    let r = table(
+        "(y^2 - x^2)*((y^2 + 1)^2 + x^2)",
+        dom(-2.0, -1.5, 2.0, 1.5),
+        0,
+        1,
+        "F[4]{O4 b3 b3 b3 b3}",
+    );
     let e = r.events.iter().find(|e| e.critical).unwrap();
-    assert_eq!((e.k, e.generic, e.real_multiple_roots), (Some(3), Some(false), Some(1)));
+    assert_eq!(
+        (e.k, e.generic, e.real_multiple_roots),
+        (Some(3), Some(false), Some(1))
+    );
     assert_eq!(e.branches, Some((2, 2)));
     assert_eq!(e.label, Some(Label::Singular));
 }
@@ -405,7 +547,13 @@ fn sub_coef_q(p: &[BigRational], q: &[BigRational], j: usize, i: usize) -> BigRa
         .iter()
         .map(|(poly, sh)| {
             cols.iter()
-                .map(|&c| if c >= *sh && c - sh < poly.len() { poly[c - sh].clone() } else { BigRational::zero() })
+                .map(|&c| {
+                    if c >= *sh && c - sh < poly.len() {
+                        poly[c - sh].clone()
+                    } else {
+                        BigRational::zero()
+                    }
+                })
                 .collect()
         })
         .collect();
@@ -413,12 +561,14 @@ fn sub_coef_q(p: &[BigRational], q: &[BigRational], j: usize, i: usize) -> BigRa
 }
 
 fn bipoly_strategy(dy: usize, dx: usize) -> impl Strategy<Value = BiPoly> {
-    proptest::collection::vec(proptest::collection::vec(-6i64..=6, dx + 1), dy + 1).prop_map(move |rows| {
-        let mut c: Vec<UPoly> = rows.iter().map(|r| UPoly::from_i64(r)).collect();
-        // A non-zero constant leading coefficient in y.
-        c[dy] = UPoly::from_i64(&[if rows[dy][0] == 0 { 1 } else { rows[dy][0] }]);
-        BiPoly::new(c)
-    })
+    proptest::collection::vec(proptest::collection::vec(-6i64..=6, dx + 1), dy + 1).prop_map(
+        move |rows| {
+            let mut c: Vec<UPoly> = rows.iter().map(|r| UPoly::from_i64(r)).collect();
+            // A non-zero constant leading coefficient in y.
+            c[dy] = UPoly::from_i64(&[if rows[dy][0] == 0 { 1 } else { rows[dy][0] }]);
+            BiPoly::new(c)
+        },
+    )
 }
 
 fn upoly_strategy() -> impl Strategy<Value = UPoly> {
@@ -562,7 +712,12 @@ fn tamper(c: &mut certmesh::algebraic::CurveCert, kind: usize, pick: usize) -> b
     match kind {
         0 => c.shear += 1,
         1 => {
-            let rows: Vec<(usize, usize)> = c.f.iter().enumerate().filter(|(_, r)| !r.is_empty()).map(|(j, r)| (j, r.len())).collect();
+            let rows: Vec<(usize, usize)> =
+                c.f.iter()
+                    .enumerate()
+                    .filter(|(_, r)| !r.is_empty())
+                    .map(|(j, r)| (j, r.len()))
+                    .collect();
             let (j, row) = rows[pick % rows.len()];
             let i = pick % row;
             c.f[j][i] = bump(&c.f[j][i], 1);
@@ -593,7 +748,9 @@ fn tamper(c: &mut certmesh::algebraic::CurveCert, kind: usize, pick: usize) -> b
             e.generic = e.generic.map(|g| !g);
         }
         8..=12 => {
-            let roots: Vec<(usize, usize)> = (0..ne).flat_map(|i| (0..c.events[i].roots.len()).map(move |r| (i, r))).collect();
+            let roots: Vec<(usize, usize)> = (0..ne)
+                .flat_map(|i| (0..c.events[i].roots.len()).map(move |r| (i, r)))
+                .collect();
             if roots.is_empty() {
                 return false;
             }
@@ -614,7 +771,9 @@ fn tamper(c: &mut certmesh::algebraic::CurveCert, kind: usize, pick: usize) -> b
             }
         }
         13 => {
-            let b: Vec<usize> = (0..ne).filter(|&i| c.events[i].branches.is_some()).collect();
+            let b: Vec<usize> = (0..ne)
+                .filter(|&i| c.events[i].branches.is_some())
+                .collect();
             if b.is_empty() {
                 return false;
             }
@@ -627,11 +786,17 @@ fn tamper(c: &mut certmesh::algebraic::CurveCert, kind: usize, pick: usize) -> b
                 return false;
             }
             let e = &mut c.events[b[pick % b.len()]];
-            e.label = Some(if e.label == Some(Label::Singular) { Label::Isolated } else { Label::Singular });
+            e.label = Some(if e.label == Some(Label::Singular) {
+                Label::Isolated
+            } else {
+                Label::Singular
+            });
         }
         15 if !c.fibres.is_empty() => {
             // A fibre with an output vertex (moving one without is a valid certificate).
-            let fs: Vec<usize> = (0..c.fibres.len()).filter(|&i| c.fibres[i].inside.contains(&true)).collect();
+            let fs: Vec<usize> = (0..c.fibres.len())
+                .filter(|&i| c.fibres[i].inside.contains(&true))
+                .collect();
             if fs.is_empty() {
                 return false;
             }
@@ -640,7 +805,9 @@ fn tamper(c: &mut certmesh::algebraic::CurveCert, kind: usize, pick: usize) -> b
             f.q = (v + q(1, 1000)).to_string();
         }
         16 | 17 => {
-            let rs: Vec<(usize, usize)> = (0..c.fibres.len()).flat_map(|i| (0..c.fibres[i].roots.len()).map(move |r| (i, r))).collect();
+            let rs: Vec<(usize, usize)> = (0..c.fibres.len())
+                .flat_map(|i| (0..c.fibres[i].roots.len()).map(move |r| (i, r)))
+                .collect();
             if rs.is_empty() {
                 return false;
             }
@@ -678,18 +845,23 @@ fn tamper(c: &mut certmesh::algebraic::CurveCert, kind: usize, pick: usize) -> b
         }
         21 => {
             // Shrink the domain to a hundredth of its width.
-            let (a, b): (BigRational, BigRational) = (c.domain[0].parse().unwrap(), c.domain[2].parse().unwrap());
+            let (a, b): (BigRational, BigRational) =
+                (c.domain[0].parse().unwrap(), c.domain[2].parse().unwrap());
             c.domain[2] = (&a + (b - &a) / q(100, 1)).to_string();
         }
         22 => {
-            let b: Vec<usize> = (0..ne).filter(|&i| !c.events[i].bpoints.is_empty()).collect();
+            let b: Vec<usize> = (0..ne)
+                .filter(|&i| !c.events[i].bpoints.is_empty())
+                .collect();
             if b.is_empty() {
                 return false;
             }
             c.events[b[pick % b.len()]].bpoints.pop();
         }
         23 => {
-            let b: Vec<usize> = (0..ne).filter(|&i| !c.events[i].excluded.is_empty()).collect();
+            let b: Vec<usize> = (0..ne)
+                .filter(|&i| !c.events[i].excluded.is_empty())
+                .collect();
             if b.is_empty() {
                 return false;
             }
@@ -698,7 +870,9 @@ fn tamper(c: &mut certmesh::algebraic::CurveCert, kind: usize, pick: usize) -> b
             e.excluded.remove(pick % n);
         }
         24 => {
-            let b: Vec<usize> = (0..ne).filter(|&i| !c.events[i].r_signs.is_empty()).collect();
+            let b: Vec<usize> = (0..ne)
+                .filter(|&i| !c.events[i].r_signs.is_empty())
+                .collect();
             if b.is_empty() {
                 return false;
             }
@@ -732,5 +906,129 @@ fn every_tampering_kind_applies_somewhere() {
             (0..20).any(|p| tamper(&mut c, kind, p))
         });
         assert!(applied, "tampering kind {kind} applies to no certificate");
+    }
+}
+
+// ---- The command line and the comparison harness. ----
+
+fn certmesh_cli(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_certmesh"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn cli_gvn_certificate_written_checked_and_tampering_rejected() {
+    let dir = std::env::temp_dir().join(format!("certmesh-sweep2-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cert = dir.join("lem.json");
+    let svg = dir.join("lem.svg");
+    let (code, out, err) = certmesh_cli(&[
+        "curve",
+        "lemniscate",
+        "--algo",
+        "gvn",
+        "--certificate",
+        cert.to_str().unwrap(),
+        "-o",
+        svg.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("certified"), "{out}");
+    let (code, out, err) = certmesh_cli(&["check-curve", cert.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        out.contains("certificate verified") && out.contains("3 critical"),
+        "{out}"
+    );
+    // Flip one sign claim of the first critical event.
+    let mut c: certmesh::algebraic::CurveCert =
+        serde_json::from_str(&std::fs::read_to_string(&cert).unwrap()).unwrap();
+    let e = c.events.iter_mut().find(|e| e.critical).unwrap();
+    e.signs[1] = -e.signs[1];
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, serde_json::to_string(&c).unwrap()).unwrap();
+    let (code, _, err) = certmesh_cli(&["check-curve", bad.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("rejected") && err.contains("sign"), "{err}");
+    // Not JSON: an input error (exit 2); a certificate asked of a non-exact mesher too.
+    std::fs::write(&bad, "{").unwrap();
+    assert_eq!(certmesh_cli(&["check-curve", bad.to_str().unwrap()]).0, 2);
+    let (code, _, err) = certmesh_cli(&[
+        "curve",
+        "circle",
+        "--algo",
+        "pv",
+        "--certificate",
+        cert.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--certificate"), "{err}");
+    // A non-polynomial formula: a clear error naming the term.
+    let (code, _, err) =
+        certmesh_cli(&["curve", "--formula", "sqrt(x^2 + y^2) - 1", "--algo", "gvn"]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("sqrt(") && err.contains("not a polynomial"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn compare_uses_signatures_for_curves() {
+    use certmesh::harness::compare;
+    let es = vec![
+        certmesh::catalog::get("lemniscate").unwrap(),
+        certmesh::catalog::get("circle").unwrap(),
+    ];
+    let algos = vec!["sweep".to_string(), "ms".to_string()];
+    let rows = compare::compare(
+        &es,
+        &algos,
+        &Default::default(),
+        &certmesh::mesher::NoProgress,
+    );
+    let get = |c: &str, a: &str| rows.iter().find(|r| r.surface == c && r.algo == a).unwrap();
+    let lem = get("lemniscate", "sweep");
+    assert_eq!(lem.signature.as_deref(), Some("C[4]{O2 b1 b1}"));
+    assert_eq!(lem.isotopy_agrees, Some(true));
+    assert_eq!(
+        get("circle", "sweep").signature.as_deref(),
+        Some("C[]{O1 b1}")
+    );
+    // Marching squares is uncertified: it is judged against the sweep's signature.
+    let ms = get("circle", "ms");
+    assert_eq!(
+        ms.isotopy_agrees,
+        Some(ms.signature.as_deref() == Some("C[]{O1 b1}"))
+    );
+    let md = compare::signatures_markdown(&rows);
+    assert!(md.contains("`C[4]{O2 b1 b1}`"), "{md}");
+}
+
+#[test]
+fn sweep_figures_draw_fibres_events_and_arcs() {
+    let dir = std::env::var("CERTMESH_FIG_OUT")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|_| {
+            std::env::temp_dir().join(format!("certmesh-sweep2-fig-{}", std::process::id()))
+        });
+    std::fs::create_dir_all(&dir).unwrap();
+    certmesh::reproduce::meshing_of_surfaces::sweep_figures(&dir).unwrap();
+    let svg = std::fs::read_to_string(dir.join("fig-gvn-lemniscate.svg")).unwrap();
+    // Three critical fibres (red), the dotted rational fibres, and one node (red disc).
+    assert_eq!(svg.matches(r##"stroke="#c33""##).count(), 3, "{svg}");
+    assert!(svg.contains("stroke-dasharray"));
+    assert_eq!(svg.matches(r##"fill="#c33""##).count(), 1);
+    if std::env::var("CERTMESH_FIG_OUT").is_err() {
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -239,11 +239,17 @@ impl Dom {
     fn classify(&self, u: &Iv, v: &Iv, open: bool) -> Option<bool> {
         let x = iadd(u, &imul(v, &(self.s.clone(), self.s.clone())));
         let lt = |a: &BigRational, b: &BigRational| if open { a <= b } else { a < b };
-        if lt(&self.ymin, &v.0) && lt(&v.1, &self.ymax) && lt(&self.xmin, &x.0) && lt(&x.1, &self.xmax)
+        if lt(&self.ymin, &v.0)
+            && lt(&v.1, &self.ymax)
+            && lt(&self.xmin, &x.0)
+            && lt(&x.1, &self.xmax)
         {
             return Some(true);
         }
-        if lt(&v.1, &self.ymin) || lt(&self.ymax, &v.0) || lt(&x.1, &self.xmin) || lt(&self.xmax, &x.0)
+        if lt(&v.1, &self.ymin)
+            || lt(&self.ymax, &v.0)
+            || lt(&x.1, &self.xmin)
+            || lt(&self.xmax, &x.0)
         {
             return Some(false);
         }
@@ -302,7 +308,12 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
         claims,
     };
     if g.deg_y() <= 0 {
-        if !c.events.is_empty() || !c.fibres.is_empty() || !c.vertices.is_empty() || !c.segments.is_empty() || !c.strips.is_empty() {
+        if !c.events.is_empty()
+            || !c.fibres.is_empty()
+            || !c.vertices.is_empty()
+            || !c.segments.is_empty()
+            || !c.strips.is_empty()
+        {
             return Err(bad("f has no real zeros but the certificate lists some"));
         }
         return Ok(report(1));
@@ -323,7 +334,9 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
         }
         let p = p.squarefree();
         if !verify_isolating(&p, &lo, &hi) {
-            return Err(bad(format!("event {i}: [{lo}, {hi}] does not isolate a root of its polynomial")));
+            return Err(bad(format!(
+                "event {i}: [{lo}, {hi}] does not isolate a root of its polynomial"
+            )));
         }
         let inside_range = if e.side {
             lo == hi && (lo == u_lo || lo == u_hi)
@@ -337,18 +350,29 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
         }
         if let Some(prev) = alphas.last() {
             if prev.hi >= lo {
-                return Err(bad(format!("events {} and {i} are not ordered and disjoint", i - 1)));
+                return Err(bad(format!(
+                    "events {} and {i} are not ordered and disjoint",
+                    i - 1
+                )));
             }
         }
-        let a = if lo == hi { RealAlg::exact(lo) } else { RealAlg::new(p, lo, hi) };
+        let a = if lo == hi {
+            RealAlg::exact(lo)
+        } else {
+            RealAlg::new(p, lo, hi)
+        };
         if a.is_root_of(disc) != e.critical {
             return Err(bad(format!("event {i}: the critical flag is wrong")));
         }
         if !e.critical && !e.side && e.bpoints.is_empty() {
             return Err(bad(format!("event {i} has no reason")));
         }
-        if e.side && (e.critical || s != 0 || !a.is_exact() || (a.lo != dom.xmin && a.lo != dom.xmax)) {
-            return Err(bad(format!("event {i}: a side event must be an exact vertical side at shear 0")));
+        if e.side
+            && (e.critical || s != 0 || !a.is_exact() || (a.lo != dom.xmin && a.lo != dom.xmax))
+        {
+            return Err(bad(format!(
+                "event {i}: a side event must be an exact vertical side at shear 0"
+            )));
         }
         claims += 2;
         alphas.push(a);
@@ -368,7 +392,12 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
     let one = BigRational::one();
     let mut sides: Vec<(BigRational, BigRational, BigRational, BigRational)> = Vec::new();
     for cy in [&dom.ymin, &dom.ymax] {
-        sides.push((cy.clone(), zero.clone(), &dom.xmin - &sq * cy, &dom.xmax - &sq * cy));
+        sides.push((
+            cy.clone(),
+            zero.clone(),
+            &dom.xmin - &sq * cy,
+            &dom.xmax - &sq * cy,
+        ));
     }
     if s != 0 {
         for cx in [&dom.xmin, &dom.xmax] {
@@ -380,8 +409,13 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
         }
     } else {
         let n_side = c.events.iter().filter(|e| e.side).count();
-        if n_side != 2 || !c.events.first().is_some_and(|e| e.side) || !c.events.last().is_some_and(|e| e.side) {
-            return Err(bad("shear 0 needs the two vertical sides as the first and last events"));
+        if n_side != 2
+            || !c.events.first().is_some_and(|e| e.side)
+            || !c.events.last().is_some_and(|e| e.side)
+        {
+            return Err(bad(
+                "shear 0 needs the two vertical sides as the first and last events",
+            ));
         }
     }
     let mut seen = 0usize;
@@ -411,7 +445,9 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
             listed += here;
         }
         if listed != n {
-            return Err(bad(format!("a side meets the curve {n} times, the certificate lists {listed}")));
+            return Err(bad(format!(
+                "a side meets the curve {n} times, the certificate lists {listed}"
+            )));
         }
         seen += listed;
         claims += 1;
@@ -460,8 +496,14 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
     let mut ev_ends: Vec<Vec<(bool, usize, usize)>> = Vec::new();
     for (ei, e) in c.events.iter().enumerate() {
         let a = &alphas[ei];
-        let n_l = strips.iter().position(|st| st.1 == Some(ei)).map(|i| counts[i]);
-        let n_r = strips.iter().position(|st| st.0 == Some(ei)).map(|i| counts[i]);
+        let n_l = strips
+            .iter()
+            .position(|st| st.1 == Some(ei))
+            .map(|i| counts[i]);
+        let n_r = strips
+            .iter()
+            .position(|st| st.0 == Some(ei))
+            .map(|i| counts[i]);
         let mut mode = 0; // 0 plain, 1 generic, 2 cluster
         let (mut num, mut den) = (UPoly::zero(), UPoly::zero());
         let m;
@@ -476,7 +518,9 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 claims += 1;
             }
             if e.signs[0] != 0 {
-                return Err(bad(format!("event {ei}: sres_0 = D vanishes at a critical event")));
+                return Err(bad(format!(
+                    "event {ei}: sres_0 = D vanishes at a critical event"
+                )));
             }
             let k = (1..d)
                 .find(|&j| e.signs[j] != 0)
@@ -515,25 +559,34 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 }
                 let r = subres::distinct_real_roots(k, e.signs[k], &e.r_signs).max(0) as usize;
                 if e.r != Some(r) || r > 1 {
-                    return Err(bad(format!("event {ei}: the r-test is wrong or fails (r = {r})")));
+                    return Err(bad(format!(
+                        "event {ei}: the r-test is wrong or fails (r = {r})"
+                    )));
                 }
                 claims += k + 1;
                 mode = if r == 1 { 2 } else { 0 };
             }
         } else {
             if e.k.is_some() || !e.signs.is_empty() || e.generic.is_some() || e.r.is_some() {
-                return Err(bad(format!("event {ei}: subresultant claims on a non-critical event")));
+                return Err(bad(format!(
+                    "event {ei}: subresultant claims on a non-critical event"
+                )));
             }
             m = n_l.or(n_r).unwrap_or(0);
             if n_l.is_some() && n_r.is_some() && n_l != n_r {
-                return Err(bad(format!("event {ei}: a non-critical event between fibres of different counts")));
+                return Err(bad(format!(
+                    "event {ei}: a non-critical event between fibres of different counts"
+                )));
             }
             if e.m != m {
                 return Err(bad(format!("event {ei}: m is wrong")));
             }
         }
         if e.roots.len() != m {
-            return Err(bad(format!("event {ei}: {} roots listed, m = {m}", e.roots.len())));
+            return Err(bad(format!(
+                "event {ei}: {} roots listed, m = {m}",
+                e.roots.len()
+            )));
         }
         let boxes: Vec<Iv> = e
             .roots
@@ -561,26 +614,37 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
             let csy = coefs(&gy, &iu);
             for (ri, (r, b)) in e.roots.iter().zip(&boxes).enumerate() {
                 if b.0 > b.1 || (ri > 0 && boxes[ri - 1].1 > b.0) {
-                    return Err(bad(format!("event {ei}: root boxes not ordered and disjoint")));
+                    return Err(bad(format!(
+                        "event {ei}: root boxes not ordered and disjoint"
+                    )));
                 }
                 if r.special {
                     if mode == 1 {
                         let (nl, nh) = eval_interval(&num, &a.lo, &a.hi);
                         let (dl, dh) = eval_interval(&den, &a.lo, &a.hi);
                         if !(dl.is_positive() || dh.is_negative()) {
-                            return Err(bad(format!("event {ei}: β's denominator is not bounded away from 0")));
+                            return Err(bad(format!(
+                                "event {ei}: β's denominator is not bounded away from 0"
+                            )));
                         }
                         let qs = [&nl / &dl, &nl / &dh, &nh / &dl, &nh / &dh];
                         let (bl, bh) = (qs.iter().min().unwrap(), qs.iter().max().unwrap());
                         if !(&b.0 <= bl && bh <= &b.1) {
-                            return Err(bad(format!("event {ei}: the multiple root's box does not enclose β")));
+                            return Err(bad(format!(
+                                "event {ei}: the multiple root's box does not enclose β"
+                            )));
                         }
                     }
                     continue;
                 }
-                let (sa, sb) = (isign(&eval2(&cs, &(b.0.clone(), b.0.clone()))), isign(&eval2(&cs, &(b.1.clone(), b.1.clone()))));
+                let (sa, sb) = (
+                    isign(&eval2(&cs, &(b.0.clone(), b.0.clone()))),
+                    isign(&eval2(&cs, &(b.1.clone(), b.1.clone()))),
+                );
                 if sa.is_none() || sb.is_none() || sa == sb || isign(&eval2(&csy, b)).is_none() {
-                    return Err(bad(format!("event {ei}: root box {ri} is not a certified simple root")));
+                    return Err(bad(format!(
+                        "event {ei}: root box {ri} is not a certified simple root"
+                    )));
                 }
                 claims += 1;
             }
@@ -595,7 +659,13 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 let mut all: Vec<Iv> = boxes.clone();
                 for x in &e.excluded {
                     let bx = (pq(&x.lo)?, pq(&x.hi)?);
-                    if bx.0 > bx.1 || isign(&eval2(&cs, &bx)).is_none() {
+                    // Excluded: 0 ∉ f(α, box), or f monotone on the box (0 ∉ f_v)
+                    // with the same strict sign at both ends.
+                    let end = |t: &BigRational| isign(&eval2(&cs, &(t.clone(), t.clone())));
+                    let monotone_same = isign(&eval2(&csy, &bx)).is_some()
+                        && end(&bx.0).is_some()
+                        && end(&bx.0) == end(&bx.1);
+                    if bx.0 > bx.1 || !(isign(&eval2(&cs, &bx)).is_some() || monotone_same) {
                         return Err(bad(format!("event {ei}: an excluded box is not excluded")));
                     }
                     all.push(bx);
@@ -615,7 +685,9 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
         for (ri, r) in e.roots.iter().enumerate() {
             let (l, rr) = if r.special {
                 let (Some(nl), Some(nr)) = (n_l, n_r) else {
-                    return Err(bad(format!("event {ei}: a multiple root without fibres on both sides")));
+                    return Err(bad(format!(
+                        "event {ei}: a multiple root without fibres on both sides"
+                    )));
                 };
                 let (al, ar) = (nl as i64 - (m as i64 - 1), nr as i64 - (m as i64 - 1));
                 if al < 0 || ar < 0 {
@@ -629,16 +701,22 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 (1, 1)
             };
             if (r.left, r.right) != (l, rr) {
-                return Err(bad(format!("event {ei}: root {ri} has wrong branch counts")));
+                return Err(bad(format!(
+                    "event {ei}: root {ri} has wrong branch counts"
+                )));
             }
             claims += 1;
             ends.push((r.keep, l, rr));
         }
         if nspecial == 0 && e.branches.is_some() {
-            return Err(bad(format!("event {ei}: branch counts without a multiple root")));
+            return Err(bad(format!(
+                "event {ei}: branch counts without a multiple root"
+            )));
         }
         if e.critical && nspecial == 0 && (n_l != Some(m) || n_r != Some(m)) {
-            return Err(bad(format!("event {ei}: a phantom event changes the number of arcs")));
+            return Err(bad(format!(
+                "event {ei}: a phantom event changes the number of arcs"
+            )));
         }
         // Side crossings and inside decisions.
         if !e.side {
@@ -647,10 +725,20 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
             for bp in &e.bpoints {
                 let (v0, v1) = (pq(&bp[0])?, pq(&bp[1])?);
                 let vb = iadd(&(v0.clone(), v0), &imul(&iu, &(v1.clone(), v1)));
-                let hits: Vec<usize> = (0..m).filter(|&i| !(vb.1 < boxes[i].0 || vb.0 > boxes[i].1)).collect();
-                let inb = |b: &Iv| (vb.0 > b.0 && vb.1 < b.1) || (b.0 == b.1 && vb.0 == vb.1 && vb.0 == b.0);
-                if hits.len() != 1 || !inb(&boxes[hits[0]]) || e.roots[hits[0]].special || hit[hits[0]] {
-                    return Err(bad(format!("event {ei}: a side crossing is not located on one simple root")));
+                let hits: Vec<usize> = (0..m)
+                    .filter(|&i| !(vb.1 < boxes[i].0 || vb.0 > boxes[i].1))
+                    .collect();
+                let inb = |b: &Iv| {
+                    (vb.0 > b.0 && vb.1 < b.1) || (b.0 == b.1 && vb.0 == vb.1 && vb.0 == b.0)
+                };
+                if hits.len() != 1
+                    || !inb(&boxes[hits[0]])
+                    || e.roots[hits[0]].special
+                    || hit[hits[0]]
+                {
+                    return Err(bad(format!(
+                        "event {ei}: a side crossing is not located on one simple root"
+                    )));
                 }
                 hit[hits[0]] = true;
                 claims += 1;
@@ -659,9 +747,15 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 if r.boundary != hit[ri] {
                     return Err(bad(format!("event {ei}: root {ri} boundary flag is wrong")));
                 }
-                let keep = if r.boundary { Some(true) } else { dom.classify(&iu, &boxes[ri], false) };
+                let keep = if r.boundary {
+                    Some(true)
+                } else {
+                    dom.classify(&iu, &boxes[ri], false)
+                };
                 if keep != Some(r.keep) {
-                    return Err(bad(format!("event {ei}: root {ri} inside/outside decision is not proven")));
+                    return Err(bad(format!(
+                        "event {ei}: root {ri} inside/outside decision is not proven"
+                    )));
                 }
                 claims += 1;
             }
@@ -741,7 +835,9 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
         );
     }
     if nv as usize != c.vertices.len() {
-        return Err(bad("the number of output vertices does not match the verified decisions"));
+        return Err(bad(
+            "the number of output vertices does not match the verified decisions",
+        ));
     }
     let mut segs: Vec<[u32; 2]> = Vec::new();
     for (si, st) in strips.iter().enumerate() {
@@ -759,7 +855,11 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 }
             }
             if ends.len() != counts[si] {
-                return Err(bad(format!("strip {si}: {} branches meet {} arcs", ends.len(), counts[si])));
+                return Err(bad(format!(
+                    "strip {si}: {} branches meet {} arcs",
+                    ends.len(),
+                    counts[si]
+                )));
             }
             for (i, end) in ends.iter().enumerate() {
                 match (fib_ids[si][i], end) {
@@ -775,7 +875,9 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
     want.sort();
     got.sort();
     if want != got {
-        return Err(bad("the output segments are not the ones the verified counts give"));
+        return Err(bad(
+            "the output segments are not the ones the verified counts give",
+        ));
     }
     // The drawing: vertices of a column share its u (x − s·y), columns in order, and
     // each column's vertices bottom to top in root order (float coordinates).
@@ -816,7 +918,9 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 let p = uv_of(*id);
                 let (lo, hi) = (pq(&fb.roots[ri].lo)?, pq(&fb.roots[ri].hi)?);
                 if !near(p[0], &qv, &qv) || !near(p[1], &lo, &hi) {
-                    return Err(bad(format!("fibre {si}: vertex {id} is not at its certified position")));
+                    return Err(bad(format!(
+                        "fibre {si}: vertex {id} is not at its certified position"
+                    )));
                 }
             }
         }
@@ -827,7 +931,9 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 let p = uv_of(*id);
                 let (lo, hi) = (pq(&e.roots[ri].lo)?, pq(&e.roots[ri].hi)?);
                 if !near(p[0], &alphas[ei].lo, &alphas[ei].hi) || !near(p[1], &lo, &hi) {
-                    return Err(bad(format!("event {ei}: vertex {id} is not at its certified position")));
+                    return Err(bad(format!(
+                        "event {ei}: vertex {id} is not at its certified position"
+                    )));
                 }
             }
         }
@@ -841,10 +947,14 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 [p[0] - sf * p[1], p[1]]
             })
             .collect();
-        let (lo, hi) = uv.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p[0]), a.1.max(p[0])));
+        let (lo, hi) = uv
+            .iter()
+            .fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p[0]), a.1.max(p[0])));
         let spread = 1e-7 * (1.0 + hi.abs());
         if !(lo > last_u) || hi - lo > spread || uv.windows(2).any(|w| !(w[0][1] < w[1][1])) {
-            return Err(bad("the output vertices are not drawn in the certified order"));
+            return Err(bad(
+                "the output vertices are not drawn in the certified order",
+            ));
         }
         last_u = hi;
     }
@@ -862,21 +972,30 @@ fn verify_rational_fibre(
 ) -> Result<()> {
     verify_fibre_roots(g, q, roots, idx)?;
     if inside.len() != roots.len() {
-        return Err(bad(format!("fibre {idx}: inside flags of the wrong length")));
+        return Err(bad(format!(
+            "fibre {idx}: inside flags of the wrong length"
+        )));
     }
     for (i, r) in roots.iter().enumerate() {
         let (lo, hi) = (pq(&r.lo)?, pq(&r.hi)?);
         let open = lo != hi;
         let iu = (q.clone(), q.clone());
         if dom.classify(&iu, &(lo, hi), open) != Some(inside[i]) {
-            return Err(bad(format!("fibre {idx}: root {i} inside/outside decision is not proven")));
+            return Err(bad(format!(
+                "fibre {idx}: root {i} inside/outside decision is not proven"
+            )));
         }
     }
     Ok(())
 }
 
 /// The intervals isolate all the real roots of g(q, ·), in order (Sturm counts).
-fn verify_fibre_roots(g: &BiPoly, q: &BigRational, roots: &[CertInterval], idx: usize) -> Result<()> {
+fn verify_fibre_roots(
+    g: &BiPoly,
+    q: &BigRational,
+    roots: &[CertInterval],
+    idx: usize,
+) -> Result<()> {
     let gq = g.at_x(q);
     if gq.is_zero() {
         return Err(bad(format!("fibre {idx}: f vanishes on the whole line")));
@@ -890,17 +1009,24 @@ fn verify_fibre_roots(g: &BiPoly, q: &BigRational, roots: &[CertInterval], idx: 
         sturm_count(&gq, &-b.clone(), &b)
     };
     if roots.len() != n {
-        return Err(bad(format!("fibre {idx}: {n} roots, {} listed", roots.len())));
+        return Err(bad(format!(
+            "fibre {idx}: {n} roots, {} listed",
+            roots.len()
+        )));
     }
     let mut prev: Option<(BigRational, bool)> = None;
     for (i, r) in roots.iter().enumerate() {
         let (lo, hi) = (pq(&r.lo)?, pq(&r.hi)?);
         if !verify_isolating_open(&gq, &lo, &hi) {
-            return Err(bad(format!("fibre {idx}: interval {i} does not isolate a root")));
+            return Err(bad(format!(
+                "fibre {idx}: interval {i} does not isolate a root"
+            )));
         }
         if let Some((p, pexact)) = &prev {
             if p > &lo || (p == &lo && *pexact && lo == hi) {
-                return Err(bad(format!("fibre {idx}: intervals not ordered and disjoint")));
+                return Err(bad(format!(
+                    "fibre {idx}: intervals not ordered and disjoint"
+                )));
             }
         }
         prev = Some((hi.clone(), lo == hi));

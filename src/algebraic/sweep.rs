@@ -21,8 +21,8 @@
 //! budget that runs out is an error naming it, never a guess.
 use super::algnum::{eval_interval, isolate, q_to_f64, RealAlg};
 use super::bipoly::BiPoly;
-use super::subres;
 use super::check::{CertEvent, CertFibre, CertInterval, CertRoot, CurveCert};
+use super::subres;
 use super::upoly::{sign, UPoly};
 use crate::error::{Error, Result};
 use crate::implicit::Implicit;
@@ -234,7 +234,12 @@ impl Ri {
         }
     }
     fn mul(&self, o: &Ri) -> Ri {
-        let ps = [&self.lo * &o.lo, &self.lo * &o.hi, &self.hi * &o.lo, &self.hi * &o.hi];
+        let ps = [
+            &self.lo * &o.lo,
+            &self.lo * &o.hi,
+            &self.hi * &o.lo,
+            &self.hi * &o.hi,
+        ];
         Ri {
             lo: ps.iter().min().unwrap().clone(),
             hi: ps.iter().max().unwrap().clone(),
@@ -565,7 +570,10 @@ pub fn analyse(f: &BiPoly, domain: &Aabb, p: &SweepParams) -> Result<SweepResult
     for s in shears {
         let g = f.shear(s);
         if d > 0 && (g.deg_y() <= 0 || g.lc_y().deg() != 0) {
-            rejected.push((s, "not y-regular (the leading coefficient in y is not constant)".into()));
+            rejected.push((
+                s,
+                "not y-regular (the leading coefficient in y is not constant)".into(),
+            ));
             continue;
         }
         let g = g.squarefree_y();
@@ -702,14 +710,18 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
     for c in &sides_h {
         let h = g.on_line(&zero, &one, c, &zero);
         if h.is_zero() {
-            return Err(boundary_error("a horizontal side of the domain lies on the curve"));
+            return Err(boundary_error(
+                "a horizontal side of the domain lies on the curve",
+            ));
         }
         // The side's u-range: x = u + s·c ∈ [xmin, xmax].
         let (a, b) = (&fr.xmin - sq * c, &fr.xmax - sq * c);
         for mut r in isolate(&h)? {
             let (ca, cb) = (r.cmp_q(&a), r.cmp_q(&b));
             if ca == Ordering::Equal || cb == Ordering::Equal {
-                return Err(boundary_error("the curve passes through a corner of the domain"));
+                return Err(boundary_error(
+                    "the curve passes through a corner of the domain",
+                ));
             }
             if ca == Ordering::Greater && cb == Ordering::Less {
                 insert_event(
@@ -744,7 +756,9 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
         let (v0, v1) = (&c / sq, -(&one / sq));
         let h = g.on_line(&zero, &one, &v0, &v1);
         if h.is_zero() {
-            return Err(boundary_error("a vertical side of the domain lies on the curve"));
+            return Err(boundary_error(
+                "a vertical side of the domain lies on the curve",
+            ));
         }
         // v ∈ [ymin, ymax] ⇔ u ∈ [c − s·ymax, c − s·ymin] (s > 0), swapped for s < 0.
         let (mut a, mut b) = (&c - sq * &fr.ymax, &c - sq * &fr.ymin);
@@ -754,7 +768,9 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
         for mut r in isolate(&h)? {
             let (ca, cb) = (r.cmp_q(&a), r.cmp_q(&b));
             if ca == Ordering::Equal || cb == Ordering::Equal {
-                return Err(boundary_error("the curve passes through a corner of the domain"));
+                return Err(boundary_error(
+                    "the curve passes through a corner of the domain",
+                ));
             }
             if ca == Ordering::Greater && cb == Ordering::Less {
                 insert_event(
@@ -815,7 +831,11 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
             while e.hi >= u_hi {
                 e.bisect();
             }
-            strips.push((Some(n_ev - 1), None, sample_between(&events[n_ev - 1].u.hi, &u_hi)));
+            strips.push((
+                Some(n_ev - 1),
+                None,
+                sample_between(&events[n_ev - 1].u.hi, &u_hi),
+            ));
         }
     }
     // Rational fibres.
@@ -835,8 +855,8 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
         let mut vid = Vec::new();
         for mut r in roots.clone() {
             // Inside test, exact: ymin < v < ymax and xmin < q + s·v < xmax.
-            let mut inside = r.cmp_q(&fr.ymin) == Ordering::Greater
-                && r.cmp_q(&fr.ymax) == Ordering::Less;
+            let mut inside =
+                r.cmp_q(&fr.ymin) == Ordering::Greater && r.cmp_q(&fr.ymax) == Ordering::Less;
             if inside && s != 0 {
                 let (mut a, mut b) = ((&fr.xmin - q) / sq, (&fr.xmax - q) / sq);
                 if s < 0 {
@@ -1017,9 +1037,14 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
         let spi = roots.iter().position(|r| r.special);
         if let Some(i) = spi {
             let (Some(nl), Some(nr)) = (n_l, n_r) else {
-                return Err(Error::Param("internal: critical event without two strips".into()));
+                return Err(Error::Param(
+                    "internal: critical event without two strips".into(),
+                ));
             };
-            let (al, ar) = (nl as isize - (m as isize - 1), nr as isize - (m as isize - 1));
+            let (al, ar) = (
+                nl as isize - (m as isize - 1),
+                nr as isize - (m as isize - 1),
+            );
             if al < 0 || ar < 0 {
                 return Err(Error::Param(format!(
                     "internal: inconsistent branch counts at u ≈ {:.6}",
@@ -1109,7 +1134,9 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
                 }
                 let (a, b) = (r.cmp_q(&fr.ymin), r.cmp_q(&fr.ymax));
                 if a == Ordering::Equal || b == Ordering::Equal {
-                    return Err(boundary_error("the curve passes through a corner of the domain"));
+                    return Err(boundary_error(
+                        "the curve passes through a corner of the domain",
+                    ));
                 }
                 keep = Some(a == Ordering::Greater && b == Ordering::Less);
                 roots[i].lo = r.lo;
@@ -1227,7 +1254,8 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
             let Some(e) = e else {
                 if smp.vid.iter().any(|v| v.is_some()) {
                     return Err(Error::Param(
-                        "internal: an arc inside the domain reaches the domain's extreme corner".into(),
+                        "internal: an arc inside the domain reaches the domain's extreme corner"
+                            .into(),
                     ));
                 }
                 continue;
@@ -1294,7 +1322,9 @@ impl Mesher for Sweep {
     fn mesh(&self, f: &dyn Implicit, domain: &Aabb, _p: &dyn Progress) -> Result<MeshOutput> {
         crate::mesher::check_input(f, domain, 2, "sweep")?;
         let e = f.expression().ok_or_else(|| {
-            Error::Param("the sweep needs f as a formula (a polynomial); this oracle has none".into())
+            Error::Param(
+                "the sweep needs f as a formula (a polynomial); this oracle has none".into(),
+            )
         })?;
         let poly = super::bipoly::from_expr(e)?;
         let r = analyse(&poly, domain, &self.params)?;

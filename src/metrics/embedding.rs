@@ -64,14 +64,18 @@ fn build(c: &Curve2, frame_box: Option<&Aabb>) -> Result<Graph> {
     let mut pts = c.vertices.clone();
     for p in &pts {
         if !p[0].is_finite() || !p[1].is_finite() {
-            return Err(Error::Param("embedding signature: a vertex is not finite".into()));
+            return Err(Error::Param(
+                "embedding signature: a vertex is not finite".into(),
+            ));
         }
     }
     let mut edges: BTreeSet<(usize, usize)> = BTreeSet::new();
     for s in &c.segments {
         let (a, b) = (s[0] as usize, s[1] as usize);
         if a >= pts.len() || b >= pts.len() {
-            return Err(Error::Param("embedding signature: a segment index is out of range".into()));
+            return Err(Error::Param(
+                "embedding signature: a segment index is out of range".into(),
+            ));
         }
         if a != b && pts[a] != pts[b] {
             edges.insert((a.min(b), a.max(b)));
@@ -199,7 +203,9 @@ pub fn embedding_signature(c: &Curve2, frame_box: Option<&Aabb>) -> Result<Strin
             while !he_face.contains_key(&(a, b)) {
                 guard += 1;
                 if guard > 4 * n + 8 * c.segments.len() + 16 {
-                    return Err(Error::Param("embedding signature: face tracing did not close".into()));
+                    return Err(Error::Param(
+                        "embedding signature: face tracing did not close".into(),
+                    ));
                 }
                 he_face.insert((a, b), fid);
                 cyc.push(a);
@@ -238,7 +244,9 @@ pub fn embedding_signature(c: &Curve2, frame_box: Option<&Aabb>) -> Result<Strin
     }
     // Nesting: the innermost bounded face of another component containing a vertex.
     let mut parent: Vec<Option<usize>> = vec![None; ncomp];
-    let rep: Vec<usize> = (0..ncomp).map(|k| (0..n).find(|&v| comp[v] == k).unwrap()).collect();
+    let rep: Vec<usize> = (0..ncomp)
+        .map(|k| (0..n).find(|&v| comp[v] == k).unwrap())
+        .collect();
     for k in 0..ncomp {
         let p = g.pts[rep[k]];
         let mut best: Option<usize> = None;
@@ -306,7 +314,10 @@ pub fn embedding_signature(c: &Curve2, frame_box: Option<&Aabb>) -> Result<Strin
         format!(
             "{}[{}]{{{}}}",
             if is_frame { "F" } else { "C" },
-            degs.iter().map(|d| d.to_string()).collect::<Vec<_>>().join(","),
+            degs.iter()
+                .map(|d| d.to_string())
+                .collect::<Vec<_>>()
+                .join(","),
             fs.join(" ")
         )
     }
@@ -324,23 +335,41 @@ mod tests {
 
     fn poly(pts: &[[f64; 2]], off: u32) -> (Vec<[f64; 2]>, Vec<[u32; 2]>) {
         let n = pts.len() as u32;
-        (pts.to_vec(), (0..n).map(|i| [off + i, off + (i + 1) % n]).collect())
+        (
+            pts.to_vec(),
+            (0..n).map(|i| [off + i, off + (i + 1) % n]).collect(),
+        )
     }
 
     #[test]
     fn square_nested_and_figure_eight() {
         let (v, s) = poly(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], 0);
-        let c = Curve2 { vertices: v.clone(), segments: s.clone() };
+        let c = Curve2 {
+            vertices: v.clone(),
+            segments: s.clone(),
+        };
         assert_eq!(embedding_signature(&c, None).unwrap(), "C[]{O1 b1}");
         // A square inside a bigger one, plus an isolated point outside both.
         let (v2, s2) = poly(&[[-1.0, -1.0], [2.0, -1.0], [2.0, 2.0], [-1.0, 2.0]], 4);
-        let mut c2 = Curve2 { vertices: [v, v2].concat(), segments: [s, s2].concat() };
+        let mut c2 = Curve2 {
+            vertices: [v, v2].concat(),
+            segments: [s, s2].concat(),
+        };
         c2.vertices.push([5.0, 5.0]);
-        assert_eq!(embedding_signature(&c2, None).unwrap(), "C[0]{} | C[]{O1 b1[C[]{O1 b1}]}");
+        assert_eq!(
+            embedding_signature(&c2, None).unwrap(),
+            "C[0]{} | C[]{O1 b1[C[]{O1 b1}]}"
+        );
         // Figure eight (two triangles sharing a vertex) vs a triangle inside a triangle
         // touching it at a vertex (the limaçon pattern).
         let eight = Curve2 {
-            vertices: vec![[0.0, 0.0], [1.0, 1.0], [1.0, -1.0], [-1.0, 1.0], [-1.0, -1.0]],
+            vertices: vec![
+                [0.0, 0.0],
+                [1.0, 1.0],
+                [1.0, -1.0],
+                [-1.0, 1.0],
+                [-1.0, -1.0],
+            ],
             segments: vec![[0, 1], [1, 2], [2, 0], [0, 3], [3, 4], [4, 0]],
         };
         assert_eq!(embedding_signature(&eight, None).unwrap(), "C[4]{O2 b1 b1}");
@@ -353,8 +382,14 @@ mod tests {
 
     #[test]
     fn frame_closes_a_crossing_line() {
-        let bx = Aabb { min: [-1.0, -1.0, 0.0], max: [1.0, 1.0, 0.0] };
-        let c = Curve2 { vertices: vec![[-1.0, 0.0], [0.0, 0.1], [1.0, 0.0]], segments: vec![[0, 1], [1, 2]] };
+        let bx = Aabb {
+            min: [-1.0, -1.0, 0.0],
+            max: [1.0, 1.0, 0.0],
+        };
+        let c = Curve2 {
+            vertices: vec![[-1.0, 0.0], [0.0, 0.1], [1.0, 0.0]],
+            segments: vec![[0, 1], [1, 2]],
+        };
         assert_eq!(embedding_signature(&c, Some(&bx)).unwrap(), "F[]{O2 b2 b2}");
     }
 }

@@ -869,6 +869,26 @@ fn slice_figures(out: &Path, quick: bool) -> Result<()> {
     Ok(())
 }
 
+/// Figures of the exact sweep like the chapter's Fig. 1.16: `fig-gvn-<curve>.svg`.
+pub fn sweep_figures(out: &Path) -> Result<()> {
+    let sq = |h: f64| crate::kernel::geom::Aabb {
+        min: [-h, -h, 0.0],
+        max: [h, h, 0.0],
+    };
+    for (name, f, d) in [
+        ("lemniscate", "(x^2 + y^2)^2 - 2*(x^2 - y^2)", sq(1.6)),
+        ("limacon", "(x^2 + y^2 - x)^2 - (x^2 + y^2)/4", sq(1.6)),
+        ("acnode", "y^2 - x^2*(x - 1)", sq(2.5)),
+        ("devils-curve", "y^2*(y^2 - 1) - x^2*(x^2 - 2)", sq(2.5)),
+    ] {
+        let p = crate::algebraic::from_formula(f)?;
+        let r = crate::algebraic::analyse(&p, &d, &crate::algebraic::SweepParams::default())?;
+        let svg = crate::reproduce::plot_sweep::draw_sweep_svg(&r, &d, &format!("GVN sweep: {f}"));
+        write(out, &format!("fig-gvn-{name}.svg"), &svg)?;
+    }
+    Ok(())
+}
+
 fn write(out: &Path, name: &str, text: &str) -> Result<()> {
     let p = out.join(name);
     std::fs::write(&p, text).map_err(|e| Error::io(&p, e))
@@ -951,6 +971,7 @@ pub fn reproduce_report(out: &Path, quick: bool) -> Result<Report> {
     )?;
     figures(out, &rep)?;
     slice_figures(out, quick)?;
+    sweep_figures(out)?;
     Ok(rep)
 }
 

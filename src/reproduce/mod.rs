@@ -16,6 +16,7 @@ pub mod meshing_of_surfaces;
 pub mod morse;
 pub mod plot;
 pub mod plot_subdivision;
+pub mod plot_sweep;
 pub mod stuffing;
 pub mod stuffing_report;
 
