@@ -394,16 +394,10 @@ fn to_qpoly(e: &Expr) -> Result<QPoly> {
             a.into_iter().map(|(k, v)| (k, -v)).collect()
         }
         Expr::Un(op, _) => {
-            let name = match op {
-                UnOp::Sqrt => "sqrt",
-                UnOp::Abs => "abs",
-                UnOp::Sin => "sin",
-                UnOp::Cos => "cos",
-                UnOp::Exp => "exp",
-                UnOp::Ln => "ln",
-                UnOp::Neg => unreachable!(),
-            };
-            return Err(not_poly(e, &format!("applies {name}, which is not polynomial")));
+            return Err(not_poly(
+                e,
+                &format!("applies {}, which is not polynomial", op.name()),
+            ));
         }
         Expr::Bin(op, a, b) => {
             let (pa, pb) = (to_qpoly(a)?, to_qpoly(b)?);

@@ -606,6 +606,38 @@ fn boundary_error(what: &str) -> Error {
 }
 
 /// Insert `e` into the sorted event list, merging equal u-values.
+/// The crossings of the curve with one side of the domain: the roots of `h` (f on the
+/// side's line, as a polynomial in u) strictly inside the side's u-range (a, b), each an
+/// event at the side point `bp`; a root at an end is the curve through a corner (refused).
+fn side_crossings(
+    events: &mut Vec<Event>,
+    h: &UPoly,
+    a: &BigRational,
+    b: &BigRational,
+    bp: BPoint,
+) -> Result<()> {
+    for mut r in isolate(h)? {
+        let (ca, cb) = (r.cmp_q(a), r.cmp_q(b));
+        if ca == Ordering::Equal || cb == Ordering::Equal {
+            return Err(boundary_error(
+                "the curve passes through a corner of the domain",
+            ));
+        }
+        if ca == Ordering::Greater && cb == Ordering::Less {
+            insert_event(
+                events,
+                Event {
+                    u: r,
+                    critical: false,
+                    side: false,
+                    bpoints: vec![bp.clone()],
+                },
+            )?;
+        }
+    }
+    Ok(())
+}
+
 fn insert_event(events: &mut Vec<Event>, mut e: Event) -> Result<()> {
     for i in 0..events.len() {
         match e.u.compare(&mut events[i].u)? {
@@ -716,28 +748,16 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
         }
         // The side's u-range: x = u + s·c ∈ [xmin, xmax].
         let (a, b) = (&fr.xmin - sq * c, &fr.xmax - sq * c);
-        for mut r in isolate(&h)? {
-            let (ca, cb) = (r.cmp_q(&a), r.cmp_q(&b));
-            if ca == Ordering::Equal || cb == Ordering::Equal {
-                return Err(boundary_error(
-                    "the curve passes through a corner of the domain",
-                ));
-            }
-            if ca == Ordering::Greater && cb == Ordering::Less {
-                insert_event(
-                    &mut events,
-                    Event {
-                        u: r,
-                        critical: false,
-                        side: false,
-                        bpoints: vec![BPoint {
-                            v0: c.clone(),
-                            v1: zero.clone(),
-                        }],
-                    },
-                )?;
-            }
-        }
+        side_crossings(
+            &mut events,
+            &h,
+            &a,
+            &b,
+            BPoint {
+                v0: c.clone(),
+                v1: zero.clone(),
+            },
+        )?;
     }
     for c in [fr.xmin.clone(), fr.xmax.clone()] {
         if s == 0 {
@@ -765,28 +785,16 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
         if s < 0 {
             std::mem::swap(&mut a, &mut b);
         }
-        for mut r in isolate(&h)? {
-            let (ca, cb) = (r.cmp_q(&a), r.cmp_q(&b));
-            if ca == Ordering::Equal || cb == Ordering::Equal {
-                return Err(boundary_error(
-                    "the curve passes through a corner of the domain",
-                ));
-            }
-            if ca == Ordering::Greater && cb == Ordering::Less {
-                insert_event(
-                    &mut events,
-                    Event {
-                        u: r,
-                        critical: false,
-                        side: false,
-                        bpoints: vec![BPoint {
-                            v0: v0.clone(),
-                            v1: v1.clone(),
-                        }],
-                    },
-                )?;
-            }
-        }
+        side_crossings(
+            &mut events,
+            &h,
+            &a,
+            &b,
+            BPoint {
+                v0: v0.clone(),
+                v1: v1.clone(),
+            },
+        )?;
     }
     // Separate neighbouring events strictly, and choose the rational samples.
     let n_ev = events.len();

@@ -34,6 +34,21 @@ pub enum UnOp {
     Ln,
 }
 
+impl UnOp {
+    /// The function's name as the parser reads it (`-` for negation).
+    pub fn name(&self) -> &'static str {
+        match self {
+            UnOp::Neg => "-",
+            UnOp::Sqrt => "sqrt",
+            UnOp::Abs => "abs",
+            UnOp::Sin => "sin",
+            UnOp::Cos => "cos",
+            UnOp::Exp => "exp",
+            UnOp::Ln => "ln",
+        }
+    }
+}
+
 /// An expression tree. Constants keep their source text (for printing) and a
 /// rigorous enclosure of the decimal value.
 #[derive(Clone, Debug, PartialEq)]
@@ -478,16 +493,7 @@ impl fmt::Display for Expr {
                 wrap(f, a, a.prec() < 4)
             }
             Expr::Un(op, a) => {
-                let name = match op {
-                    UnOp::Sqrt => "sqrt",
-                    UnOp::Abs => "abs",
-                    UnOp::Sin => "sin",
-                    UnOp::Cos => "cos",
-                    UnOp::Exp => "exp",
-                    UnOp::Ln => "ln",
-                    UnOp::Neg => unreachable!(),
-                };
-                write!(f, "{name}({a})")
+                write!(f, "{}({a})", op.name())
             }
             Expr::Pow(a, n) => {
                 wrap(f, a, a.prec() < 5)?;

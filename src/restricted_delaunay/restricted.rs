@@ -207,18 +207,8 @@ pub fn circumcentre_interval(p: [[f64; 3]; 4]) -> Option<IBox> {
     let q = p.map(point_box);
     let d: [[Interval; 3]; 3] =
         std::array::from_fn(|i| std::array::from_fn(|k| q[i + 1][k] - q[0][k]));
-    let l: [Interval; 3] = d.map(|v| v[0].sqr() + v[1].sqr() + v[2].sqr());
-    let cross = |a: [Interval; 3], b: [Interval; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let c12 = cross(d[1], d[2]);
-    let c20 = cross(d[2], d[0]);
-    let c01 = cross(d[0], d[1]);
-    let det = d[0][0] * c12[0] + d[0][1] * c12[1] + d[0][2] * c12[2];
+    let (l, [c12, c20, c01], det) =
+        crate::kernel::delaunay::circumcentre_terms(d, |x: Interval| x.sqr());
     if !(det.inf() > 0.0 || det.sup() < 0.0) {
         return None;
     }

@@ -46,8 +46,8 @@ mod report;
 
 pub use check::CheckReport;
 pub use report::{
-    build_report, circumcentre, random_points, tet_mesh, write_vtk, DelaunayReport, ReportOptions,
-    Sampler,
+    build_report, circumcentre, circumcentre_terms, random_points, tet_mesh, write_vtk,
+    DelaunayReport, ReportOptions, Sampler,
 };
 
 /// Index of a vertex: 0..8 are the far corners, then the bulk input in insertion order

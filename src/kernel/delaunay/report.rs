@@ -146,21 +146,32 @@ pub fn write_vtk(w: impl std::io::Write, t: &Delaunay) -> Result<()> {
     crate::io::vtk::write(w, &tet_mesh(t))
 }
 
-/// Circumcentre of a tetrahedron in floating point (relative to `p[0]` for accuracy).
-pub fn circumcentre(p: [[f64; 3]; 4]) -> [f64; 3] {
-    let d: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|k| p[i + 1][k] - p[0][k]));
-    let l: [f64; 3] = d.map(|v| v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    let cross = |a: [f64; 3], b: [f64; 3]| {
+/// The terms of the circumcentre formula from the edge vectors d_i = p_{i+1} − p_0:
+/// the squared lengths |d_i|², the cross products d1×d2, d2×d0, d0×d1 and the
+/// determinant det = d0·(d1×d2); the centre is p0 + (Σ |d_i|² c_i) / (2 det). Generic
+/// over the number type, so the float centre and its interval enclosure
+/// (`restricted_delaunay`) are one formula; `sq` squares (intervals: the tight `sqr`).
+pub fn circumcentre_terms<T>(d: [[T; 3]; 3], sq: impl Fn(T) -> T) -> ([T; 3], [[T; 3]; 3], T)
+where
+    T: Copy + std::ops::Add<Output = T> + std::ops::Sub<Output = T> + std::ops::Mul<Output = T>,
+{
+    let l: [T; 3] = d.map(|v| sq(v[0]) + sq(v[1]) + sq(v[2]));
+    let cross = |a: [T; 3], b: [T; 3]| {
         [
             a[1] * b[2] - a[2] * b[1],
             a[2] * b[0] - a[0] * b[2],
             a[0] * b[1] - a[1] * b[0],
         ]
     };
-    let c12 = cross(d[1], d[2]);
-    let c20 = cross(d[2], d[0]);
-    let c01 = cross(d[0], d[1]);
-    let det = d[0][0] * c12[0] + d[0][1] * c12[1] + d[0][2] * c12[2];
+    let c = [cross(d[1], d[2]), cross(d[2], d[0]), cross(d[0], d[1])];
+    let det = d[0][0] * c[0][0] + d[0][1] * c[0][1] + d[0][2] * c[0][2];
+    (l, c, det)
+}
+
+/// Circumcentre of a tetrahedron in floating point (relative to `p[0]` for accuracy).
+pub fn circumcentre(p: [[f64; 3]; 4]) -> [f64; 3] {
+    let d: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|k| p[i + 1][k] - p[0][k]));
+    let (l, [c12, c20, c01], det) = circumcentre_terms(d, |x: f64| x * x);
     let s = 0.5 / det;
     std::array::from_fn(|k| p[0][k] + s * (l[0] * c12[k] + l[1] * c20[k] + l[2] * c01[k]))
 }
