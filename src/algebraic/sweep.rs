@@ -608,14 +608,21 @@ fn boundary_error(what: &str) -> Error {
 /// Insert `e` into the sorted event list, merging equal u-values.
 /// The crossings of the curve with one side of the domain: the roots of `h` (f on the
 /// side's line, as a polynomial in u) strictly inside the side's u-range (a, b), each an
-/// event at the side point `bp`; a root at an end is the curve through a corner (refused).
+/// event at the side point `bp`; a root at an end is the curve through a corner, and
+/// h ≡ 0 the side on the curve (both refused).
 fn side_crossings(
     events: &mut Vec<Event>,
+    side: &str,
     h: &UPoly,
     a: &BigRational,
     b: &BigRational,
     bp: BPoint,
 ) -> Result<()> {
+    if h.is_zero() {
+        return Err(boundary_error(&format!(
+            "a {side} side of the domain lies on the curve"
+        )));
+    }
     for mut r in isolate(h)? {
         let (ca, cb) = (r.cmp_q(a), r.cmp_q(b));
         if ca == Ordering::Equal || cb == Ordering::Equal {
@@ -741,23 +748,13 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
     let sides_h = [fr.ymin.clone(), fr.ymax.clone()];
     for c in &sides_h {
         let h = g.on_line(&zero, &one, c, &zero);
-        if h.is_zero() {
-            return Err(boundary_error(
-                "a horizontal side of the domain lies on the curve",
-            ));
-        }
         // The side's u-range: x = u + s·c ∈ [xmin, xmax].
         let (a, b) = (&fr.xmin - sq * c, &fr.xmax - sq * c);
-        side_crossings(
-            &mut events,
-            &h,
-            &a,
-            &b,
-            BPoint {
-                v0: c.clone(),
-                v1: zero.clone(),
-            },
-        )?;
+        let side_point = BPoint {
+            v0: c.clone(),
+            v1: zero.clone(),
+        };
+        side_crossings(&mut events, "horizontal", &h, &a, &b, side_point)?;
     }
     for c in [fr.xmin.clone(), fr.xmax.clone()] {
         if s == 0 {
@@ -775,26 +772,16 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
         // u + s·v = c: v = c/s − u/s.
         let (v0, v1) = (&c / sq, -(&one / sq));
         let h = g.on_line(&zero, &one, &v0, &v1);
-        if h.is_zero() {
-            return Err(boundary_error(
-                "a vertical side of the domain lies on the curve",
-            ));
-        }
         // v ∈ [ymin, ymax] ⇔ u ∈ [c − s·ymax, c − s·ymin] (s > 0), swapped for s < 0.
         let (mut a, mut b) = (&c - sq * &fr.ymax, &c - sq * &fr.ymin);
         if s < 0 {
             std::mem::swap(&mut a, &mut b);
         }
-        side_crossings(
-            &mut events,
-            &h,
-            &a,
-            &b,
-            BPoint {
-                v0: v0.clone(),
-                v1: v1.clone(),
-            },
-        )?;
+        let side_point = BPoint {
+            v0: v0.clone(),
+            v1: v1.clone(),
+        };
+        side_crossings(&mut events, "vertical", &h, &a, &b, side_point)?;
     }
     // Separate neighbouring events strictly, and choose the rational samples.
     let n_ev = events.len();
