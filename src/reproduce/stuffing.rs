@@ -169,7 +169,7 @@ pub(super) fn run(out_dir: &Path, quick: bool) -> Result<()> {
         }
     }
     md.push_str(FINDINGS);
-    md.push_str("\n## Other parameter choices\n\n[AUDIT.md](AUDIT.md): the certified bounds of the Unreal Engine and ModalSound parameter pairs beside Table 1's rows (`proofs stuffing --alpha-long A --alpha-short B`).\n");
+    md.push_str("\n## Other parameter choices\n\n[AUDIT.md](AUDIT.md): the certified bounds of the Unreal Engine and ModalSound parameter pairs beside Table 1's rows (`proofs stuffing --alpha-long A --alpha-short B`). [PARETO.md](PARETO.md): the certified Pareto front of (smallest, largest) dihedral and plane angles over a grid of 57 pairs (`proofs pareto`).\n");
     writeln!(md, "\n## Not reproduced here\n\n- The paper's models (Stanford dragon, *Whirled White Web*) are not in the catalog; the graded variant evaluates f on the fine lattice inside the solid (the octree only saves tetrahedra).\n").ok();
     std::fs::write(out_dir.join("README.md"), md)
         .map_err(|e| Error::io(out_dir.join("README.md"), e))?;
