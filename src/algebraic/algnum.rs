@@ -66,7 +66,11 @@ pub fn isolate(p: &UPoly) -> Result<Vec<RealAlg>> {
     let mut pos = Vec::new();
     descartes01(&work.scale_up_pow2(k as u64), &mut pos, &mut budget)?;
     let mut neg = Vec::new();
-    descartes01(&work.reflect().scale_up_pow2(k as u64), &mut neg, &mut budget)?;
+    descartes01(
+        &work.reflect().scale_up_pow2(k as u64),
+        &mut neg,
+        &mut budget,
+    )?;
     let scale = pow2(k);
     for (c, h, exact) in neg.into_iter().rev() {
         let (lo, hi) = unit_interval(&c, h, &scale);
@@ -141,7 +145,9 @@ fn descartes01(q: &UPoly, out: &mut Vec<(BigInt, u64, bool)>, budget: &mut usize
         if left.c.iter().fold(BigInt::zero(), |a, b| a + b).is_zero() {
             // The midpoint is a root.
             out.push((&c2 + 1, h + 1, true));
-            left = left.div_exact(&UPoly::from_i64(&[-1, 1])).expect("root at 1");
+            left = left
+                .div_exact(&UPoly::from_i64(&[-1, 1]))
+                .expect("root at 1");
         }
         // When the midpoint was a root, left was divided by (x − 1), so the right half
         // left(x + 1) has no root at its end 0 either.

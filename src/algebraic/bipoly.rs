@@ -153,7 +153,12 @@ impl BiPoly {
     }
     /// f(q, y) as a primitive integer polynomial in y.
     pub fn at_x(&self, q: &BigRational) -> UPoly {
-        self.on_line(q, &BigRational::zero(), &BigRational::zero(), &BigRational::one())
+        self.on_line(
+            q,
+            &BigRational::zero(),
+            &BigRational::zero(),
+            &BigRational::one(),
+        )
     }
     /// Content in Z\[x\]: the gcd of the y-coefficients.
     pub fn content_x(&self) -> UPoly {
@@ -250,7 +255,11 @@ impl BiPoly {
             a = b;
             b = if r.is_zero() { r } else { r.primitive() };
         }
-        let g = if b.is_zero() { a } else { BiPoly::new(vec![UPoly::constant(BigInt::one())]) };
+        let g = if b.is_zero() {
+            a
+        } else {
+            BiPoly::new(vec![UPoly::constant(BigInt::one())])
+        };
         let g = g.primitive();
         Self::new(g.c.iter().map(|p| p.mul(&cg)).collect()).lc_sign_normal()
     }
@@ -381,8 +390,7 @@ fn to_qpoly(e: &Expr) -> Result<QPoly> {
             QPoly::from([(key, BigRational::one())])
         }
         Expr::Const(_, text) => {
-            let v = decimal_exact(text)
-                .ok_or_else(|| not_poly(e, "is not a rational constant"))?;
+            let v = decimal_exact(text).ok_or_else(|| not_poly(e, "is not a rational constant"))?;
             let mut m = QPoly::new();
             if !v.is_zero() {
                 m.insert((0, 0), v);
@@ -406,14 +414,15 @@ fn to_qpoly(e: &Expr) -> Result<QPoly> {
                 BinOp::Sub => qp_add(&pa, &pb, -1),
                 BinOp::Mul => {
                     if qp_deg(&pa) + qp_deg(&pb) > MAX_FORMULA_DEGREE {
-                        return Err(not_poly(e, &format!("has degree above {MAX_FORMULA_DEGREE}")));
+                        return Err(not_poly(
+                            e,
+                            &format!("has degree above {MAX_FORMULA_DEGREE}"),
+                        ));
                     }
                     qp_mul(&pa, &pb)
                 }
                 BinOp::Div => match qp_const(&pb) {
-                    Some(c) if !c.is_zero() => {
-                        pa.into_iter().map(|(k, v)| (k, v / &c)).collect()
-                    }
+                    Some(c) if !c.is_zero() => pa.into_iter().map(|(k, v)| (k, v / &c)).collect(),
                     Some(_) => return Err(not_poly(e, "divides by zero")),
                     None => return Err(not_poly(e, "divides by a non-constant")),
                 },
@@ -435,7 +444,10 @@ fn to_qpoly(e: &Expr) -> Result<QPoly> {
             }
             let n = *n as u32;
             if qp_deg(&pa).saturating_mul(n) > MAX_FORMULA_DEGREE {
-                return Err(not_poly(e, &format!("has degree above {MAX_FORMULA_DEGREE}")));
+                return Err(not_poly(
+                    e,
+                    &format!("has degree above {MAX_FORMULA_DEGREE}"),
+                ));
             }
             let mut r = QPoly::from([((0, 0), BigRational::one())]);
             for _ in 0..n {

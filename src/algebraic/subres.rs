@@ -85,7 +85,9 @@ pub fn subresultant(p: &BiPoly, q: &BiPoly, j: usize) -> BiPoly {
 
 /// The principal subresultant coefficients sres_j = det_{j,j}, j = 0 … deg Q.
 pub fn principal(p: &BiPoly, q: &BiPoly) -> Vec<UPoly> {
-    (0..=q.deg_y() as usize).map(|j| sub_coef(p, q, j, j)).collect()
+    (0..=q.deg_y() as usize)
+        .map(|j| sub_coef(p, q, j, j))
+        .collect()
 }
 
 /// The resultant Res_y(P, Q) = sres_0.

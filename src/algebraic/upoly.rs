@@ -351,7 +351,11 @@ pub fn sturm_count(p: &UPoly, a: &BigRational, b: &BigRational) -> usize {
         // prem = lc(b)^e·rem: the true remainder has the sign of lc(prem)·sign(lc b)^e;
         // the next Sturm polynomial is −rem up to a positive factor.
         let e = seq[n - 2].deg() - seq[n - 1].deg() + 1;
-        let s_scale = if seq[n - 1].lc().is_negative() && e % 2 == 1 { -1 } else { 1 };
+        let s_scale = if seq[n - 1].lc().is_negative() && e % 2 == 1 {
+            -1
+        } else {
+            1
+        };
         let s_true = sign(&pr.lc()) * s_scale;
         let mut r = pr.primitive();
         if sign(&r.lc()) != -s_true {

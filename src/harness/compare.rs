@@ -266,9 +266,19 @@ pub fn compare_with(
 /// For every curve, compare each run's embedding signature with the reference: the
 /// certified sweep's (`sweep`), else the first certified run's.
 pub fn set_isotopy_agreement(rows: &mut [Row]) {
-    let curves: Vec<String> = rows.iter().filter(|r| r.dim == 2).map(|r| r.surface.clone()).collect();
+    let curves: Vec<String> = rows
+        .iter()
+        .filter(|r| r.dim == 2)
+        .map(|r| r.surface.clone())
+        .collect();
     for c in curves {
-        let on = |r: &&Row| r.surface == c && r.dim == 2 && r.error.is_none() && r.certified && r.signature.is_some();
+        let on = |r: &&Row| {
+            r.surface == c
+                && r.dim == 2
+                && r.error.is_none()
+                && r.certified
+                && r.signature.is_some()
+        };
         let reference = rows
             .iter()
             .filter(on)
@@ -414,7 +424,10 @@ pub fn markdown(rows: &[Row]) -> String {
 /// The curves' embedding signatures and whether each run agrees with the certified
 /// reference (a markdown list; empty without curves).
 pub fn signatures_markdown(rows: &[Row]) -> String {
-    let curves: Vec<&Row> = rows.iter().filter(|r| r.dim == 2 && r.error.is_none()).collect();
+    let curves: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.dim == 2 && r.error.is_none())
+        .collect();
     if curves.is_empty() {
         return String::new();
     }

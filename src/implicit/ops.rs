@@ -478,11 +478,7 @@ pub fn isolate_segment(
         if within && reg == Regularity::Smooth && !dg.is_empty() && excludes_zero(dg) {
             if let (Some(a), Some(b)) = (s0, s1) {
                 if a != b {
-                    out.roots.push(SegmentRoot {
-                        t0,
-                        t1,
-                        rising: b,
-                    });
+                    out.roots.push(SegmentRoot { t0, t1, rising: b });
                 }
                 continue;
             }

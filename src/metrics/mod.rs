@@ -6,8 +6,8 @@ pub mod embedding;
 pub mod fidelity;
 pub mod topology;
 
-pub use embedding::embedding_signature;
 pub use angles::{Histogram, TetAngles, TetRanges, TriangleAngles};
+pub use embedding::embedding_signature;
 pub use fidelity::{Fidelity, FidelityParams};
 pub use topology::{
     analyze, analyze_curve, analyze_tets, curve_verdict, tet_verdict, verdict, CurveTopology,

@@ -35,7 +35,10 @@ pub(crate) fn mesh_cmd(a: MeshArgs, dim: usize, quiet: bool) -> CliResult<()> {
     let mut run = mesher::run(m.as_ref(), t.f.as_ref(), &t.domain, &bar)?;
     // The sweep's re-checkable certificate travels in its stats; it is written to its
     // own file, not printed with the report.
-    let recheck = run.output.stats.remove(certmesh::algebraic::sweep::CERT_STATS_KEY);
+    let recheck = run
+        .output
+        .stats
+        .remove(certmesh::algebraic::sweep::CERT_STATS_KEY);
     if let (Some(path), Some(cert)) = (&a.certificate, &recheck) {
         let text = serde_json::to_string(cert).expect("certificate serializes") + "\n";
         std::fs::write(path, text)
