@@ -259,6 +259,13 @@ impl Budget {
     pub fn fresh(&self) -> Budget {
         Budget::new(self.0.max_boxes, self.0.time_limit)
     }
+    /// Exhaust the budget now (an interrupt from the caller): every later
+    /// [`Budget::charge`] is false and the run stops as if its limit were reached.
+    pub fn stop(&self) {
+        self.0
+            .exhausted
+            .store(true, std::sync::atomic::Ordering::Relaxed);
+    }
     pub fn is_exhausted(&self) -> bool {
         self.0.exhausted.load(std::sync::atomic::Ordering::Relaxed)
     }

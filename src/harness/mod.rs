@@ -3,3 +3,4 @@
 pub mod compare;
 pub mod demo;
 pub mod report;
+pub mod target;

@@ -492,7 +492,7 @@ pub fn summarize(ratio: Ratio, rule: DiagonalRule, cases: &[CaseEntry]) -> (Summ
 }
 
 /// What `proofs check` found.
-#[derive(Debug)]
+#[derive(Debug, Serialize)]
 pub struct CheckReport {
     pub cases: usize,
     pub leaves: usize,

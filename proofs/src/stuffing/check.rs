@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use std::collections::HashSet;
 
 /// What `check` found.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct CheckReport {
     pub problems: usize,
     pub leaves: usize,

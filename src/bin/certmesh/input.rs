@@ -2,17 +2,14 @@
 //! surface of a run.
 use crate::args::*;
 use crate::errors::*;
-use certmesh::catalog::{self, Entry};
-use certmesh::error::{Error, Result};
+use certmesh::error::Error;
 use certmesh::harness::report::DomainSource;
-use certmesh::implicit::{Formula, Implicit};
+pub(crate) use certmesh::harness::target::Target;
+use certmesh::harness::target::{self, domain_from, Source};
+use certmesh::implicit::Formula;
 use certmesh::io;
 use certmesh::kernel::geom::Aabb;
 use std::path::{Path, PathBuf};
-
-/// Half-width of the default domain of a formula: [-2, 2]³ for surfaces, [-2, 2]² for
-/// curves (the catalog's unit-scale shapes fit in it).
-pub(crate) const DEFAULT_HALF_WIDTH: f64 = 2.0;
 
 /// Fail now, not after the work, if `path` cannot be written: its directory must
 /// exist and the file must be creatable (an existing file is not truncated here).
@@ -123,45 +120,14 @@ pub(crate) fn parse_formula(text: &str, file: Option<&Path>, dim: usize) -> CliR
 // ---------------------------------------------------------------------------------
 // mesh / curve
 
-/// The function, domain and expected topology a mesh/curve command works on.
-pub(crate) struct Target {
-    pub(crate) name: String,
-    pub(crate) f: Box<dyn Implicit>,
-    pub(crate) domain: Aabb,
-    /// Where the domain came from: "catalog", "--domain", "default", "unit cube".
-    pub(crate) domain_source: DomainSource,
-    pub(crate) entry: Option<Entry>,
-}
-
-pub(crate) fn domain_from(v: &[f64], dim: usize) -> Result<Aabb> {
-    match (v.len(), dim) {
-        (6, 3) => Aabb::new([v[0], v[1], v[2]], [v[3], v[4], v[5]]),
-        (4, 2) => Aabb::new([v[0], v[1], 0.0], [v[2], v[3], 0.0]),
-        (n, _) => Err(Error::Domain(format!(
-            "--domain needs {} numbers ({}), got {n}",
-            if dim == 3 { 6 } else { 4 },
-            if dim == 3 {
-                "x0,y0,z0,x1,y1,z1"
-            } else {
-                "x0,y0,x1,y1"
-            }
-        ))),
-    }
-}
-
-/// The default domain of a formula: [-2, 2]³, or [-2, 2]² for a curve.
-pub(crate) fn default_domain(dim: usize) -> Aabb {
-    let h = DEFAULT_HALF_WIDTH;
-    let z = if dim == 3 { h } else { 0.0 };
-    Aabb::new([-h, -h, -z], [h, h, z]).expect("a valid box")
-}
-
+/// The function, domain and expected topology a mesh/curve command works on
+/// ([`certmesh::harness::target::resolve`]).
 pub(crate) fn target(a: &MeshArgs, dim: usize) -> CliResult<Target> {
     if let Some(path) = &a.mesh_input {
         return mesh_input_target(a, path, dim);
     }
     let formula = formula_text(a.formula.as_deref(), a.formula_file.as_deref())?;
-    let (name, f, entry): (String, Box<dyn Implicit>, Option<Entry>) = match (&a.name, formula) {
+    let source = match (&a.name, formula) {
         (Some(_), Some(_)) => {
             return Err(CliError::from(Error::Param(
                 "give a catalog name or --formula, not both".into(),
@@ -172,42 +138,13 @@ pub(crate) fn target(a: &MeshArgs, dim: usize) -> CliResult<Target> {
                 "give a catalog name (see `certmesh surfaces`) or --formula".into(),
             )))
         }
-        (Some(n), None) => {
-            let e = catalog::get(n)?;
-            if e.dim != dim {
-                return Err(CliError::from(Error::Param(format!(
-                    "'{n}' is a {}; use `certmesh {}`",
-                    if e.dim == 2 { "curve" } else { "surface" },
-                    if e.dim == 2 { "curve" } else { "mesh" }
-                ))));
-            }
-            (n.clone(), Box::new(e.function()), Some(e))
-        }
-        (None, Some((t, file))) => (
-            "formula".to_string(),
-            Box::new(parse_formula(&t, file.as_deref(), dim)?),
-            None,
-        ),
+        (Some(n), None) => Source::Catalog(n),
+        (None, Some((t, file))) => Source::Function {
+            name: "formula".to_string(),
+            f: Box::new(parse_formula(&t, file.as_deref(), dim)?),
+        },
     };
-    let (domain, domain_source) = match (&entry, a.domain.is_empty()) {
-        (_, false) => (domain_from(&a.domain, dim)?, DomainSource::Given),
-        (Some(e), true) => (e.domain, DomainSource::Catalog),
-        (None, true) => (default_domain(dim), DomainSource::Default),
-    };
-    let s = domain.size();
-    if (0..dim).any(|k| s[k] <= 0.0) {
-        return Err(CliError::from(Error::Domain(format!(
-            "the domain {:?}..{:?} is empty along some axis",
-            domain.min, domain.max
-        ))));
-    }
-    Ok(Target {
-        name,
-        f,
-        domain,
-        domain_source,
-        entry,
-    })
+    Ok(target::resolve(source, &a.domain, dim)?)
 }
 
 /// `--mesh-input FILE`: the signed distance to a mesh, normalised into the unit cube.

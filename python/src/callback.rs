@@ -1,0 +1,140 @@
+//! A Python function as the surface: `f(x, y, z)` (or `f(x, y)` for curves) called on
+//! numpy arrays of coordinates, so it can be evaluated on whole batches. It has no
+//! interval extension: intervals are the whole line (no pruning, nothing proven), the
+//! gradient is a central difference, `is_rigorous` is false, and `certmesh::mesher::run`
+//! therefore never lets a mesher certify anything computed from it.
+use certmesh::implicit::{Dual, Hyper, IBox, Implicit, Regularity};
+use inari::Interval;
+use numpy::{IntoPyArray, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use std::panic::resume_unwind;
+
+/// The payload of the unwinding that stops a run when the Python function raised:
+/// the exception itself, re-raised by the caller.
+pub struct CallbackFailed(pub PyErr);
+
+pub struct PyFunction {
+    f: Py<PyAny>,
+    dim: usize,
+}
+
+impl PyFunction {
+    pub fn new(f: Py<PyAny>, dim: usize) -> Self {
+        PyFunction { f, dim }
+    }
+
+    /// f at every point of `pts`, in one call of the Python function.
+    pub fn eval_batch(&self, pts: &[[f64; 3]], out: &mut [f64]) {
+        let r = Python::attach(|py| -> PyResult<()> {
+            let coords: Vec<_> = (0..self.dim)
+                .map(|k| {
+                    pts.iter()
+                        .map(|p| p[k])
+                        .collect::<Vec<f64>>()
+                        .into_pyarray(py)
+                })
+                .collect();
+            let v = self.f.call1(py, pyo3::types::PyTuple::new(py, coords)?)?;
+            let v = v.bind(py);
+            let np = py.import("numpy")?;
+            let a = np.call_method1("asarray", (v, "float64"))?;
+            let a = np.call_method1("broadcast_to", (a, (pts.len(),)))?;
+            let a: Bound<'_, numpy::PyArray1<f64>> = np
+                .call_method1("ascontiguousarray", (a,))?
+                .cast_into()
+                .map_err(|e| PyErr::from(e))?;
+            if a.len() != pts.len() {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "the function returned {} values for {} points",
+                    a.len(),
+                    pts.len()
+                )));
+            }
+            out.copy_from_slice(a.readonly().as_slice()?);
+            Ok(())
+        });
+        if let Err(e) = r {
+            resume_unwind(Box::new(CallbackFailed(e)));
+        }
+    }
+
+    fn one(&self, p: [f64; 3]) -> f64 {
+        let mut v = [0.0];
+        self.eval_batch(&[p], &mut v);
+        v[0]
+    }
+
+    /// Central differences: the values at p ± h e_k in one batch.
+    fn gradient(&self, p: [f64; 3]) -> Dual<f64> {
+        let mut pts = vec![p];
+        let h: Vec<f64> = (0..3).map(|k| 1e-6 * p[k].abs().max(1.0)).collect();
+        for k in 0..self.dim {
+            for s in [1.0, -1.0] {
+                let mut q = p;
+                q[k] += s * h[k];
+                pts.push(q);
+            }
+        }
+        let mut v = vec![0.0; pts.len()];
+        self.eval_batch(&pts, &mut v);
+        let mut g = [0.0; 3];
+        for k in 0..self.dim {
+            g[k] = (v[1 + 2 * k] - v[2 + 2 * k]) / (2.0 * h[k]);
+        }
+        Dual { v: v[0], g }
+    }
+}
+
+impl Implicit for PyFunction {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn eval(&self, p: [f64; 3]) -> f64 {
+        self.one(p)
+    }
+    /// Nothing is known: the whole line (so no box is ever pruned or certified).
+    fn eval_interval(&self, _b: &IBox) -> Interval {
+        Interval::ENTIRE
+    }
+    fn grad(&self, p: [f64; 3]) -> Dual<f64> {
+        self.gradient(p)
+    }
+    fn grad_interval(&self, _b: &IBox) -> Dual<Interval> {
+        Dual {
+            v: Interval::ENTIRE,
+            g: [Interval::ENTIRE; 3],
+        }
+    }
+    fn hessian(&self, p: [f64; 3]) -> Hyper<f64> {
+        let d = self.gradient(p);
+        Hyper {
+            v: d.v,
+            g: d.g,
+            h: [f64::NAN; 6],
+        }
+    }
+    fn hessian_interval(&self, _b: &IBox) -> Hyper<Interval> {
+        Hyper {
+            v: Interval::ENTIRE,
+            g: [Interval::ENTIRE; 3],
+            h: [Interval::ENTIRE; 6],
+        }
+    }
+    fn is_rigorous(&self) -> bool {
+        false
+    }
+    /// Nothing is proven about a Python function.
+    fn regularity(&self, _b: &IBox) -> Regularity {
+        Regularity::Undefined
+    }
+    fn describe(&self) -> String {
+        Python::attach(|py| {
+            self.f
+                .bind(py)
+                .getattr("__name__")
+                .and_then(|n| n.extract::<String>())
+                .map(|n| format!("<python function {n}>"))
+                .unwrap_or_else(|_| "<python function>".into())
+        })
+    }
+}
