@@ -5,7 +5,7 @@
 //! therefore never lets a mesher certify anything computed from it.
 use certmesh::implicit::{Dual, Hyper, IBox, Implicit, Regularity};
 use inari::Interval;
-use numpy::{IntoPyArray, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::prelude::*;
 use std::panic::resume_unwind;
 
@@ -23,33 +23,28 @@ impl PyFunction {
         PyFunction { f, dim }
     }
 
-    /// f at every point of `pts`, in one call of the Python function.
-    pub fn eval_batch(&self, pts: &[[f64; 3]], out: &mut [f64]) {
+    /// f at every point (coordinate slices `p[0][i], p[1][i], p[2][i]`), in one call
+    /// of the Python function.
+    pub fn eval_batch(&self, p: [&[f64]; 3], out: &mut [f64]) {
+        let n = out.len();
         let r = Python::attach(|py| -> PyResult<()> {
             let coords: Vec<_> = (0..self.dim)
-                .map(|k| {
-                    pts.iter()
-                        .map(|p| p[k])
-                        .collect::<Vec<f64>>()
-                        .into_pyarray(py)
-                })
+                .map(|k| p[k].to_vec().into_pyarray(py))
                 .collect();
             let v = self.f.call1(py, pyo3::types::PyTuple::new(py, coords)?)?;
-            let v = v.bind(py);
             let np = py.import("numpy")?;
-            let a = np.call_method1("asarray", (v, "float64"))?;
-            let a = np.call_method1("broadcast_to", (a, (pts.len(),)))?;
+            let a = np.call_method1("asarray", (v.bind(py), "float64"))?;
+            if a.getattr("ndim")?.extract::<usize>()? > 1 {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "the function must return one value per point (a 1-D array), got shape {}",
+                    a.getattr("shape")?.str()?
+                )));
+            }
+            let a = np.call_method1("broadcast_to", (a, (n,)))?;
             let a: Bound<'_, numpy::PyArray1<f64>> = np
                 .call_method1("ascontiguousarray", (a,))?
                 .cast_into()
-                .map_err(|e| PyErr::from(e))?;
-            if a.len() != pts.len() {
-                return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                    "the function returned {} values for {} points",
-                    a.len(),
-                    pts.len()
-                )));
-            }
+                .map_err(PyErr::from)?;
             out.copy_from_slice(a.readonly().as_slice()?);
             Ok(())
         });
@@ -60,7 +55,7 @@ impl PyFunction {
 
     fn one(&self, p: [f64; 3]) -> f64 {
         let mut v = [0.0];
-        self.eval_batch(&[p], &mut v);
+        self.eval_batch([&[p[0]], &[p[1]], &[p[2]]], &mut v);
         v[0]
     }
 
@@ -76,7 +71,8 @@ impl PyFunction {
             }
         }
         let mut v = vec![0.0; pts.len()];
-        self.eval_batch(&pts, &mut v);
+        let c: Vec<Vec<f64>> = (0..3).map(|k| pts.iter().map(|q| q[k]).collect()).collect();
+        self.eval_batch([&c[0], &c[1], &c[2]], &mut v);
         let mut g = [0.0; 3];
         for k in 0..self.dim {
             g[k] = (v[1 + 2 * k] - v[2 + 2 * k]) / (2.0 * h[k]);
