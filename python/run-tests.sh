@@ -10,7 +10,7 @@ venv="${CERTMESH_VENV:-$here/.venv}"
 py="${PYTHON:-python3}"
 [ -x "$venv/bin/python" ] || "$py" -m venv "$venv"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
-  pytest meshio nbclient nbformat ipykernel matplotlib
+  pytest meshio pandas nbclient nbformat ipykernel matplotlib
 # The README's install command. The build shares the repository's target folder.
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$repo/target}"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check "$here"
