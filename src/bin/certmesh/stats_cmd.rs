@@ -84,7 +84,14 @@ pub(crate) fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
             let d: Vec<f64> = (0..m.tets.len())
                 .flat_map(|t| metrics::angles::dihedral_angles(&m.corners(t)))
                 .collect();
-            angle_histogram(h, "dihedral angles", "tetrahedra", d, false, &a)?;
+            angle_histogram(
+                h,
+                "dihedral angles",
+                "dihedral angles per bin",
+                d,
+                false,
+                &a,
+            )?;
         }
         bar.finish();
         print_json(&s);
@@ -111,7 +118,7 @@ pub(crate) fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
             .flatten()
             .flatten()
             .collect();
-        angle_histogram(h, "triangle angles", "density", ang, true, &a)?;
+        angle_histogram(h, "triangle angles", "density (1/degree)", ang, true, &a)?;
     }
     bar.finish();
     let report = report::StatsReport {
@@ -143,7 +150,7 @@ fn angle_histogram(
     certmesh::reproduce::plot::histogram(
         h,
         title,
-        "degrees",
+        "angle (degrees)",
         y_label,
         &certmesh::reproduce::plot::bin(angles, a.bin, density),
         &[],
