@@ -67,6 +67,14 @@ pub fn check_svg(svg: &str) -> Result<Report> {
     if meta.is_none() {
         problems.push("no certmesh-figure metadata (not written by the figure style)".into());
     }
+    let vb: Vec<f64> = root
+        .attribute("viewBox")
+        .map(|v| {
+            v.split_whitespace()
+                .filter_map(|x| x.parse().ok())
+                .collect()
+        })
+        .unwrap_or_default();
     let mut texts = Vec::new();
     let mut min_font_pt = f64::INFINITY;
     for n in root.descendants().filter(|n| n.has_tag_name("text")) {
@@ -90,6 +98,34 @@ pub fn check_svg(svg: &str) -> Result<Report> {
                 }
             }
             None => problems.push(format!("text `{s}` has no font size")),
+        }
+        if let (Some(u), [vx, vy, vw, vh]) = (size, vb.as_slice()) {
+            let num = |k: &str| n.attribute(k).and_then(|v| v.parse::<f64>().ok());
+            let (Some(x), Some(y)) = (num("x"), num("y")) else {
+                texts.push(s);
+                continue;
+            };
+            // Positions inside a translated group are not checked.
+            let in_group = n
+                .ancestors()
+                .any(|a| a.attribute("transform").is_some() && a != n);
+            let w = 0.5 * u * s.chars().count() as f64;
+            let (a, b) = match n.attribute("text-anchor") {
+                Some("middle") => (-0.5 * w, 0.5 * w),
+                Some("end") => (-w, 0.0),
+                _ => (0.0, w),
+            };
+            let rotated = n
+                .attribute("transform")
+                .is_some_and(|t| t.contains("rotate"));
+            let (lo, hi, min, max) = if rotated {
+                (y - b, y - a, *vy, vy + vh)
+            } else {
+                (x + a, x + b, *vx, vx + vw)
+            };
+            if !in_group && (lo < min - 1.0 || hi > max + 1.0) {
+                problems.push(format!("text `{s}` runs off the figure"));
+            }
         }
         texts.push(s);
     }

@@ -54,6 +54,13 @@ impl Format {
 }
 
 static DEFAULT: RwLock<Vec<Format>> = RwLock::new(Vec::new());
+static WRITTEN: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Every figure file written by this process so far (for `certmesh figures`, which
+/// removes the stale ones it no longer makes).
+pub fn written() -> Vec<PathBuf> {
+    WRITTEN.lock().map(|v| v.clone()).unwrap_or_default()
+}
 
 /// The formats figures are written in when a caller does not say (`--format` sets it
 /// once per process; unset: SVG and PNG).
@@ -167,8 +174,17 @@ pub fn physical(svg: &str, width: Width, meta: &Meta) -> Result<String> {
         let v = &head[k..];
         v[..v.find('"')?].trim().parse().ok()
     };
-    let (w, h) = match (attr("width"), attr("height")) {
-        (Some(w), Some(h)) if w > 0.0 && h > 0.0 => (w, h),
+    let vb: Option<Vec<f64>> = head.find(" viewBox=\"").and_then(|k| {
+        let v = &head[k + 10..];
+        let v: Vec<f64> = v[..v.find('"')?]
+            .split_whitespace()
+            .filter_map(|x| x.parse().ok())
+            .collect();
+        (v.len() == 4 && v[2] > 0.0 && v[3] > 0.0).then_some(v)
+    });
+    let vb = match (vb, attr("width"), attr("height")) {
+        (Some(v), _, _) => v,
+        (None, Some(w), Some(h)) if w > 0.0 && h > 0.0 => vec![0.0, 0.0, w, h],
         _ => return Err(Error::Param("figure: <svg> without a numeric size".into())),
     };
     let inches = width.inches();
@@ -183,10 +199,12 @@ pub fn physical(svg: &str, width: Width, meta: &Meta) -> Result<String> {
             }
         }
     }
+    let (w, h) = (vb[2], vb[3]);
+    let view = format!("{} {} {w} {h}", vb[0], vb[1]);
     let json = serde_json::to_string(meta).map_err(|e| Error::Param(e.to_string()))?;
     let json = json.replace('&', "&amp;").replace('<', "&lt;");
     Ok(format!(
-        "{}{} width=\"{inches}in\" height=\"{:.4}in\" viewBox=\"0 0 {w} {h}\">\n<metadata id=\"certmesh-figure\">{json}</metadata>{}",
+        "{}{} width=\"{inches}in\" height=\"{:.4}in\" viewBox=\"{view}\">\n<metadata id=\"certmesh-figure\">{json}</metadata>{}",
         &svg[..start],
         rest,
         inches * h / w,
@@ -290,6 +308,9 @@ pub fn write_svg(
             Format::Pdf => pdf_bytes(&svg)?,
         };
         std::fs::write(&path, bytes).map_err(|e| Error::io(&path, e))?;
+        if let Ok(mut w) = WRITTEN.lock() {
+            w.push(path.clone());
+        }
         written.push(path);
     }
     Ok(written)

@@ -204,7 +204,7 @@ pub fn legend_below<'b>(area: &Area<'b>, keys: &[(String, Key)]) -> Result<Area<
     let (top, bottom) = area.split_vertically(h.saturating_sub(lh));
     for (r, row) in rows.iter().enumerate() {
         let y = (pt(2.0) + r as f64 * row_h + 0.5 * row_h) as i32;
-        let mut x = margin as i32 + pt(30.0) as i32;
+        let mut x = margin as i32;
         for &i in row {
             let (name, key) = &keys[i];
             let (x0, x1) = (x, x + sw as i32);

@@ -398,6 +398,7 @@ fn histogram_figure(
     .map(|(x, label)| crate::reproduce::plot::Marker { x, label });
     crate::reproduce::plot::lines_marked(
         &out_dir.join(base),
+        crate::figure::style::Width::Full,
         title,
         "angle (degrees)",
         "fraction of angles per 1° bin",

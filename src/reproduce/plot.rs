@@ -68,6 +68,20 @@ fn marker_keys(markers: &[Marker], first: usize) -> Vec<(String, Key)> {
         .collect()
 }
 
+/// Markers within `tol` of the previous one (in x order) joined into one.
+fn merge_close(markers: &[Marker], tol: f64) -> Vec<Marker> {
+    let mut m = markers.to_vec();
+    m.sort_by(|a, b| a.x.total_cmp(&b.x));
+    let mut out: Vec<Marker> = Vec::new();
+    for k in m {
+        match out.last_mut() {
+            Some(l) if (k.x - l.x).abs() <= tol => l.label = format!("{}; {}", l.label, k.label),
+            _ => out.push(k),
+        }
+    }
+    out
+}
+
 fn x_range(bars: &[Bar], markers: &[Marker]) -> (f64, f64) {
     let xmin = bars
         .iter()
@@ -99,6 +113,8 @@ pub fn histogram(
     markers: &[Marker],
     emphasis: f64,
 ) -> Result<()> {
+    let (xa, xb) = x_range(bars, markers);
+    let markers = &merge_close(markers, 0.01 * (xb - xa));
     let ymax = bars.iter().map(|b| b.height).fold(0.0, f64::max).max(1e-12) * 1.1;
     let magnified: Vec<Bar> = if emphasis > 1.0 {
         bars.iter()
@@ -159,18 +175,28 @@ pub fn lines(
     y_label: &str,
     series: &[Series],
 ) -> Result<()> {
-    lines_marked(base, title, x_label, y_label, series, &[])
+    lines_marked(base, Width::Column, title, x_label, y_label, series, &[])
 }
 
-/// [`lines`] with dashed vertical markers (e.g. proven bounds), each in the legend.
+/// [`lines`] at a printed `width` with dashed vertical markers (e.g. proven bounds),
+/// each in the legend; markers closer than 1% of the x range share one line and one
+/// legend entry (their labels joined), so none hides another.
 pub fn lines_marked(
     base: &Path,
+    width: Width,
     title: &str,
     x_label: &str,
     y_label: &str,
     series: &[Series],
     markers: &[Marker],
 ) -> Result<()> {
+    let (x0, x1, _, _) = extent(
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .filter(|(x, y)| x.is_finite() && y.is_finite()),
+    );
+    let markers = &merge_close(markers, 0.01 * (x1 - x0));
     let mut legend: Vec<String> = series.iter().map(|s| s.name.clone()).collect();
     legend.extend(markers.iter().map(|m| m.label.clone()));
     let n = series.len() + markers.len();
@@ -184,7 +210,8 @@ pub fn lines_marked(
     if n < 2 {
         keys.clear();
     }
-    output::figure(base, Width::Column, 0.75, &meta, |area| {
+    let aspect = if width == Width::Full { 0.45 } else { 0.75 };
+    output::figure(base, width, aspect, &meta, |area| {
         let top = style::legend_below(area, &keys)?;
         let pts = series
             .iter()

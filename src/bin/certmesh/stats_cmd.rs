@@ -23,6 +23,7 @@ pub(crate) fn histogram_base(h: &Path) -> PathBuf {
 }
 
 pub(crate) fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
+    a.format.apply()?;
     let fmt = io::Format::from_path(&a.mesh)?;
     let entry = a.surface.as_deref().map(catalog::get).transpose()?;
     if let Some(e) = &entry {
@@ -132,7 +133,12 @@ pub(crate) fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
             out!("{line}");
         }
         if let Some(h) = &hist {
-            out!("wrote {}.svg and {}.png", h.display(), h.display());
+            let files: Vec<String> = certmesh::figure::output::written()
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect();
+            let _ = h;
+            out!("wrote {}", files.join(" and "));
         }
     }
     Ok(())
