@@ -25,6 +25,7 @@
 pub mod algebraic;
 pub mod catalog;
 pub mod error;
+pub mod figure;
 pub mod gradnormal;
 pub mod harness;
 pub mod implicit;

@@ -86,8 +86,6 @@ use crate::mesh::TriMesh;
 use crate::mesher::{Mesher, NoProgress};
 use crate::metrics::analyze as topology;
 use crate::metrics::angles::{all_angles as angles, angle_range_all as angle_range};
-use plotters::coord::Shift;
-use plotters::prelude::*;
 use std::time::Instant;
 
 /// What to run. `reproduce(dir, quick)` uses `largest = false`; the 52,931,340-
@@ -360,18 +358,13 @@ pub fn refine_plane(
     Ok(best)
 }
 
-fn perr(e: impl std::fmt::Display) -> Error {
-    Error::Param(format!("plotting failed: {e}"))
-}
-
-/// Normalised angle histograms (counts / (3 × faces), 1° bins), as in Fig 4.
-fn draw_histograms<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
+fn histogram_figure(
+    out_dir: &Path,
+    base: &str,
     title: &str,
     series: &[(String, Vec<f64>)],
 ) -> Result<()> {
-    area.fill(&WHITE).map_err(perr)?;
-    let hist: Vec<(String, Vec<(f64, f64)>)> = series
+    let lines: Vec<crate::reproduce::plot::Series> = series
         .iter()
         .map(|(name, a)| {
             let mut bins = vec![0usize; 180];
@@ -379,80 +372,39 @@ fn draw_histograms<DB: DrawingBackend>(
                 bins[(x.floor().clamp(0.0, 179.0)) as usize] += 1;
             }
             let n = a.len().max(1) as f64;
-            (
-                name.clone(),
-                bins.iter()
+            crate::reproduce::plot::Series {
+                name: name.clone(),
+                points: bins
+                    .iter()
                     .enumerate()
                     .map(|(k, &c)| (k as f64 + 0.5, c as f64 / n))
                     .collect(),
-            )
+            }
         })
         .collect();
-    let ymax = hist
-        .iter()
-        .flat_map(|(_, h)| h.iter().map(|p| p.1))
-        .fold(0.0f64, f64::max)
-        * 1.1;
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 20))
-        .margin(10)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0f64..180.0, 0.0f64..ymax.max(1e-3))
-        .map_err(perr)?;
-    chart
-        .configure_mesh()
-        .x_desc("angle (degrees)")
-        .y_desc("fraction of angles per 1° bin")
-        .draw()
-        .map_err(perr)?;
-    let colours = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK];
-    for (k, (name, h)) in hist.iter().enumerate() {
-        let c = colours[k % colours.len()];
-        chart
-            .draw_series(LineSeries::new(h.iter().copied(), c.stroke_width(2)))
-            .map_err(perr)?
-            .label(name.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
-    }
-    for (x, label) in [(35.2, "35.2°"), (101.5, "101.5°")] {
-        chart
-            .draw_series(LineSeries::new(
-                vec![(x, 0.0), (x, ymax)],
-                BLACK.mix(0.4).stroke_width(1),
-            ))
-            .map_err(perr)?
-            .label(format!("paper bound {label}"))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.4)));
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(perr)?;
-    Ok(())
-}
-
-fn histogram_figure(
-    out_dir: &Path,
-    base: &str,
-    title: &str,
-    series: &[(String, Vec<f64>)],
-) -> Result<()> {
-    let svg = out_dir.join(format!("{base}.svg"));
-    {
-        let area = SVGBackend::new(&svg, (900, 600)).into_drawing_area();
-        draw_histograms(&area, title, series)?;
-        area.present().map_err(perr)?;
-    }
-    let png = out_dir.join(format!("{base}.png"));
-    {
-        let area = BitMapBackend::new(&png, (900, 600)).into_drawing_area();
-        draw_histograms(&area, title, series)?;
-        area.present().map_err(perr)?;
-    }
-    Ok(())
+    // The paper's claimed bounds (Theorem 1.1) beside the certified extremes of its
+    // rule for planes (`proofs gradnormal`, see PROOF.md): these bound the projected
+    // elementary triangles, not the angles of a curved surface's mesh.
+    let (cmin, cmax) = (
+        crate::gradnormal::witness::CERTIFIED_MIN,
+        crate::gradnormal::witness::CERTIFIED_MAX,
+    );
+    let markers = [
+        (35.2, "paper's claim 35.2°".to_string()),
+        (101.5, "paper's claim 101.5°".to_string()),
+        (cmin.0, format!("certified for planes {:.2}°", cmin.0)),
+        (cmax.1, format!("certified for planes {:.2}°", cmax.1)),
+    ]
+    .map(|(x, label)| crate::reproduce::plot::Marker { x, label });
+    crate::reproduce::plot::lines_marked(
+        &out_dir.join(base),
+        crate::figure::style::Width::Full,
+        title,
+        "angle (degrees)",
+        "fraction of angles per 1° bin",
+        &lines,
+        &markers,
+    )
 }
 
 fn fmt_n(n: [f64; 3], c: f64) -> String {

@@ -861,7 +861,6 @@ fn slice_figures(out: &Path, quick: bool) -> Result<()> {
                     &plane,
                     &[],
                     &slice(surf, 0.0),
-                    720,
                 )?;
             }
         }
@@ -883,8 +882,12 @@ pub fn sweep_figures(out: &Path) -> Result<()> {
     ] {
         let p = crate::algebraic::from_formula(f)?;
         let r = crate::algebraic::analyse(&p, &d, &crate::algebraic::SweepParams::default())?;
-        let svg = crate::reproduce::plot_sweep::draw_sweep_svg(&r, &d, &format!("GVN sweep: {f}"));
-        write(out, &format!("fig-gvn-{name}.svg"), &svg)?;
+        crate::reproduce::plot_sweep::write_sweep(
+            &out.join(format!("fig-gvn-{name}")),
+            &r,
+            &d,
+            &format!("GVN sweep: {f}"),
+        )?;
     }
     Ok(())
 }
@@ -909,7 +912,6 @@ fn figures(out: &Path, rep: &Report) -> Result<()> {
                     &e.domain,
                     &leaf_boxes(t),
                     c,
-                    720,
                 )?;
             }
         }

@@ -360,7 +360,6 @@ fn sweep_figures(out: &Path, name: &str, z0: f64) -> Result<Vec<f64>> {
                 &plane,
                 &[],
                 &super::meshing_of_surfaces::slice(surf, z0),
-                480,
             )?;
         }
     }

@@ -1,9 +1,15 @@
-//! Publication figures with plotters: every figure is written twice, as `<base>.svg`
-//! and `<base>.png`, from one drawing routine (so the two never disagree).
-use crate::error::{Error, Result};
-use plotters::coord::Shift;
+//! Publication charts in the project's one figure style ([`crate::figure`]): histograms,
+//! line plots and labelled scatter plots, each drawn once as SVG and written in the
+//! formats asked for (`--format`; SVG and PNG by default).
+use crate::error::Result;
+use crate::figure::labels;
+use crate::figure::output::{self, Meta};
+use crate::figure::palette;
+use crate::figure::style::{self, font, perr, pt, stroke, Key, Width, LINE_PT, SMALL_PT, THIN_PT};
 use plotters::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::Path;
+
+pub use crate::figure::style::tick;
 
 /// One bar of a histogram: `[lo, lo + width)` with a height (count or density).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -20,71 +26,84 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
 }
 
-/// A vertical marker line (e.g. a guaranteed bound) with a label.
+/// A vertical marker line (e.g. a guaranteed bound) with a label, drawn dashed and
+/// listed in the legend.
 #[derive(Clone, Debug)]
 pub struct Marker {
     pub x: f64,
     pub label: String,
 }
 
-fn perr(e: impl std::fmt::Display) -> Error {
-    Error::Param(format!("plotting failed: {e}"))
-}
-
-/// Draw a chart's series legend: boxed, on translucent white (inside the `draw!`
-/// routines, for either backend).
-macro_rules! legend {
-    ($chart:expr) => {
-        $chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(perr)?
-    };
-}
-
-fn with_ext(base: &Path, ext: &str) -> PathBuf {
-    let mut p = base.to_path_buf();
-    let name = format!(
-        "{}.{ext}",
-        base.file_name()
-            .and_then(|s| s.to_str())
-            .unwrap_or("figure")
-    );
-    p.set_file_name(name);
-    p
-}
-
-fn both(
-    base: &Path,
-    size: (u32, u32),
-    draw: impl Fn(&DrawingArea<SVGBackend, Shift>) -> Result<()>,
-    draw_png: impl Fn(&DrawingArea<BitMapBackend, Shift>) -> Result<()>,
+/// Dashed vertical marker lines across `y`, labelled beside their top and listed in the
+/// legend; colours after the `first` series colour.
+fn draw_markers<'a, 'b>(
+    chart: &mut style::Chart<'a, 'b>,
+    markers: &[Marker],
+    ymax: f64,
+    first: usize,
 ) -> Result<()> {
-    if let Some(dir) = base.parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        }
-    }
-    let svg = with_ext(base, "svg");
-    {
-        let area = SVGBackend::new(&svg, size).into_drawing_area();
-        draw(&area)?;
-        area.present().map_err(perr)?;
-    }
-    let png = with_ext(base, "png");
-    {
-        let area = BitMapBackend::new(&png, size).into_drawing_area();
-        draw_png(&area)?;
-        area.present().map_err(perr)?;
+    for (i, m) in markers.iter().enumerate() {
+        let c = marker_colour(first, i);
+        chart
+            .draw_series(DashedLineSeries::new(
+                vec![(m.x, 0.0), (m.x, ymax)],
+                pt(3.0) as u32,
+                pt(2.0) as u32,
+                c.stroke_width(stroke(LINE_PT)),
+            ))
+            .map_err(perr)?;
     }
     Ok(())
 }
 
-/// A histogram with optional vertical markers. `emphasis > 1` also draws every bar
-/// magnified by that factor in a lighter colour (the stuffing paper's ×20 view of rare
-/// bins).
+fn marker_colour(first: usize, i: usize) -> RGBColor {
+    palette::series(first + i)
+}
+
+fn marker_keys(markers: &[Marker], first: usize) -> Vec<(String, Key)> {
+    markers
+        .iter()
+        .enumerate()
+        .map(|(i, m)| (m.label.clone(), Key::Dashed(marker_colour(first, i))))
+        .collect()
+}
+
+/// Markers within `tol` of the previous one (in x order) joined into one.
+fn merge_close(markers: &[Marker], tol: f64) -> Vec<Marker> {
+    let mut m = markers.to_vec();
+    m.sort_by(|a, b| a.x.total_cmp(&b.x));
+    let mut out: Vec<Marker> = Vec::new();
+    for k in m {
+        match out.last_mut() {
+            Some(l) if (k.x - l.x).abs() <= tol => l.label = format!("{}; {}", l.label, k.label),
+            _ => out.push(k),
+        }
+    }
+    out
+}
+
+fn x_range(bars: &[Bar], markers: &[Marker]) -> (f64, f64) {
+    let xmin = bars
+        .iter()
+        .map(|b| b.lo)
+        .chain(markers.iter().map(|m| m.x))
+        .fold(f64::INFINITY, f64::min);
+    let xmax = bars
+        .iter()
+        .map(|b| b.lo + b.width)
+        .chain(markers.iter().map(|m| m.x))
+        .fold(f64::NEG_INFINITY, f64::max);
+    if xmin.is_finite() && xmax > xmin {
+        (xmin, xmax)
+    } else {
+        (0.0, 180.0)
+    }
+}
+
+/// A histogram (one column wide) with optional dashed markers. `emphasis > 1` also
+/// draws, in a second colour behind them, the rare bars magnified by that factor (the
+/// stuffing paper's ×20 view, Fig. 1): only bars whose magnified height still fits
+/// the axis, so none is clipped; the legend states the factor.
 pub fn histogram(
     base: &Path,
     title: &str,
@@ -94,94 +113,61 @@ pub fn histogram(
     markers: &[Marker],
     emphasis: f64,
 ) -> Result<()> {
-    macro_rules! draw {
-        ($area:expr) => {{
-            let area = $area;
-            area.fill(&WHITE).map_err(perr)?;
-            let xmin = bars
-                .iter()
-                .map(|b| b.lo)
-                .chain(markers.iter().map(|m| m.x))
-                .fold(f64::INFINITY, f64::min);
-            let xmax = bars
-                .iter()
-                .map(|b| b.lo + b.width)
-                .chain(markers.iter().map(|m| m.x))
-                .fold(f64::NEG_INFINITY, f64::max);
-            let (xmin, xmax) = if xmin.is_finite() && xmax > xmin {
-                (xmin, xmax)
-            } else {
-                (0.0, 180.0)
-            };
-            let pad = 0.03 * (xmax - xmin);
-            let ymax = bars.iter().map(|b| b.height).fold(0.0, f64::max).max(1e-12) * 1.08;
-            let mut chart = ChartBuilder::on(area)
-                .caption(title, ("sans-serif", 22))
-                .margin(12)
-                .x_label_area_size(40)
-                .y_label_area_size(60)
-                .build_cartesian_2d((xmin - pad)..(xmax + pad), 0.0..ymax)
-                .map_err(perr)?;
+    let (xa, xb) = x_range(bars, markers);
+    let markers = &merge_close(markers, 0.01 * (xb - xa));
+    let ymax = bars.iter().map(|b| b.height).fold(0.0, f64::max).max(1e-12) * 1.1;
+    let magnified: Vec<Bar> = if emphasis > 1.0 {
+        bars.iter()
+            .filter(|b| b.height > 0.0 && b.height * emphasis <= ymax)
+            .copied()
+            .collect()
+    } else {
+        vec![]
+    };
+    let mut legend = Vec::new();
+    let main_name = y_label.to_string();
+    if !magnified.is_empty() {
+        legend.push(format!("rare bins ×{}", tick(emphasis)));
+        legend.push(main_name.clone());
+    }
+    legend.extend(markers.iter().map(|m| m.label.clone()));
+    let series = usize::from(!magnified.is_empty()) + 1 + markers.len();
+    let meta = Meta::chart(x_label, y_label, legend, series);
+    let (c_main, c_mag) = (palette::BLUE, palette::tint(palette::ORANGE, 0.2));
+    let mut keys = Vec::new();
+    if !magnified.is_empty() {
+        keys.push((format!("rare bins ×{}", tick(emphasis)), Key::Box(c_mag)));
+        keys.push((main_name.clone(), Key::Box(c_main)));
+    }
+    keys.extend(marker_keys(markers, 1));
+    output::figure(base, Width::Column, 0.75, &meta, |area| {
+        let top = style::legend_below(area, &keys)?;
+        let (xmin, xmax) = x_range(bars, markers);
+        let pad = 0.02 * (xmax - xmin);
+        let mut chart = style::chart(&top, title, (xmin - pad)..(xmax + pad), 0.0..ymax)?;
+        style::axes(&mut chart, x_label, y_label)?;
+        if !magnified.is_empty() {
             chart
-                .configure_mesh()
-                .x_desc(x_label)
-                .y_desc(y_label)
-                .disable_x_mesh()
-                .draw()
-                .map_err(perr)?;
-            if emphasis > 1.0 {
-                chart
-                    .draw_series(bars.iter().map(|b| {
-                        Rectangle::new(
-                            [
-                                (b.lo, 0.0),
-                                (b.lo + b.width, (b.height * emphasis).min(ymax)),
-                            ],
-                            RGBColor(190, 210, 240).filled(),
-                        )
-                    }))
-                    .map_err(perr)?
-                    .label(format!("x{emphasis}"))
-                    .legend(|(x, y)| {
-                        Rectangle::new(
-                            [(x, y - 5), (x + 10, y + 5)],
-                            RGBColor(190, 210, 240).filled(),
-                        )
-                    });
-            }
-            chart
-                .draw_series(bars.iter().map(|b| {
+                .draw_series(magnified.iter().map(|b| {
                     Rectangle::new(
-                        [(b.lo, 0.0), (b.lo + b.width, b.height)],
-                        RGBColor(40, 80, 160).filled(),
+                        [(b.lo, 0.0), (b.lo + b.width, b.height * emphasis)],
+                        c_mag.filled(),
                     )
                 }))
                 .map_err(perr)?;
-            for m in markers {
-                chart
-                    .draw_series(LineSeries::new(
-                        vec![(m.x, 0.0), (m.x, ymax)],
-                        RED.stroke_width(2),
-                    ))
-                    .map_err(perr)?;
-                chart
-                    .draw_series(std::iter::once(Text::new(
-                        m.label.clone(),
-                        (m.x, ymax * 0.97),
-                        ("sans-serif", 14).into_font().color(&RED),
-                    )))
-                    .map_err(perr)?;
-            }
-            if emphasis > 1.0 {
-                legend!(chart);
-            }
-            Ok(())
-        }};
-    }
-    both(base, (900, 540), |a| draw!(a), |a| draw!(a))
+        }
+        chart
+            .draw_series(bars.iter().map(|b| {
+                Rectangle::new([(b.lo, 0.0), (b.lo + b.width, b.height)], c_main.filled())
+            }))
+            .map_err(perr)?;
+        draw_markers(&mut chart, markers, ymax, 1)?;
+        Ok(())
+    })
+    .map(|_| ())
 }
 
-/// A line plot of several series.
+/// A line plot of several series (one column wide), with optional dashed markers.
 pub fn lines(
     base: &Path,
     title: &str,
@@ -189,60 +175,74 @@ pub fn lines(
     y_label: &str,
     series: &[Series],
 ) -> Result<()> {
-    const COLORS: [RGBColor; 6] = [
-        RGBColor(40, 80, 160),
-        RGBColor(200, 60, 40),
-        RGBColor(40, 150, 70),
-        RGBColor(150, 60, 170),
-        RGBColor(220, 150, 20),
-        RGBColor(60, 60, 60),
-    ];
-    macro_rules! draw {
-        ($area:expr) => {{
-            let area = $area;
-            area.fill(&WHITE).map_err(perr)?;
-            let pts = || {
-                series
-                    .iter()
-                    .flat_map(|s| s.points.iter().copied())
-                    .filter(|(x, y)| x.is_finite() && y.is_finite())
-            };
-            let (x0, x1, y0, y1) = extent(pts());
-            let (px, py) = (0.03 * (x1 - x0), 0.05 * (y1 - y0));
-            let mut chart = ChartBuilder::on(area)
-                .caption(title, ("sans-serif", 22))
-                .margin(12)
-                .x_label_area_size(40)
-                .y_label_area_size(70)
-                .build_cartesian_2d((x0 - px)..(x1 + px), (y0 - py)..(y1 + py))
-                .map_err(perr)?;
-            chart
-                .configure_mesh()
-                .x_desc(x_label)
-                .y_desc(y_label)
-                .draw()
-                .map_err(perr)?;
-            for (i, s) in series.iter().enumerate() {
-                let c = COLORS[i % COLORS.len()];
-                chart
-                    .draw_series(LineSeries::new(
-                        s.points
-                            .iter()
-                            .copied()
-                            .filter(|(x, y)| x.is_finite() && y.is_finite()),
-                        c.stroke_width(2),
-                    ))
-                    .map_err(perr)?
-                    .label(s.name.clone())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2))
-                    });
-            }
-            legend!(chart);
-            Ok(())
-        }};
+    lines_marked(base, Width::Column, title, x_label, y_label, series, &[])
+}
+
+/// [`lines`] at a printed `width` with dashed vertical markers (e.g. proven bounds),
+/// each in the legend; markers closer than 1% of the x range share one line and one
+/// legend entry (their labels joined), so none hides another.
+pub fn lines_marked(
+    base: &Path,
+    width: Width,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    markers: &[Marker],
+) -> Result<()> {
+    let (x0, x1, _, _) = extent(
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .filter(|(x, y)| x.is_finite() && y.is_finite()),
+    );
+    let markers = &merge_close(markers, 0.01 * (x1 - x0));
+    let mut legend: Vec<String> = series.iter().map(|s| s.name.clone()).collect();
+    legend.extend(markers.iter().map(|m| m.label.clone()));
+    let n = series.len() + markers.len();
+    let meta = Meta::chart(x_label, y_label, if n > 1 { legend } else { vec![] }, n);
+    let mut keys: Vec<(String, Key)> = series
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (s.name.clone(), Key::Line(palette::series(i))))
+        .collect();
+    keys.extend(marker_keys(markers, series.len()));
+    if n < 2 {
+        keys.clear();
     }
-    both(base, (900, 560), |a| draw!(a), |a| draw!(a))
+    let aspect = if width == Width::Full { 0.45 } else { 0.75 };
+    output::figure(base, width, aspect, &meta, |area| {
+        let top = style::legend_below(area, &keys)?;
+        let pts = series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .chain(markers.iter().map(|m| (m.x, 0.0)))
+            .filter(|(x, y)| x.is_finite() && y.is_finite());
+        let (x0, x1, y0, y1) = extent(pts);
+        let (px, py) = (0.02 * (x1 - x0), 0.05 * (y1 - y0));
+        let y0 = if y0 >= 0.0 {
+            (y0 - py).max(0.0)
+        } else {
+            y0 - py
+        };
+        let mut chart = style::chart(&top, title, (x0 - px)..(x1 + px), y0..(y1 + 2.0 * py))?;
+        style::axes(&mut chart, x_label, y_label)?;
+        for (i, s) in series.iter().enumerate() {
+            let c = palette::series(i);
+            chart
+                .draw_series(LineSeries::new(
+                    s.points
+                        .iter()
+                        .copied()
+                        .filter(|(x, y)| x.is_finite() && y.is_finite()),
+                    c.stroke_width(stroke(LINE_PT)),
+                ))
+                .map_err(perr)?;
+        }
+        draw_markers(&mut chart, markers, y1 + 2.0 * py, series.len())?;
+        Ok(())
+    })
+    .map(|_| ())
 }
 
 /// Bars of a histogram of `values` with bins of `width` starting at a multiple of it;
@@ -285,8 +285,9 @@ pub struct PointSet {
     pub filled: bool,
 }
 
-/// A scatter plot of labelled point sets with a legend (e.g. a certified Pareto front
-/// with the reference points marked), as `<base>.svg` and `<base>.png`.
+/// A full-width scatter plot of labelled point sets with a legend (e.g. a certified
+/// Pareto front with the reference points marked). Point labels are placed so as not
+/// to overlap ([`labels::place`]).
 pub fn scatter(
     base: &Path,
     title: &str,
@@ -294,96 +295,94 @@ pub fn scatter(
     y_label: &str,
     sets: &[PointSet],
 ) -> Result<()> {
-    // Okabe–Ito, colour-blind safe.
-    const COLORS: [RGBColor; 6] = [
-        RGBColor(0, 114, 178),
-        RGBColor(213, 94, 0),
-        RGBColor(0, 158, 115),
-        RGBColor(204, 121, 167),
-        RGBColor(230, 159, 0),
-        RGBColor(86, 180, 233),
-    ];
-    macro_rules! draw {
-        ($area:expr) => {{
-            let area = $area;
-            area.fill(&WHITE).map_err(perr)?;
-            let (x0, x1, y0, y1) = extent(
-                sets.iter()
-                    .flat_map(|s| s.points.iter().copied())
-                    .filter(|(x, y)| x.is_finite() && y.is_finite()),
-            );
-            // Room on the right for the point labels.
-            let (px, py) = (0.06 * (x1 - x0), 0.06 * (y1 - y0));
-            let mut chart = ChartBuilder::on(area)
-                .caption(title, ("sans-serif", 26))
-                .margin(16)
-                .x_label_area_size(56)
-                .y_label_area_size(80)
-                .build_cartesian_2d((x0 - px)..(x1 + 4.0 * px), (y0 - py)..(y1 + py))
-                .map_err(perr)?;
-            chart
-                .configure_mesh()
-                .x_label_formatter(&|v| tick(*v))
-                .y_label_formatter(&|v| tick(*v))
-                .x_desc(x_label)
-                .y_desc(y_label)
-                .label_style(("sans-serif", 18))
-                .axis_desc_style(("sans-serif", 20))
-                .draw()
-                .map_err(perr)?;
-            for (i, s) in sets.iter().enumerate() {
-                let c = COLORS[i % COLORS.len()];
-                let pts: Vec<(f64, f64)> = s
-                    .points
-                    .iter()
-                    .copied()
-                    .filter(|(x, y)| x.is_finite() && y.is_finite())
-                    .collect();
-                if s.joined {
-                    chart
-                        .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
-                        .map_err(perr)?;
-                }
-                let style = if s.filled {
-                    c.filled()
-                } else {
-                    c.stroke_width(2)
-                };
+    let legend: Vec<String> = sets.iter().map(|s| s.name.clone()).collect();
+    let meta = Meta::chart(x_label, y_label, legend, sets.len());
+    let keys: Vec<(String, Key)> = sets
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (s.name.clone(), Key::Dot(palette::series(i), s.filled)))
+        .collect();
+    output::figure(base, Width::Full, 0.62, &meta, |area| {
+        let top = style::legend_below(area, &keys)?;
+        let (x0, x1, y0, y1) = extent(
+            sets.iter()
+                .flat_map(|s| s.points.iter().copied())
+                .filter(|(x, y)| x.is_finite() && y.is_finite()),
+        );
+        // Room on the right for the point labels.
+        let (px, py) = (0.05 * (x1 - x0), 0.06 * (y1 - y0));
+        let mut chart = style::chart(
+            &top,
+            title,
+            (x0 - px)..(x1 + 3.0 * px),
+            (y0 - py)..(y1 + py),
+        )?;
+        style::axes(&mut chart, x_label, y_label)?;
+        let r = pt(2.2) as i32;
+        let mut labelled: Vec<((i32, i32), String, RGBColor)> = Vec::new();
+        for (i, s) in sets.iter().enumerate() {
+            let c = palette::series(i);
+            let pts: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .copied()
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .collect();
+            if s.joined {
                 chart
-                    .draw_series(pts.iter().map(|&p| Circle::new(p, 5, style)))
-                    .map_err(perr)?
-                    .label(s.name.clone())
-                    .legend(move |(x, y)| Circle::new((x + 8, y), 5, style));
-                for (p, l) in pts.iter().zip(&s.labels) {
-                    if l.is_empty() {
-                        continue;
-                    }
-                    chart
-                        .draw_series(std::iter::once(Text::new(
-                            l.clone(),
-                            *p,
-                            ("sans-serif", 15).into_font().color(&c),
-                        )))
-                        .map_err(perr)?;
+                    .draw_series(LineSeries::new(
+                        pts.clone(),
+                        c.stroke_width(stroke(LINE_PT)),
+                    ))
+                    .map_err(perr)?;
+            }
+            let st = if s.filled {
+                c.filled()
+            } else {
+                c.stroke_width(stroke(THIN_PT * 2.0))
+            };
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, r, st)))
+                .map_err(perr)?;
+            for (p, l) in pts.iter().zip(&s.labels) {
+                if !l.is_empty() {
+                    labelled.push((chart.backend_coord(p), l.clone(), c));
                 }
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 17))
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()
-                .map_err(perr)?;
-            Ok(())
-        }};
-    }
-    both(base, (1100, 760), |a| draw!(a), |a| draw!(a))
+        }
+        let size = pt(SMALL_PT);
+        let ((bx0, by0), (bx1, by1)) = (
+            chart.backend_coord(&(x0 - px, y1 + py)),
+            chart.backend_coord(&(x1 + 3.0 * px, y0 - py)),
+        );
+        let pts: Vec<(f64, f64)> = labelled
+            .iter()
+            .map(|(p, _, _)| (p.0 as f64, p.1 as f64))
+            .collect();
+        let texts: Vec<String> = labelled.iter().map(|l| l.1.clone()).collect();
+        let at = labels::place(
+            &pts,
+            &texts,
+            size,
+            r as f64,
+            (bx0 as f64, by0 as f64, bx1 as f64, by1 as f64),
+        );
+        for ((_, l, c), (x, y)) in labelled.iter().zip(at) {
+            area.draw(&Text::new(
+                l.clone(),
+                (x as i32, y as i32),
+                font(SMALL_PT).color(c),
+            ))
+            .map_err(perr)?;
+        }
+        Ok(())
+    })
+    .map(|_| ())
 }
 
 /// The bounding ranges (x0, x1, y0, y1) of finite points, widened to a unit range where
 /// empty or degenerate.
-fn extent(pts: impl Iterator<Item = (f64, f64)>) -> (f64, f64, f64, f64) {
+pub fn extent(pts: impl Iterator<Item = (f64, f64)>) -> (f64, f64, f64, f64) {
     let (mut x0, mut x1, mut y0, mut y1) = (
         f64::INFINITY,
         f64::NEG_INFINITY,
@@ -405,26 +404,4 @@ fn extent(pts: impl Iterator<Item = (f64, f64)>) -> (f64, f64, f64, f64) {
         y1 = y0 + 2.0;
     }
     (x0, x1, y0, y1)
-}
-
-/// A tick label without spurious decimals: `160`, not `160.0`; `0.25`, not `0.250000`.
-pub fn tick(v: f64) -> String {
-    let r = (v * 1e6).round() / 1e6;
-    if r == r.trunc() {
-        format!("{}", r as i64)
-    } else {
-        let t = format!("{r:.6}");
-        t.trim_end_matches('0').trim_end_matches('.').to_string()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn ticks_have_no_spurious_decimals() {
-        assert_eq!(super::tick(160.0), "160");
-        assert_eq!(super::tick(-2.0), "-2");
-        assert_eq!(super::tick(0.25), "0.25");
-        assert_eq!(super::tick(162.5000000001), "162.5");
-    }
 }

@@ -1,125 +1,147 @@
 //! Figures of 2D subdivision runs (like the chapter's Figs 1.7 and 1.9): the leaves
-//! coloured by the criterion that certified them, the true curve (sign changes of f on a
-//! pixel grid, red) and the output polyline (black). Written as SVG and PNG from one
-//! drawing routine. No text is drawn (no font dependency); the colours are:
-//! grey f ≠ 0, green SNV, blue parameterizable in y (∂f/∂x ≠ 0), orange parameterizable
-//! in x (∂f/∂y ≠ 0), red uncertified.
+//! coloured by the criterion that certified them (the subdivision's own verdicts, as
+//! recorded in its tree: nothing is inferred here), the true curve (sign changes of f on
+//! a fine grid) and the output polyline, with axes in the curve's coordinates and a
+//! legend of the classes drawn. One column wide, in the figure formats.
 use crate::error::{Error, Result};
+use crate::figure::output::{self, Meta};
+use crate::figure::palette::{self, tint};
+use crate::figure::style::{self, perr, pt, stroke, Key, Width, LINE_PT, THIN_PT};
 use crate::implicit::Implicit;
 use crate::kernel::geom::Aabb;
 use crate::mesh::Curve2;
 use crate::subdivision::Verdict;
-use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
-
-fn perr(e: impl std::fmt::Display) -> Error {
-    Error::Param(format!("plotting failed: {e}"))
-}
 
 /// The fill colour of a leaf.
 pub fn verdict_color(v: Verdict) -> RGBColor {
     match v {
-        Verdict::Empty => RGBColor(235, 235, 235),
-        Verdict::Proven { axis: None, .. } => RGBColor(190, 230, 190),
-        Verdict::Proven { axis: Some(0), .. } => RGBColor(190, 210, 245),
-        Verdict::Proven { .. } => RGBColor(250, 215, 170),
-        Verdict::Failed(_) => RGBColor(240, 90, 90),
+        Verdict::Empty => RGBColor(238, 238, 238),
+        Verdict::Proven { axis: None, .. } => tint(palette::BLUISH_GREEN, 0.6),
+        Verdict::Proven { axis: Some(0), .. } => tint(palette::SKY_BLUE, 0.45),
+        Verdict::Proven { .. } => tint(palette::ORANGE, 0.45),
+        Verdict::Failed(_) => palette::VERMILLION,
     }
 }
 
-fn draw<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    f: &dyn Implicit,
-    domain: &Aabb,
-    leaves: &[(Aabb, Verdict)],
-    curve: &Curve2,
-    px: (u32, u32),
-) -> Result<()> {
-    area.fill(&WHITE).map_err(perr)?;
-    let (w, h) = (px.0 as f64, px.1 as f64);
-    let sx = |x: f64| ((x - domain.min[0]) / (domain.max[0] - domain.min[0]) * (w - 1.0)) as i32;
-    let sy = |y: f64| ((domain.max[1] - y) / (domain.max[1] - domain.min[1]) * (h - 1.0)) as i32;
-    for (b, v) in leaves {
-        let r = [(sx(b.min[0]), sy(b.max[1])), (sx(b.max[0]), sy(b.min[1]))];
-        area.draw(&Rectangle::new(r, verdict_color(*v).filled()))
-            .map_err(perr)?;
-        area.draw(&Rectangle::new(r, RGBColor(120, 120, 120).stroke_width(1)))
-            .map_err(perr)?;
+/// The legend entry of a leaf class.
+pub fn verdict_name(v: Verdict) -> &'static str {
+    match v {
+        Verdict::Empty => "f ≠ 0 on the box",
+        Verdict::Proven { axis: None, .. } => "small normal variation",
+        Verdict::Proven { axis: Some(0), .. } => "∂f/∂x ≠ 0 (a graph over y)",
+        Verdict::Proven { .. } => "∂f/∂y ≠ 0 (a graph over x)",
+        Verdict::Failed(_) => "uncertified",
     }
-    // The true curve: pixels whose sign differs from the right or lower neighbour.
-    let (nx, ny) = (px.0 as usize, px.1 as usize);
-    let val = |i: usize, j: usize| {
-        let x = domain.min[0] + (i as f64 + 0.5) / nx as f64 * (domain.max[0] - domain.min[0]);
-        let y = domain.max[1] - (j as f64 + 0.5) / ny as f64 * (domain.max[1] - domain.min[1]);
-        f.eval([x, y, domain.min[2]]) >= 0.0
-    };
-    let signs: Vec<bool> = (0..ny)
-        .flat_map(|j| (0..nx).map(move |i| (i, j)))
-        .map(|(i, j)| val(i, j))
-        .collect();
-    for j in 0..ny - 1 {
-        for i in 0..nx - 1 {
-            let s = signs[j * nx + i];
-            if s != signs[j * nx + i + 1] || s != signs[(j + 1) * nx + i] {
-                area.draw_pixel((i as i32, j as i32), &RGBColor(220, 0, 0))
-                    .map_err(perr)?;
-            }
-        }
-    }
-    for s in &curve.segments {
-        let a = curve.vertices[s[0] as usize];
-        let b = curve.vertices[s[1] as usize];
-        area.draw(&PathElement::new(
-            vec![(sx(a[0]), sy(a[1])), (sx(b[0]), sy(b[1]))],
-            BLACK.stroke_width(2),
-        ))
-        .map_err(perr)?;
-    }
-    for v in &curve.vertices {
-        area.draw(&Circle::new((sx(v[0]), sy(v[1])), 2, BLACK.filled()))
-            .map_err(perr)?;
-    }
-    Ok(())
 }
 
-/// Write `<base>.svg` and `<base>.png`: the leaves of a 2D subdivision coloured by
-/// criterion, the true curve f = 0 and the output polyline. `width` is the image width in
-/// pixels; the height follows the domain's aspect ratio.
+fn class(v: Verdict) -> u8 {
+    match v {
+        Verdict::Empty => 0,
+        Verdict::Proven { axis: None, .. } => 1,
+        Verdict::Proven { axis: Some(0), .. } => 2,
+        Verdict::Proven { .. } => 3,
+        Verdict::Failed(_) => 4,
+    }
+}
+
+const CURVE: RGBColor = palette::REDDISH_PURPLE;
+
+/// Write `base.<ext>`: the leaves of a 2D subdivision coloured by criterion, the true
+/// curve f = 0 and the output polyline; the height follows the domain's aspect ratio.
 pub fn draw_subdivision_svg(
     base: &Path,
     f: &dyn Implicit,
     domain: &Aabb,
     leaves: &[(Aabb, Verdict)],
     curve: &Curve2,
-    width: u32,
 ) -> Result<()> {
     let s = domain.size();
     if !(s[0] > 0.0 && s[1] > 0.0) {
         return Err(Error::Domain("a 2D figure needs a domain with area".into()));
     }
-    let height = ((width as f64) * s[1] / s[0]).round().max(16.0) as u32;
-    if let Some(dir) = base.parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    // Legend: the leaf classes present, in a fixed order, then the two curves.
+    let mut present: Vec<Verdict> = Vec::new();
+    for (_, v) in leaves {
+        if !present.iter().any(|p| class(*p) == class(*v)) {
+            present.push(*v);
         }
     }
-    let name = base
-        .file_name()
-        .and_then(|n| n.to_str())
-        .unwrap_or("figure")
-        .to_string();
-    let svg = base.with_file_name(format!("{name}.svg"));
-    let png = base.with_file_name(format!("{name}.png"));
-    {
-        let area = SVGBackend::new(&svg, (width, height)).into_drawing_area();
-        draw(&area, f, domain, leaves, curve, (width, height))?;
-        area.present().map_err(perr)?;
-    }
-    {
-        let area = BitMapBackend::new(&png, (width, height)).into_drawing_area();
-        draw(&area, f, domain, leaves, curve, (width, height))?;
-        area.present().map_err(perr)?;
-    }
-    Ok(())
+    present.sort_by_key(|v| class(*v));
+    let mut keys: Vec<(String, Key)> = present
+        .iter()
+        .map(|v| (verdict_name(*v).to_string(), Key::Box(verdict_color(*v))))
+        .collect();
+    keys.push(("f = 0 (fine grid)".into(), Key::Line(CURVE)));
+    keys.push(("output".into(), Key::Line(palette::BLACK)));
+    let meta = Meta::chart(
+        "x",
+        "y",
+        keys.iter().map(|k| k.0.clone()).collect(),
+        keys.len(),
+    );
+    // The plot is about as tall as wide for the chapter's square domains; the legend
+    // takes up to three rows below.
+    let aspect = (s[1] / s[0]).clamp(0.3, 1.6) * 0.86 + 0.2;
+    output::figure(base, Width::Column, aspect, &meta, |area| {
+        let top = style::legend_below(area, &keys)?;
+        let (x0, x1, y0, y1) = (domain.min[0], domain.max[0], domain.min[1], domain.max[1]);
+        let mut chart = style::chart(&top, "", x0..x1, y0..y1)?;
+        style::axes(&mut chart, "x", "y")?;
+        let edge = RGBColor(120, 120, 120).stroke_width(stroke(THIN_PT * 0.5));
+        for (b, v) in leaves {
+            let r = [(b.min[0], b.max[1]), (b.max[0], b.min[1])];
+            chart
+                .draw_series([
+                    Rectangle::new(r, verdict_color(*v).filled()),
+                    Rectangle::new(r, edge),
+                ])
+                .map_err(perr)?;
+        }
+        // The true curve: grid cells where f changes sign, at ~4 per printed point.
+        let (pw, ph) = chart.plotting_area().dim_in_pixel();
+        let (nx, ny) = ((pw as usize / 2).max(2), (ph as usize / 2).max(2));
+        let (dx, dy) = ((x1 - x0) / nx as f64, (y1 - y0) / ny as f64);
+        let z = domain.min[2];
+        let signs: Vec<bool> = (0..=ny)
+            .flat_map(|j| (0..=nx).map(move |i| (i, j)))
+            .map(|(i, j)| f.eval([x0 + i as f64 * dx, y0 + j as f64 * dy, z]) >= 0.0)
+            .collect();
+        let at = |i: usize, j: usize| signs[j * (nx + 1) + i];
+        let mut cells = Vec::new();
+        for j in 0..ny {
+            for i in 0..nx {
+                let s = at(i, j);
+                if s != at(i + 1, j) || s != at(i, j + 1) || s != at(i + 1, j + 1) {
+                    let (cx, cy) = (x0 + i as f64 * dx, y0 + j as f64 * dy);
+                    cells.push(Rectangle::new(
+                        [(cx, cy), (cx + dx, cy + dy)],
+                        CURVE.filled(),
+                    ));
+                }
+            }
+        }
+        chart.draw_series(cells).map_err(perr)?;
+        chart
+            .draw_series(curve.segments.iter().map(|s| {
+                let a = curve.vertices[s[0] as usize];
+                let b = curve.vertices[s[1] as usize];
+                PathElement::new(
+                    vec![(a[0], a[1]), (b[0], b[1])],
+                    palette::BLACK.stroke_width(stroke(LINE_PT)),
+                )
+            }))
+            .map_err(perr)?;
+        chart
+            .draw_series(
+                curve
+                    .vertices
+                    .iter()
+                    .map(|v| Circle::new((v[0], v[1]), pt(1.0) as i32, palette::BLACK.filled())),
+            )
+            .map_err(perr)?;
+        Ok(())
+    })
+    .map(|_| ())
 }

@@ -2,11 +2,15 @@
 //! paper's Fig 5: the witness tetrahedron, the segments its vertices may move on (green:
 //! the warped vertices' asterisk half-segments; magenta: the central parts of cut
 //! edges), seen along the dihedral edge (so the dihedral angle appears at true size) or
-//! perpendicular to the witness triangle (plane angles at true size). SVG and PNG.
+//! perpendicular to the witness triangle (plane angles at true size). One column wide
+//! in the project's figure style (`certmesh::figure`), legend below, vertex labels
+//! placed clear of each other.
 use super::cases::{output_cases, Kind, DEN};
 use super::eval::What;
 use crate::stuffing::{all_problems, Certificate, BOUNDS};
-use plotters::coord::Shift;
+use certmesh::figure::output::{self, Meta};
+use certmesh::figure::palette;
+use certmesh::figure::style::{self, font, pt, stroke, Key, Width, SMALL_PT, THIN_PT};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -79,8 +83,8 @@ pub fn witness_figure(cert: &Certificate, b: usize, stem: &Path) -> Result<bool,
         };
         match s.kind {
             Kind::Fixed => {}
-            Kind::Cut => segs.push((at(r[0]), at(r[1]), MAGENTA)),
-            Kind::Warp => segs.push((at(0), at(r[1]), GREEN)),
+            Kind::Cut => segs.push((at(r[0]), at(r[1]), palette::REDDISH_PURPLE)),
+            Kind::Warp => segs.push((at(0), at(r[1]), palette::BLUISH_GREEN)),
         }
     }
     let mut all: Vec<(f64, f64)> = pts.iter().map(|&p| proj(p)).collect();
@@ -126,13 +130,7 @@ pub fn witness_figure(cert: &Certificate, b: usize, stem: &Path) -> Result<bool,
             Kind::Warp => format!("W{k}"),
         }),
     };
-    let svg = stem.with_extension("svg");
-    render(SVGBackend::new(&svg, (520, 520)).into_drawing_area(), &fd)?;
-    let png = stem.with_extension("png");
-    render(
-        BitMapBackend::new(&png, (520, 520)).into_drawing_area(),
-        &fd,
-    )?;
+    render(&fd, stem)?;
     Ok(true)
 }
 
@@ -145,58 +143,132 @@ struct Fig {
     labels: [String; 4],
 }
 
-fn render<DB: DrawingBackend>(area: DrawingArea<DB, Shift>, f: &Fig) -> Result<(), String>
-where
-    DB::ErrorType: 'static,
-{
-    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
-    area.fill(&WHITE).map_err(e)?;
-    let mut ch = ChartBuilder::on(&area)
-        .caption(&f.title, ("sans-serif", 16))
-        .margin(10)
-        .build_cartesian_2d(f.range.0.clone(), f.range.1.clone())
-        .map_err(e)?;
-    for t in &f.hl {
-        let poly: Vec<(f64, f64)> = t.iter().map(|&k| f.pts[k]).collect();
-        let mut ring = poly.clone();
-        ring.push(poly[0]);
-        ch.draw_series(std::iter::once(Polygon::new(
-            poly,
-            RGBColor(255, 230, 80).mix(0.6).filled(),
-        )))
-        .map_err(e)?;
-        // Seen along the dihedral edge a face is a segment: outline it.
-        ch.draw_series(std::iter::once(PathElement::new(
-            ring,
-            RGBColor(240, 170, 0).stroke_width(7),
-        )))
-        .map_err(e)?;
+const FACE: RGBColor = palette::ORANGE;
+
+fn render(f: &Fig, stem: &Path) -> Result<(), String> {
+    let e = |x: certmesh::Error| x.to_string();
+    let pe = |x: String| certmesh::Error::Param(x);
+    let mut keys = vec![
+        ("witness tetrahedron".to_string(), Key::Line(palette::BLACK)),
+        (
+            if f.hl.len() == 2 {
+                "faces of the dihedral angle (edge-on)".to_string()
+            } else {
+                "the triangle of the plane angle".to_string()
+            },
+            Key::Box(palette::tint(FACE, 0.4)),
+        ),
+    ];
+    let (has_warp, has_cut) = (
+        f.segs.iter().any(|s| s.2 == palette::BLUISH_GREEN),
+        f.segs.iter().any(|s| s.2 == palette::REDDISH_PURPLE),
+    );
+    if has_warp {
+        keys.push((
+            "W: warped vertex, its half-segment".into(),
+            Key::Line(palette::BLUISH_GREEN),
+        ));
     }
-    for (a, b, c) in &f.segs {
-        ch.draw_series(std::iter::once(PathElement::new(
-            vec![*a, *b],
-            c.stroke_width(4),
-        )))
-        .map_err(e)?;
+    if has_cut {
+        keys.push((
+            "C: cut point, its range on the edge".into(),
+            Key::Line(palette::REDDISH_PURPLE),
+        ));
     }
-    for i in 0..4 {
-        for j in i + 1..4 {
-            ch.draw_series(std::iter::once(PathElement::new(
-                vec![f.pts[i], f.pts[j]],
-                BLACK.stroke_width(1),
-            )))
-            .map_err(e)?;
-        }
-    }
-    for k in 0..4 {
-        ch.draw_series(std::iter::once(Circle::new(f.pts[k], 4, BLACK.filled())))
-            .map_err(e)?;
-        ch.draw_series(std::iter::once(Text::new(
-            f.labels[k].clone(),
-            f.pts[k],
-            ("sans-serif", 14),
-        )))
-        .map_err(e)?;
-    }
-    area.present().map_err(e)
+    keys.push((
+        "F: fixed lattice vertex".into(),
+        Key::Dot(palette::BLACK, true),
+    ));
+    let meta = Meta {
+        axes: None,
+        legend: keys.iter().map(|k| k.0.clone()).collect(),
+        series: keys.len(),
+    };
+    let pts = f.pts;
+    output::figure(
+        &stem.with_extension(""),
+        Width::Column,
+        1.2,
+        &meta,
+        |area| {
+            let top = style::legend_below(area, &keys)?;
+            // Equal scales: a square plotting area under the title.
+            let (w, h) = top.dim_in_pixel();
+            let side = w.min(h);
+            let (sq, _) = top.split_horizontally(side);
+            let mut ch = ChartBuilder::on(&sq)
+                .caption(&f.title, font(SMALL_PT))
+                .margin(pt(6.0) as u32)
+                .build_cartesian_2d(f.range.0.clone(), f.range.1.clone())
+                .map_err(|x| pe(x.to_string()))?;
+            let m = |x: String| pe(x);
+            for t in &f.hl {
+                let poly: Vec<(f64, f64)> = t.iter().map(|&k| pts[k]).collect();
+                let mut ring = poly.clone();
+                ring.push(poly[0]);
+                ch.draw_series(std::iter::once(Polygon::new(
+                    poly,
+                    palette::tint(FACE, 0.4).filled(),
+                )))
+                .map_err(|x| m(x.to_string()))?;
+                // Seen along the dihedral edge a face is a segment: outline it.
+                ch.draw_series(std::iter::once(PathElement::new(
+                    ring,
+                    FACE.stroke_width(stroke(2.0)),
+                )))
+                .map_err(|x| m(x.to_string()))?;
+            }
+            for (a, b, c) in &f.segs {
+                ch.draw_series(std::iter::once(PathElement::new(
+                    vec![*a, *b],
+                    c.stroke_width(stroke(1.5)),
+                )))
+                .map_err(|x| m(x.to_string()))?;
+            }
+            for i in 0..4 {
+                for j in i + 1..4 {
+                    ch.draw_series(std::iter::once(PathElement::new(
+                        vec![pts[i], pts[j]],
+                        palette::BLACK.stroke_width(stroke(THIN_PT)),
+                    )))
+                    .map_err(|x| m(x.to_string()))?;
+                }
+            }
+            let r = pt(2.0);
+            ch.draw_series(
+                pts.iter()
+                    .map(|&p| Circle::new(p, r as i32, palette::BLACK.filled())),
+            )
+            .map_err(|x| m(x.to_string()))?;
+            let px: Vec<(f64, f64)> = pts
+                .iter()
+                .map(|p| {
+                    let c = ch.backend_coord(p);
+                    (c.0 as f64, c.1 as f64)
+                })
+                .collect();
+            let (b0, b1) = (
+                ch.backend_coord(&(f.range.0.start, f.range.1.end)),
+                ch.backend_coord(&(f.range.0.end, f.range.1.start)),
+            );
+            let at = certmesh::figure::labels::place(
+                &px,
+                &f.labels,
+                pt(SMALL_PT + 1.0),
+                r,
+                (b0.0 as f64, b0.1 as f64, b1.0 as f64, b1.1 as f64),
+            );
+            for (l, (x, y)) in f.labels.iter().zip(at) {
+                area.draw(&Text::new(
+                    l.clone(),
+                    (x as i32, y as i32),
+                    font(SMALL_PT + 1.0),
+                ))
+                .map_err(|x| m(x.to_string()))?;
+            }
+            Ok(())
+        },
+    )
+    .map(|_| ())
+    .map_err(e)
 }

@@ -294,6 +294,11 @@ pub fn plots(points: &[Point], out: &Path) -> Result<Vec<PathBuf>, String> {
     let mut written = Vec::new();
     for (crit, lo, hi) in CRITERIA {
         let in_fam: Vec<&Point> = points.iter().filter(|p| p.family() == fam).collect();
+        // A pair whose tetrahedra can be flat proves only (0°, 180°): drawn, it would
+        // squeeze every other point into a corner; it is counted in the legend instead.
+        let flat = |p: &Point| p.proven_deg[lo] <= 1e-9 || p.proven_deg[hi] >= 180.0 - 1e-9;
+        let n_flat = in_fam.iter().filter(|p| flat(p)).count();
+        let in_fam: Vec<&Point> = in_fam.into_iter().filter(|p| !flat(p)).collect();
         let f = front(points, fam, lo, hi);
         let rows: Vec<_> = TABLE1
             .iter()
@@ -329,7 +334,11 @@ pub fn plots(points: &[Point], out: &Path) -> Result<Vec<PathBuf>, String> {
             .collect();
         let mut sets = vec![
             PointSet {
-                name: "certified pairs (unordered, one-sided)".into(),
+                name: if n_flat > 0 {
+                    format!("certified pairs (unordered, one-sided; {n_flat} with only (0°, 180°) not shown)")
+                } else {
+                    "certified pairs (unordered, one-sided)".into()
+                },
                 points: in_fam
                     .iter()
                     .map(|p| (p.proven_deg[lo], p.proven_deg[hi]))

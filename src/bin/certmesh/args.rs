@@ -198,8 +198,8 @@ pub(crate) struct StatsArgs {
     /// Compare against the formula in this file.
     #[arg(long, value_name = "FILE")]
     pub(crate) formula_file: Option<PathBuf>,
-    /// Write an angle histogram (BASE.svg and BASE.png; a .svg or .png ending of
-    /// BASE is dropped, so `h.png` writes h.svg and h.png).
+    /// Write an angle histogram (BASE.svg and BASE.png, or the formats of --format; a
+    /// .svg, .png or .pdf ending of BASE is dropped, so `h.png` writes h.svg and h.png).
     #[arg(long, value_name = "BASE")]
     pub(crate) histogram: Option<PathBuf>,
     /// Histogram bin width in degrees.
@@ -209,6 +209,8 @@ pub(crate) struct StatsArgs {
     /// stuffing paper's Figs 1 and 4 use 20); 1 draws the plain histogram.
     #[arg(long, default_value_t = 1.0, value_name = "K")]
     pub(crate) emphasis: f64,
+    #[command(flatten)]
+    pub(crate) format: crate::figures_cmd::FormatArg,
     #[arg(long)]
     pub(crate) json: bool,
 }

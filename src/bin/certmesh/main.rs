@@ -9,6 +9,7 @@ mod errors;
 mod args;
 mod compare_cmd;
 mod delaunay_cmd;
+mod figures_cmd;
 mod input;
 mod mesh_cmd;
 mod morse_cmd;
@@ -173,6 +174,8 @@ enum Cmd {
         /// A smaller run (coarser settings, fewer surfaces).
         #[arg(long)]
         quick: bool,
+        #[command(flatten)]
+        format: figures_cmd::FormatArg,
         #[arg(long)]
         json: bool,
     },
@@ -193,7 +196,23 @@ enum Cmd {
         /// A fast, smaller run.
         #[arg(long)]
         quick: bool,
+        #[command(flatten)]
+        format: figures_cmd::FormatArg,
     },
+    /// Regenerate every figure of papers/ in the figure style and index them.
+    ///
+    /// Runs `certmesh reproduce` for each paper into OUT (tables included), removes the
+    /// figures of those folders that no run writes any more, checks every SVG under OUT
+    /// (fonts of at least 7 pt at the printed width, labelled axes, a legend when a
+    /// figure has more than one series) and writes OUT/FIGURES.md: each figure, what it
+    /// shows, the command that made it, its formats and the result of the check.
+    /// Figures of the proofs binary (papers/*/figures/) are indexed and checked, not
+    /// regenerated: they need its certificates (the command is listed).
+    ///
+    /// Example: certmesh figures --quick --out out/figures-quick --format svg,pdf
+    /// Example: certmesh figures --check --out papers
+    #[command(verbatim_doc_comment)]
+    Figures(figures_cmd::FiguresArgs),
 }
 
 fn main() {
@@ -292,10 +311,25 @@ fn run(cmd: Cmd, quiet: bool) -> CliResult<()> {
         Cmd::Compare(a) => compare_cmd(a, quiet)?,
         Cmd::Delaunay(a) => delaunay_cmd::delaunay_cmd(a)?,
         Cmd::Morse(a) => morse_cmd::morse_cmd(a, quiet)?,
-        Cmd::Demo { out, quick, json } => demo_cmd(&out, quick, json, quiet)?,
-        Cmd::Reproduce { paper, out, quick } => {
+        Cmd::Demo {
+            out,
+            quick,
+            format,
+            json,
+        } => {
+            format.apply()?;
+            demo_cmd(&out, quick, json, quiet)?
+        }
+        Cmd::Reproduce {
+            paper,
+            out,
+            quick,
+            format,
+        } => {
+            format.apply()?;
             reproduce_cmd(&paper, out.as_deref(), quick, quiet)?
         }
+        Cmd::Figures(a) => figures_cmd::figures_cmd(a, quiet)?,
     }
     Ok(())
 }

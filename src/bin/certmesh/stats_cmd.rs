@@ -23,6 +23,7 @@ pub(crate) fn histogram_base(h: &Path) -> PathBuf {
 }
 
 pub(crate) fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
+    a.format.apply()?;
     let fmt = io::Format::from_path(&a.mesh)?;
     let entry = a.surface.as_deref().map(catalog::get).transpose()?;
     if let Some(e) = &entry {
@@ -84,7 +85,14 @@ pub(crate) fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
             let d: Vec<f64> = (0..m.tets.len())
                 .flat_map(|t| metrics::angles::dihedral_angles(&m.corners(t)))
                 .collect();
-            angle_histogram(h, "dihedral angles", "tetrahedra", d, false, &a)?;
+            angle_histogram(
+                h,
+                "dihedral angles",
+                "dihedral angles per bin",
+                d,
+                false,
+                &a,
+            )?;
         }
         bar.finish();
         print_json(&s);
@@ -111,7 +119,7 @@ pub(crate) fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
             .flatten()
             .flatten()
             .collect();
-        angle_histogram(h, "triangle angles", "density", ang, true, &a)?;
+        angle_histogram(h, "triangle angles", "density (1/degree)", ang, true, &a)?;
     }
     bar.finish();
     let report = report::StatsReport {
@@ -125,7 +133,12 @@ pub(crate) fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
             out!("{line}");
         }
         if let Some(h) = &hist {
-            out!("wrote {}.svg and {}.png", h.display(), h.display());
+            let files: Vec<String> = certmesh::figure::output::written()
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect();
+            let _ = h;
+            out!("wrote {}", files.join(" and "));
         }
     }
     Ok(())
@@ -143,7 +156,7 @@ fn angle_histogram(
     certmesh::reproduce::plot::histogram(
         h,
         title,
-        "degrees",
+        "angle (degrees)",
         y_label,
         &certmesh::reproduce::plot::bin(angles, a.bin, density),
         &[],
