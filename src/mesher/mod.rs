@@ -14,7 +14,7 @@ pub mod claims;
 pub mod options;
 pub mod registry;
 
-pub use claims::{Cause, Claim};
+pub use claims::{Cause, Claim, HomeomorphismBy};
 
 /// What a mesher produced.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -112,7 +112,8 @@ impl Certificate {
             | Certificate::Uncertified { claims_typed, .. } => claims_typed,
         }
     }
-    /// Is the output proven to have the topology of f = 0 (an isotopy claim)?
+    /// Is the output proven to have the topology of f = 0 (an isotopy or a
+    /// homeomorphism claim)?
     pub fn proves_topology(&self) -> bool {
         self.is_certified() && self.claims_typed().iter().any(Claim::is_topological)
     }

@@ -56,6 +56,8 @@ const BO: &[&str] = &[
     "certify",
 ];
 
+const CDRR: &[&str] = &["facet-size", "max-vertices", "time-limit"];
+
 type Ctor = fn(&MesherOptions) -> Result<Box<dyn Mesher>>;
 
 macro_rules! entry {
@@ -161,6 +163,14 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             "Boissonnat-Oudot restricted-Delaunay refinement, CGAL's criteria; --certify: exact restricted triangulation (isotopy not claimed)",
             crate::restricted_delaunay::BoissonnatOudot,
             BO
+        ),
+        entry!(
+            "cdrr",
+            3,
+            true,
+            "Cheng-Dey-Ramos-Ray refinement: tests (1)-(4) until the topological ball property is proven (homeomorphic, Thm 5; isotopy not claimed)",
+            crate::restricted_delaunay::ChengDeyRamosRay,
+            CDRR
         ),
         entry!(
             "ms",

@@ -602,6 +602,93 @@ impl<'a> Run<'a> {
     }
 }
 
+/// Seed points: the certified critical points of a generic height on S, each with a
+/// seed triangle of radius `rho` around it (three points on its tangent circle,
+/// projected onto S by Newton); when that search is incomplete, also every crossing
+/// (certified isolation) of a fixed star of lines near the domain's centre (CGAL's
+/// random rays, made reproducible). Points come with "from the fallback lines".
+pub(crate) struct Seeds {
+    pub crit: crate::implicit::critical::CriticalReport,
+    pub points: Vec<([f64; 3], bool)>,
+    pub regions: Vec<Uncertified>,
+}
+
+pub(crate) fn seed_points(
+    f: &dyn Implicit,
+    domain: &Aabb,
+    rho: f64,
+    critical_boxes: usize,
+    budget: SegmentBudget,
+) -> Seeds {
+    let diam = domain.diagonal();
+    let dbox = domain.intervals();
+    let crit = critical_points_on_surface(
+        f,
+        Bx::new(domain.min, domain.max),
+        None,
+        Budget {
+            max_boxes: critical_boxes,
+            ..Budget::default()
+        },
+    );
+    let mut regions = Vec::new();
+    for u in crit.undecided.iter().take(20) {
+        regions.push(Uncertified::new(
+            Aabb {
+                min: u.region.lo,
+                max: u.region.hi,
+            },
+            format!(
+                "critical-point search undecided here ({:?}): a component may be unseeded, or a singular point",
+                u.reason
+            ),
+        ));
+    }
+    let (e1, e2) = match crit.problem {
+        Problem::Height { e1, e2, .. } => (e1, e2),
+        _ => ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+    };
+    let mut points = Vec::new();
+    for cp in &crit.points {
+        let x = cp.point;
+        points.push((x, false));
+        for k in 0..3 {
+            let th = std::f64::consts::TAU * k as f64 / 3.0;
+            let q = add(x, add(scale(e1, rho * th.cos()), scale(e2, rho * th.sin())));
+            if let Some(q) = project(f, q, 30, 1e-14 * diam) {
+                if domain.contains(q) && dist(q, x) < 3.0 * rho {
+                    points.push((q, false));
+                }
+            }
+        }
+    }
+    if !crit.complete {
+        let c = domain.center();
+        let h = 0.5 * diam;
+        for (k, d) in fallback_directions().into_iter().enumerate() {
+            // Lines offset from the centre (a centre on S would make every line
+            // tangent there, e.g. a cone's apex).
+            let k = k as f64;
+            let o = add(
+                c,
+                scale(
+                    [(1.3 * k).sin(), (2.1 * k).cos(), (0.7 * k + 0.5).sin()],
+                    0.2 * h,
+                ),
+            );
+            let a = sub(o, scale(d, h));
+            let b = add(o, scale(d, h));
+            let test = test_segment(f, a, b, a, &dbox, budget);
+            points.extend(test.crossings.iter().map(|x| (x.point, true)));
+        }
+    }
+    Seeds {
+        crit,
+        points,
+        regions,
+    }
+}
+
 /// 13 directions (3 axes, 4 diagonals, 6 face diagonals), slightly rotated so that no
 /// line is a symmetry axis of the catalog's surfaces.
 fn fallback_directions() -> Vec<[f64; 3]> {
@@ -628,7 +715,7 @@ fn fallback_directions() -> Vec<[f64; 3]> {
 }
 
 /// Is the restricted star of `v` (facets `ks`, all with manifold edges) a single disk?
-fn is_disk(v: VertexId, ks: &[usize], scan: &Scan) -> bool {
+pub(crate) fn is_disk(v: VertexId, ks: &[usize], scan: &Scan) -> bool {
     // Link edges (a, b) opposite v; a single cycle iff connected and every link vertex
     // has degree 2 (degree 2 holds when the edges are manifold).
     let mut adj: HashMap<VertexId, Vec<VertexId>> = HashMap::new();
@@ -671,7 +758,7 @@ impl Mesher for BoissonnatOudot {
 
 /// The restricted facets of a scan as an oriented triangle mesh over the used vertices
 /// (mesh vertex ids in kernel order).
-fn to_mesh(t: &Delaunay, scan: &Scan) -> (TriMesh, Vec<VertexId>) {
+pub(crate) fn to_mesh(t: &Delaunay, scan: &Scan) -> (TriMesh, Vec<VertexId>) {
     let mut map: HashMap<VertexId, u32> = HashMap::new();
     let mut order: Vec<VertexId> = Vec::new();
     let mut tris = Vec::with_capacity(scan.facets.len());
@@ -765,84 +852,20 @@ fn mesh_bo(
 
     // 1. Seeds.
     progress.start("bo seeds", 0);
-    let crit = critical_points_on_surface(
-        f,
-        Bx::new(domain.min, domain.max),
-        None,
-        Budget {
-            max_boxes: p.critical_boxes,
-            ..Budget::default()
-        },
-    );
+    let rho = p.seed_radius.unwrap_or(facet_size / 4.0);
+    let seeds = seed_points(f, domain, rho, p.critical_boxes, run.budget);
+    let crit = seeds.crit;
     run.stats.critical_points = crit.points.len();
     run.stats.seeding_complete = crit.complete;
-    for u in crit.undecided.iter().take(20) {
-        regions.push(Uncertified::new(
-            Aabb {
-                min: u.region.lo,
-                max: u.region.hi,
-            },
-            format!(
-                "critical-point search undecided here ({:?}): a component may be unseeded, or a singular point",
-                u.reason
-            ),
-        ));
-    }
-    let (e1, e2) = match crit.problem {
-        Problem::Height { e1, e2, .. } => (e1, e2),
-        _ => ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
-    };
-    let rho = p.seed_radius.unwrap_or(facet_size / 4.0);
+    regions.extend(seeds.regions);
     let mut seed_ids: Vec<VertexId> = Vec::new();
-    for cp in &crit.points {
-        let x = cp.point;
-        let mut pts = vec![x];
-        for k in 0..3 {
-            let th = std::f64::consts::TAU * k as f64 / 3.0;
-            let q = add(x, add(scale(e1, rho * th.cos()), scale(e2, rho * th.sin())));
-            if let Some(q) = project(f, q, 30, 1e-14 * diam) {
-                if domain.contains(q) && dist(q, x) < 3.0 * rho {
-                    pts.push(q);
-                }
+    for (q, fallback) in seeds.points {
+        match run.t.insert(q) {
+            Ok(v) => {
+                seed_ids.push(v);
+                run.stats.fallback_seeds += fallback as usize;
             }
-        }
-        for q in pts {
-            match run.t.insert(q) {
-                Ok(v) => seed_ids.push(v),
-                Err(_) => run.stats.refused += 1,
-            }
-        }
-    }
-    if !crit.complete {
-        // The certified seeds may miss a component: add the crossings of a fixed
-        // star of lines near the domain's centre (CGAL's random rays, made
-        // reproducible), all crossings by certified isolation.
-        let c = domain.center();
-        let h = 0.5 * diam;
-        let dirs = fallback_directions();
-        for (k, d) in dirs.into_iter().enumerate() {
-            // Lines offset from the centre (a centre on S would make every line
-            // tangent there, e.g. a cone's apex).
-            let k = k as f64;
-            let o = add(
-                c,
-                scale(
-                    [(1.3 * k).sin(), (2.1 * k).cos(), (0.7 * k + 0.5).sin()],
-                    0.2 * h,
-                ),
-            );
-            let a = sub(o, scale(d, h));
-            let b = add(o, scale(d, h));
-            let test = test_segment(f, a, b, a, &run.dbox, run.budget);
-            for x in &test.crossings {
-                match run.t.insert(x.point) {
-                    Ok(v) => {
-                        seed_ids.push(v);
-                        run.stats.fallback_seeds += 1;
-                    }
-                    Err(_) => run.stats.refused += 1,
-                }
-            }
+            Err(_) => run.stats.refused += 1,
         }
     }
     run.stats.seed_vertices = seed_ids.len();

@@ -6,7 +6,15 @@
 //!   orientation, the full scan and its certified (interval-circumcentre) version.
 //! * [`bo`]: the Boissonnat–Oudot refinement driver with CGAL's criteria
 //!   (`--algo bo`, §1.3.1).
+//! * [`tbp`]: the topological ball property checked with interval arithmetic (tests
+//!   (1)–(4) of §1.3.2 as checks; Theorem 5: homeomorphism).
+//! * [`certify`]: `certmesh certify`, the TBP certificate of anyone's mesh.
+//! * [`cdrr`]: the Cheng–Dey–Ramos–Ray refinement driver (`--algo cdrr`, §1.3.2).
 pub mod bo;
+pub mod cdrr;
+pub mod certify;
 pub mod restricted;
+pub mod tbp;
 
 pub use bo::BoissonnatOudot;
+pub use cdrr::ChengDeyRamosRay;

@@ -7,6 +7,7 @@
 #[macro_use]
 mod errors;
 mod args;
+mod certify_cmd;
 mod compare_cmd;
 mod delaunay_cmd;
 mod figures_cmd;
@@ -163,6 +164,28 @@ enum Cmd {
     ///   certmesh delaunay points.xyz -o tets.vtk --json
     #[command(verbatim_doc_comment)]
     Delaunay(delaunay_cmd::DelaunayArgs),
+    /// Certify anyone's surface mesh: homeomorphic to f = 0 by the topological ball
+    /// property (the chapter "Meshing of Surfaces", §1.3.2, Theorem 5).
+    ///
+    /// Builds the Delaunay triangulation of the mesh's vertices (exact predicates),
+    /// derives the restricted Delaunay triangulation (every crossing of every Voronoi
+    /// edge isolated with interval arithmetic) and checks the topological ball
+    /// property on every Voronoi edge, facet and cell meeting f = 0 (the chapter's
+    /// tests (1)-(4) as checks: nothing is inserted). Reports (a) whether the mesh is
+    /// the restricted Delaunay triangulation of its vertices (which triangles differ),
+    /// (b) whether the property holds (which Voronoi faces fail and why), (c)
+    /// "certified homeomorphic" only when both hold. Homeomorphism, not isotopy
+    /// (Research Problem 4). No local feature size is needed and the vertices need
+    /// not lie on f = 0: the report bounds max |f|/|grad f| over them. The exit
+    /// status is 0 whether or not the mesh is certified (read the verdict, or
+    /// "homeomorphic" in --json).
+    ///
+    /// Examples:
+    ///   certmesh mesh sphere --algo cdrr -o s.obj
+    ///   certmesh certify s.obj --surface sphere
+    ///   certmesh certify s.obj --formula "x^2 + y^2 + z^2 - 1" --json -o rdt.off
+    #[command(verbatim_doc_comment)]
+    Certify(certify_cmd::CertifyArgs),
     /// The main job on built-in defaults: mesh catalog entries with every algorithm,
     /// print the comparison, write the meshes and angle histograms to the output folder.
     ///
@@ -310,6 +333,7 @@ fn run(cmd: Cmd, quiet: bool) -> CliResult<()> {
         Cmd::CheckCurve { file, json } => check_curve_cmd(&file, json)?,
         Cmd::Compare(a) => compare_cmd(a, quiet)?,
         Cmd::Delaunay(a) => delaunay_cmd::delaunay_cmd(a)?,
+        Cmd::Certify(a) => certify_cmd::certify_cmd(a, quiet)?,
         Cmd::Morse(a) => morse_cmd::morse_cmd(a, quiet)?,
         Cmd::Demo {
             out,

@@ -1,0 +1,286 @@
+//! Branch and bound over a convex Voronoi region: cover the part of the region inside
+//! the domain by boxes, each accepted by a criterion proven with interval arithmetic
+//! (0 ∉ □f, or 0 ∉ □(∇f·d), or the silhouette criterion of equation (1.5)), or fail at
+//! the first box that cannot be decided within the budget.
+//!
+//! A region is given by half-spaces that contain it (a Voronoi cell V(p) lies in
+//! {x : |x − p| ≤ |x − r|} for every site r), and optionally a plane it lies in (a
+//! Voronoi facet lies in the bisector of its two sites). A box that misses one of
+//! them, proven by interval evaluation of the affine function, holds no point of the
+//! region and is dropped. Covering more than the region is harmless: every test is
+//! then stronger than needed.
+use crate::implicit::ops::enclose;
+use crate::implicit::{IBox, Implicit, Regularity};
+use inari::Interval;
+
+/// {x : a·x − b ≤ 0}, with interval coefficients enclosing the exact ones.
+#[derive(Clone, Copy, Debug)]
+pub struct HalfSpace {
+    pub a: [Interval; 3],
+    pub b: Interval,
+}
+
+pub(crate) fn pt(x: f64) -> Interval {
+    Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE)
+}
+
+impl HalfSpace {
+    /// The points at least as close to `p` as to `r`: 2 x·(r − p) − (|r|² − |p|²) ≤ 0,
+    /// every coefficient enclosed by outward-rounded interval arithmetic.
+    pub fn closer(p: [f64; 3], r: [f64; 3]) -> Self {
+        let (pi, ri) = (p.map(pt), r.map(pt));
+        let two = pt(2.0);
+        let a = [0, 1, 2].map(|k| two * (ri[k] - pi[k]));
+        let n2 = |v: [Interval; 3]| v[0].sqr() + v[1].sqr() + v[2].sqr();
+        HalfSpace {
+            a,
+            b: n2(ri) - n2(pi),
+        }
+    }
+    /// An enclosure of a·x − b over the box.
+    pub fn value(&self, x: &IBox) -> Interval {
+        self.a[0] * x[0] + self.a[1] * x[1] + self.a[2] * x[2] - self.b
+    }
+}
+
+/// Where a box lies relative to the region.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Place {
+    /// Proven disjoint from the region.
+    Outside,
+    /// Proven inside every half-space, strictly (so inside the interior of a cell).
+    Inside,
+    /// Neither.
+    Straddles,
+}
+
+/// A convex region: the intersection of `halfspaces`, and of the plane {value = 0} of
+/// `plane` when given.
+pub struct Region<'a> {
+    pub halfspaces: &'a [HalfSpace],
+    pub plane: Option<HalfSpace>,
+}
+
+impl Region<'_> {
+    pub fn place(&self, x: &IBox) -> Place {
+        if let Some(h) = &self.plane {
+            let v = h.value(x);
+            if v.inf() > 0.0 || v.sup() < 0.0 {
+                return Place::Outside;
+            }
+        }
+        let mut inside = self.plane.is_none();
+        for h in self.halfspaces {
+            let v = h.value(x);
+            if v.inf() > 0.0 {
+                return Place::Outside;
+            }
+            if v.sup() >= 0.0 {
+                inside = false;
+            }
+        }
+        if inside {
+            Place::Inside
+        } else {
+            Place::Straddles
+        }
+    }
+}
+
+/// What a criterion concluded on one box.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    Accept,
+    Split,
+}
+
+/// Limits of one cover.
+#[derive(Clone, Copy, Debug)]
+pub struct CoverBudget {
+    pub max_boxes: u32,
+    /// Smallest box width relative to the initial box's widest side.
+    pub min_rel_width: f64,
+}
+
+impl Default for CoverBudget {
+    fn default() -> Self {
+        CoverBudget {
+            max_boxes: 3000,
+            min_rel_width: 1e-7,
+        }
+    }
+}
+
+/// The result of one cover.
+#[derive(Clone, Copy, Debug)]
+pub struct Cover {
+    /// Every box of the region was accepted.
+    pub ok: bool,
+    pub boxes: u32,
+    /// The first box that could not be decided (budget or width limit).
+    pub failed: Option<IBox>,
+}
+
+fn widest(x: &IBox) -> usize {
+    (0..3)
+        .max_by(|&a, &b| x[a].wid().total_cmp(&x[b].wid()))
+        .unwrap_or(0)
+}
+
+/// Cover `region ∩ start` by boxes accepted by `crit` (called with the box and its
+/// place, never with an `Outside` box).
+pub fn cover(
+    start: IBox,
+    region: &Region,
+    budget: CoverBudget,
+    mut crit: impl FnMut(&IBox, Place) -> Verdict,
+) -> Cover {
+    let w0 = start[widest(&start)].wid();
+    let min_w = (w0 * budget.min_rel_width).max(f64::MIN_POSITIVE);
+    let mut stack = vec![start];
+    let mut boxes = 0u32;
+    while let Some(x) = stack.pop() {
+        let place = region.place(&x);
+        if place == Place::Outside {
+            continue;
+        }
+        boxes += 1;
+        if crit(&x, place) == Verdict::Accept {
+            continue;
+        }
+        let k = widest(&x);
+        if boxes >= budget.max_boxes || x[k].wid() <= min_w {
+            return Cover {
+                ok: false,
+                boxes,
+                failed: Some(x),
+            };
+        }
+        let m = x[k].mid();
+        let (mut lo, mut hi) = (x, x);
+        lo[k] = Interval::try_from((x[k].inf(), m)).unwrap_or(x[k]);
+        hi[k] = Interval::try_from((m, x[k].sup())).unwrap_or(x[k]);
+        stack.push(hi);
+        stack.push(lo);
+    }
+    Cover {
+        ok: true,
+        boxes,
+        failed: None,
+    }
+}
+
+fn idot(a: &[Interval; 3], b: &[Interval; 3]) -> Interval {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn icross(a: &[Interval; 3], b: &[Interval; 3]) -> [Interval; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn excl(i: Interval) -> bool {
+    !i.is_empty() && (i.inf() > 0.0 || i.sup() < 0.0)
+}
+
+/// The criterion of tests (3) and the fast path of (4): accept a box where f has no
+/// zero, or where f is proven C^∞ and ∇f·d ≠ 0 (no point of S in the box has a normal
+/// perpendicular to d). `d` is an interval vector (enclosing an exact direction).
+pub fn no_tangency(f: &dyn Implicit, x: &IBox, d: &[Interval; 3]) -> Verdict {
+    let (fv, g) = enclose(f, x);
+    if excl(fv) {
+        return Verdict::Accept;
+    }
+    if excl(idot(&g, d)) && f.regularity(x) == Regularity::Smooth {
+        return Verdict::Accept;
+    }
+    Verdict::Split
+}
+
+/// The criterion of test (4): as [`no_tangency`] in direction `d`; moreover, on a box
+/// strictly inside the cell, accept when det(H d, d′, ∇f) ≠ 0 (equation (1.5) of the
+/// chapter): the silhouette {f = 0, ∇f·d = 0} is a smooth curve there (its two
+/// gradients ∇f and H d are independent) without a point critical in direction d′.
+pub fn no_silhouette(
+    f: &dyn Implicit,
+    x: &IBox,
+    place: Place,
+    d: &[Interval; 3],
+    d2: &[Interval; 3],
+) -> Verdict {
+    if no_tangency(f, x, d) == Verdict::Accept {
+        return Verdict::Accept;
+    }
+    if place != Place::Inside || f.regularity(x) != Regularity::Smooth {
+        return Verdict::Split;
+    }
+    let h = f.hessian_interval(x);
+    let hm = |i: usize, j: usize| h.h[crate::implicit::number::hidx(i, j)];
+    let hd: [Interval; 3] =
+        std::array::from_fn(|i| hm(i, 0) * d[0] + hm(i, 1) * d[1] + hm(i, 2) * d[2]);
+    // det(Hd, d', g) = Hd · (d' × g)
+    let det = idot(&hd, &icross(d2, &h.g));
+    if excl(det) {
+        Verdict::Accept
+    } else {
+        Verdict::Split
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn b(lo: [f64; 3], hi: [f64; 3]) -> IBox {
+        std::array::from_fn(|k| Interval::try_from((lo[k], hi[k])).unwrap())
+    }
+
+    #[test]
+    fn halfspace_places_boxes() {
+        // Closer to the origin than to (2, 0, 0): x <= 1.
+        let h = [HalfSpace::closer([0.0; 3], [2.0, 0.0, 0.0])];
+        let r = Region {
+            halfspaces: &h,
+            plane: None,
+        };
+        assert_eq!(r.place(&b([1.5, 0., 0.], [2., 1., 1.])), Place::Outside);
+        assert_eq!(r.place(&b([0., 0., 0.], [0.5, 1., 1.])), Place::Inside);
+        assert_eq!(r.place(&b([0.5, 0., 0.], [1.5, 1., 1.])), Place::Straddles);
+        // On the bisector plane x = 1 only boxes meeting it survive.
+        let r2 = Region {
+            halfspaces: &[],
+            plane: Some(h[0]),
+        };
+        assert_eq!(r2.place(&b([0., 0., 0.], [0.5, 1., 1.])), Place::Outside);
+        assert_eq!(r2.place(&b([0.9, 0., 0.], [1.1, 1., 1.])), Place::Straddles);
+    }
+
+    #[test]
+    fn cover_fails_at_a_tangency_and_passes_without() {
+        use crate::implicit::Formula;
+        let f = Formula::with_dim("x^2 + y^2 + z^2 - 1", 3).unwrap();
+        let r = Region {
+            halfspaces: &[],
+            plane: None,
+        };
+        let up = [pt(0.0), pt(0.0), pt(1.0)];
+        // The cap z > 0.5 has normals with positive z: no tangency to d = z.
+        let cap = b([-0.9, -0.9, 0.5], [0.9, 0.9, 1.2]);
+        let c = cover(cap, &r, CoverBudget::default(), |x, _| {
+            no_tangency(&f, x, &up)
+        });
+        assert!(c.ok, "{c:?}");
+        // The equator z = 0 is where the normal is perpendicular to z: never accepted.
+        let belt = b([-1.2, -1.2, -0.2], [1.2, 1.2, 0.2]);
+        let c = cover(belt, &r, CoverBudget::default(), |x, _| {
+            no_tangency(&f, x, &up)
+        });
+        assert!(!c.ok);
+        let fb = c.failed.unwrap();
+        let m = [fb[0].mid(), fb[1].mid(), fb[2].mid()];
+        assert!(m[2].abs() < 0.2);
+    }
+}

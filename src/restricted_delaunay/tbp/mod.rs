@@ -1,0 +1,563 @@
+//! The topological ball property (TBP) of a point set P with respect to S = {f = 0},
+//! checked with interval arithmetic: the chapter "Meshing of Surfaces" (Boissonnat,
+//! Cohen-Steiner, Mourrain, Rote and Vegter, 2007), §1.3.2, tests (1)–(4) run as
+//! *checks* (nothing is inserted). When every check passes, Theorem 5 of the chapter
+//! (Edelsbrunner and Shah's closed-ball property) says the Delaunay triangulation of
+//! P restricted by S is **homeomorphic** to S. Not isotopic: whether the TBP implies
+//! isotopy for surfaces is the chapter's open Research Problem 4 (§1.6); nothing here
+//! claims it. P need not lie on S, and no local feature size is needed.
+//!
+//! Hypotheses, each checked (a failure names the Voronoi face and why):
+//! * **Set-up.** f has rigorous interval enclosures; 0 ∉ □f on the six faces of the
+//!   domain D, so S ⊂ int D and S is closed; the kernel's triangulation passes its
+//!   exact check; every vertex lies in D, so the far-box corners' Voronoi cells miss D
+//!   ([`super::restricted::far_lemma`]) and the Voronoi faces of P meeting S are those
+//!   of P with the corners added.
+//! * **(0)+(1) Voronoi vertices and edges.** Every dual segment (interval
+//!   circumcentres) meets S at most once, by certified root isolation: each crossing
+//!   in a piece where 0 ∉ □(∇f·e) (transversal), the end signs proven (no Voronoi
+//!   vertex on S), nothing undecided.
+//! * **(2) 2-manifold.** Every Delaunay edge pq is in 0 or 2 restricted facets
+//!   (the Voronoi facet F_pq has 0 or 2 crossing edges) and the restricted link of
+//!   every vertex is one cycle or empty. Then S ∩ ∂V(p) is one cycle or empty.
+//! * **(3) Voronoi facets.** For each F = F_pq (in the bisector plane H of p, q), a
+//!   cover of F ∩ D by boxes on which 0 ∉ □f, or f is C^∞ and 0 ∉ □(∇f·d) for a
+//!   direction d exactly in H (d = w × (q − p) enclosed in intervals). Then S meets H
+//!   transversally on F (the in-plane gradient is non-zero) and no point of S ∩ F
+//!   has tangent d, so S ∩ F has no closed curve (a closed curve has a point extreme
+//!   in the in-plane direction ⊥ d, where its tangent is d); each of its arcs ends
+//!   on two crossings of ∂F, crossing the edges transversally (by (1)), so with 0 or
+//!   2 crossings S ∩ F is empty or one arc whose boundary is S ∩ ∂F.
+//! * **(4) Voronoi cells.** For each V(p), a cover of V(p) ∩ D by boxes on which 0 ∉
+//!   □f, or f is C^∞ and 0 ∉ □(∇f·d) (d = ∇f(p), the chapter's choice), or — for boxes
+//!   strictly inside V(p) — 0 ∉ □det(H d, d′, ∇f) (equation (1.5)). Then the
+//!   silhouette Σ = {f = 0, ∇f·d = 0} misses ∂V(p), is a smooth curve inside V(p)
+//!   (its gradients ∇f and H d are independent where the determinant is non-zero)
+//!   and has no point critical in direction d′; a compact curve without boundary has
+//!   such points, so Σ ∩ V(p) = ∅. By the Silhouette Lemma (Lemma 6), the component of
+//!   M = S ∩ V(p) bounded by the cycle of (2) is a disk, and M has no closed component
+//!   (a closed surface has silhouette points in every direction).
+//!
+//! Every point of S lies in some cell, and every box that meets S is accepted by a
+//! criterion that proves ∇f ≠ 0 there, so the checks also prove S a smooth surface.
+//! Degenerate (cospherical) inputs are triangulated with the kernel's symbolic
+//! perturbation; the checks' strict inequalities are open conditions, so they hold
+//! for the perturbed point set whose Delaunay triangulation the kernel built.
+pub mod cover;
+
+use super::restricted::{self, Ends3, Scan};
+use crate::implicit::critical::{boundary_clear, Bx};
+use crate::implicit::ops::SegmentBudget;
+use crate::implicit::{IBox, Implicit};
+use crate::kernel::delaunay::{CellId, Delaunay, VertexId};
+use crate::kernel::geom::{cross, dist, dot, Aabb};
+use cover::{cover, no_silhouette, no_tangency, pt, CoverBudget, HalfSpace, Region};
+use inari::Interval;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::collections::HashMap;
+
+/// The chapter's tests, in its order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Test {
+    /// The set-up hypotheses (domain boundary, Delaunay check, far corners, rigour).
+    Setup,
+    /// (1): a Voronoi edge meets S at most once, transversally, not at an end.
+    Edge,
+    /// (2): the restricted triangulation is a 2-manifold.
+    Manifold,
+    /// (3): a Voronoi facet meets S in ∅ or one arc.
+    Facet,
+    /// (4): a Voronoi cell meets S in ∅ or a disk.
+    Cell,
+}
+
+/// One Voronoi face where the topological ball property was not proven.
+#[derive(Clone, Debug, Serialize)]
+pub struct Failure {
+    pub test: Test,
+    /// The dual Delaunay simplex: 3 sites for a Voronoi edge, 2 for a facet, 1 for a
+    /// cell (kernel vertex ids; empty for set-up failures).
+    pub sites: Vec<VertexId>,
+    /// A point where it failed (a crossing, the centre of the undecided box, ...);
+    /// not necessarily on S.
+    pub point: [f64; 3],
+    pub reason: String,
+}
+
+/// Limits of the checks.
+#[derive(Clone, Copy, Debug)]
+pub struct TbpOptions {
+    pub cover: CoverBudget,
+    pub segment: SegmentBudget,
+    /// Directions tried per Voronoi facet / cell before it is reported.
+    pub directions: usize,
+    /// Skip the later tests once one fails (the refinement driver's use: its next
+    /// insertions come from the first failing test).
+    pub stop_early: bool,
+}
+
+impl Default for TbpOptions {
+    fn default() -> Self {
+        TbpOptions {
+            cover: CoverBudget::default(),
+            segment: SegmentBudget::default(),
+            directions: 3,
+            stop_early: false,
+        }
+    }
+}
+
+/// What the checks found.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct TbpReport {
+    /// Every check passed: the restricted triangulation is homeomorphic to S (Thm 5).
+    pub holds: bool,
+    pub rigorous: bool,
+    pub boundary_clear: bool,
+    pub delaunay_valid: bool,
+    pub far_lemma: bool,
+    pub voronoi_edges: usize,
+    pub voronoi_facets: usize,
+    pub voronoi_cells: usize,
+    pub restricted_facets: usize,
+    /// Failures per test (all of them; the list below is the same, possibly cut).
+    pub edge_failures: usize,
+    pub manifold_failures: usize,
+    pub facet_failures: usize,
+    pub cell_failures: usize,
+    /// Boxes of the facet and cell covers.
+    pub boxes: u64,
+    /// Tests not run because an earlier one failed (`stop_early`).
+    pub skipped: Vec<Test>,
+}
+
+/// The checks' result: the report, the certified restricted triangulation (every
+/// dual segment from interval circumcentres) and every failure.
+pub struct Tbp {
+    pub report: TbpReport,
+    pub rdt: Scan,
+    pub failures: Vec<Failure>,
+}
+
+/// Cells around each Delaunay edge of two non-far vertices, and the cells incident to
+/// each vertex.
+struct Adjacency {
+    cells_of: Vec<Vec<CellId>>,
+    edges: Vec<((VertexId, VertexId), Vec<CellId>)>,
+}
+
+fn adjacency(t: &Delaunay) -> Adjacency {
+    let n = t.points().len();
+    let mut cells_of: Vec<Vec<CellId>> = vec![Vec::new(); n];
+    let mut edges: HashMap<(VertexId, VertexId), Vec<CellId>> = HashMap::new();
+    for c in t.cells() {
+        let v = t.cell_vertices(c);
+        for &a in &v {
+            cells_of[a as usize].push(c);
+        }
+        for i in 0..4 {
+            for j in i + 1..4 {
+                let (a, b) = (v[i].min(v[j]), v[i].max(v[j]));
+                if !t.is_far(a) && !t.is_far(b) {
+                    edges.entry((a, b)).or_default().push(c);
+                }
+            }
+        }
+    }
+    let mut edges: Vec<_> = edges.into_iter().collect();
+    edges.sort_unstable_by_key(|e| e.0);
+    Adjacency { cells_of, edges }
+}
+
+fn hull(boxes: &[IBox]) -> IBox {
+    std::array::from_fn(|k| {
+        let lo = boxes
+            .iter()
+            .map(|b| b[k].inf())
+            .fold(f64::INFINITY, f64::min);
+        let hi = boxes
+            .iter()
+            .map(|b| b[k].sup())
+            .fold(f64::NEG_INFINITY, f64::max);
+        Interval::try_from((lo, hi)).unwrap_or(Interval::ENTIRE)
+    })
+}
+
+fn clip(x: &IBox, d: &IBox) -> Option<IBox> {
+    let mut out = *x;
+    for k in 0..3 {
+        let lo = x[k].inf().max(d[k].inf());
+        let hi = x[k].sup().min(d[k].sup());
+        if lo > hi {
+            return None;
+        }
+        out[k] = Interval::try_from((lo, hi)).ok()?;
+    }
+    Some(out)
+}
+
+fn mid(x: &IBox) -> [f64; 3] {
+    [x[0].mid(), x[1].mid(), x[2].mid()]
+}
+
+fn unit(v: [f64; 3]) -> Option<[f64; 3]> {
+    let n = dot(v, v).sqrt();
+    (n > 1e-300 && n.is_finite()).then(|| v.map(|x| x / n))
+}
+
+fn icross(a: &[Interval; 3], b: &[Interval; 3]) -> [Interval; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// A vector not parallel to `d`: the cross product with the axis least aligned to it.
+fn transverse(d: [f64; 3]) -> [f64; 3] {
+    let k = (0..3)
+        .min_by(|&a, &b| d[a].abs().total_cmp(&d[b].abs()))
+        .unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[k] = 1.0;
+    cross(d, e)
+}
+
+/// Vertex boxes (interval circumcentres) of the cells; `None` when one is not enclosed.
+fn vertex_boxes(cc: &[Option<IBox>], cells: &[CellId]) -> Option<Vec<IBox>> {
+    cells.iter().map(|&c| cc[c as usize]).collect()
+}
+
+/// The sites other than `skip` of `cells`, each once.
+fn other_sites(t: &Delaunay, cells: &[CellId], skip: &[VertexId]) -> Vec<VertexId> {
+    let mut s: Vec<VertexId> = cells
+        .iter()
+        .flat_map(|&c| t.cell_vertices(c))
+        .filter(|v| !skip.contains(v))
+        .collect();
+    s.sort_unstable();
+    s.dedup();
+    s
+}
+
+struct FaceResult {
+    failure: Option<Failure>,
+    boxes: u64,
+}
+
+fn check_facet(
+    t: &Delaunay,
+    f: &dyn Implicit,
+    dbox: &IBox,
+    cc: &[Option<IBox>],
+    (p, q): (VertexId, VertexId),
+    ring: &[CellId],
+    o: &TbpOptions,
+) -> FaceResult {
+    let fail = |point: [f64; 3], reason: String, boxes| FaceResult {
+        failure: Some(Failure {
+            test: Test::Facet,
+            sites: vec![p, q],
+            point,
+            reason,
+        }),
+        boxes,
+    };
+    let (pp, qp) = (t.point(p), t.point(q));
+    let Some(vb) = vertex_boxes(cc, ring) else {
+        return fail(
+            crate::kernel::geom::lerp(pp, qp, 0.5),
+            "a vertex of the Voronoi facet (a sliver's circumcentre) could not be enclosed".into(),
+            0,
+        );
+    };
+    let Some(start) = clip(&hull(&vb), dbox) else {
+        return FaceResult {
+            failure: None,
+            boxes: 0,
+        };
+    };
+    let hs: Vec<HalfSpace> = other_sites(t, ring, &[p, q])
+        .into_iter()
+        .map(|r| HalfSpace::closer(pp, t.point(r)))
+        .collect();
+    let region = Region {
+        halfspaces: &hs,
+        plane: Some(HalfSpace::closer(pp, qp)),
+    };
+    let n = crate::kernel::geom::sub(qp, pp);
+    let ni = [0, 1, 2].map(|k| pt(qp[k]) - pt(pp[k]));
+    let g = f.grad(mid(&start)).g;
+    let mut cands = vec![cross(n, g)];
+    for k in 0..3 {
+        let mut e = [0.0; 3];
+        e[k] = 1.0;
+        cands.push(cross(n, e));
+    }
+    let mut boxes = 0u64;
+    let mut last = None;
+    for w in cands.into_iter().filter_map(unit).take(o.directions.max(1)) {
+        // d = w × (q − p) is exactly in the bisector plane; enclose it.
+        let d = icross(&w.map(pt), &ni);
+        let c = cover(start, &region, o.cover, |x, _| no_tangency(f, x, &d));
+        boxes += c.boxes as u64;
+        if c.ok {
+            return FaceResult {
+                failure: None,
+                boxes,
+            };
+        }
+        last = c.failed;
+    }
+    let m = last.map(|x| mid(&x)).unwrap_or_else(|| mid(&start));
+    fail(
+        m,
+        "Voronoi facet: a point of S with its tangent in every tried direction of the facet's plane (a closed curve, or S tangent to the plane) is not excluded".into(),
+        boxes,
+    )
+}
+
+fn check_cell(
+    t: &Delaunay,
+    f: &dyn Implicit,
+    dbox: &IBox,
+    cc: &[Option<IBox>],
+    p: VertexId,
+    cells: &[CellId],
+    o: &TbpOptions,
+) -> FaceResult {
+    let pp = t.point(p);
+    let fail = |point: [f64; 3], reason: String, boxes| FaceResult {
+        failure: Some(Failure {
+            test: Test::Cell,
+            sites: vec![p],
+            point,
+            reason,
+        }),
+        boxes,
+    };
+    let Some(vb) = vertex_boxes(cc, cells) else {
+        return fail(
+            pp,
+            "a vertex of the Voronoi cell (a sliver's circumcentre) could not be enclosed".into(),
+            0,
+        );
+    };
+    let Some(start) = clip(&hull(&vb), dbox) else {
+        return FaceResult {
+            failure: None,
+            boxes: 0,
+        };
+    };
+    let hs: Vec<HalfSpace> = other_sites(t, cells, &[p])
+        .into_iter()
+        .map(|r| HalfSpace::closer(pp, t.point(r)))
+        .collect();
+    let region = Region {
+        halfspaces: &hs,
+        plane: None,
+    };
+    let mut cands = vec![f.grad(pp).g, f.grad(mid(&start)).g];
+    cands.extend([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+    let mut boxes = 0u64;
+    let mut last = None;
+    for d in cands.into_iter().filter_map(unit).take(o.directions.max(1)) {
+        let d2 = transverse(d).map(pt);
+        let di = d.map(pt);
+        let c = cover(start, &region, o.cover, |x, place| {
+            no_silhouette(f, x, place, &di, &d2)
+        });
+        boxes += c.boxes as u64;
+        if c.ok {
+            return FaceResult {
+                failure: None,
+                boxes,
+            };
+        }
+        last = c.failed;
+    }
+    let m = last.map(|x| mid(&x)).unwrap_or(pp);
+    fail(
+        m,
+        "Voronoi cell: a silhouette point of S (normal perpendicular to d) is not excluded in the cell: a handle, a second sheet or a small component may be there".into(),
+        boxes,
+    )
+}
+
+/// Run the checks on the kernel's triangulation `t` (see the module documentation).
+pub fn check(t: &Delaunay, f: &dyn Implicit, domain: &Aabb, o: &TbpOptions) -> Tbp {
+    let dbox = domain.intervals();
+    let mut r = TbpReport {
+        rigorous: f.is_rigorous(),
+        ..Default::default()
+    };
+    let mut failures: Vec<Failure> = Vec::new();
+    let setup = |failures: &mut Vec<Failure>, reason: &str| {
+        failures.push(Failure {
+            test: Test::Setup,
+            sites: Vec::new(),
+            point: domain.center(),
+            reason: reason.into(),
+        })
+    };
+    if !r.rigorous {
+        setup(&mut failures, "f has no rigorous interval extension");
+    }
+    r.boundary_clear = boundary_clear(f, Bx::new(domain.min, domain.max), 10, 100_000);
+    if !r.boundary_clear {
+        setup(
+            &mut failures,
+            "0 in the enclosure of f on the domain boundary: S may leave the domain",
+        );
+    }
+    r.delaunay_valid = t.check().valid;
+    if !r.delaunay_valid {
+        setup(
+            &mut failures,
+            "the Delaunay triangulation failed its exact check",
+        );
+    }
+    // (0)+(1): every dual segment.
+    let rdt = restricted::scan(t, f, domain, &[], Ends3::Certified, o.segment);
+    r.far_lemma = rdt.far_lemma;
+    if !rdt.far_lemma {
+        setup(
+            &mut failures,
+            "no vertex, or a vertex outside the domain: the far-corner lemma does not apply",
+        );
+    }
+    r.voronoi_edges = rdt.segments;
+    r.restricted_facets = rdt.facets.len();
+    for u in &rdt.undecided {
+        failures.push(Failure {
+            test: Test::Edge,
+            sites: u.v.to_vec(),
+            point: u.points.first().copied().unwrap_or(t.point(u.v[0])),
+            reason: format!("Voronoi edge: {}", u.reason),
+        });
+    }
+    for fct in &rdt.facets {
+        if fct.test.crossings.len() >= 2 {
+            let p0 = t.point(fct.v[0]);
+            let far = fct
+                .test
+                .crossings
+                .iter()
+                .max_by(|a, b| dist(a.point, p0).total_cmp(&dist(b.point, p0)))
+                .map(|x| x.point)
+                .unwrap_or(p0);
+            failures.push(Failure {
+                test: Test::Edge,
+                sites: fct.v.to_vec(),
+                point: far,
+                reason: format!("Voronoi edge crosses S {} times", fct.test.crossings.len()),
+            });
+        }
+    }
+    let stop = |failures: &Vec<Failure>| o.stop_early && !failures.is_empty();
+    let adj = adjacency(t);
+    r.voronoi_facets = adj.edges.len();
+    r.voronoi_cells = (crate::kernel::delaunay::FAR..t.points().len() as u32)
+        .filter(|&v| t.is_inserted(v))
+        .count();
+    if stop(&failures) {
+        r.skipped = vec![Test::Manifold, Test::Facet, Test::Cell];
+        return finish(r, rdt, failures);
+    }
+    // (2): restricted edges in 0 or 2 facets, links single cycles.
+    let mut edge_count: HashMap<(VertexId, VertexId), u32> = HashMap::new();
+    let mut star: HashMap<VertexId, Vec<usize>> = HashMap::new();
+    for (k, fct) in rdt.facets.iter().enumerate() {
+        for e in 0..3 {
+            let (a, b) = (fct.v[e], fct.v[(e + 1) % 3]);
+            *edge_count.entry((a.min(b), a.max(b))).or_default() += 1;
+            star.entry(fct.v[e]).or_default().push(k);
+        }
+    }
+    let farthest = |p: VertexId| -> [f64; 3] {
+        let pp = t.point(p);
+        star.get(&p)
+            .into_iter()
+            .flatten()
+            .flat_map(|&k| rdt.facets[k].test.crossings.iter().map(|x| x.point))
+            .max_by(|a, b| dist(*a, pp).total_cmp(&dist(*b, pp)))
+            .unwrap_or(pp)
+    };
+    let mut bad_edges: Vec<_> = edge_count.iter().filter(|(_, &n)| n != 2).collect();
+    bad_edges.sort_unstable();
+    for (&(a, b), &n) in bad_edges {
+        failures.push(Failure {
+            test: Test::Manifold,
+            sites: vec![a, b],
+            point: farthest(a),
+            reason: format!("restricted edge in {n} restricted facets (2 needed)"),
+        });
+    }
+    let mut verts: Vec<_> = star.keys().copied().collect();
+    verts.sort_unstable();
+    for v in verts {
+        if !super::bo::is_disk(v, &star[&v], &rdt) {
+            failures.push(Failure {
+                test: Test::Manifold,
+                sites: vec![v],
+                point: farthest(v),
+                reason: "the restricted facets around the vertex do not form one disk".into(),
+            });
+        }
+    }
+    if stop(&failures) {
+        r.skipped = vec![Test::Facet, Test::Cell];
+        return finish(r, rdt, failures);
+    }
+    // (3) and (4): covers with interval circumcentres as the faces' vertices.
+    let cap = t.cell_capacity();
+    let cc: Vec<Option<IBox>> = (0..cap as u32)
+        .into_par_iter()
+        .map(|c| {
+            t.is_live(c)
+                .then(|| restricted::circumcentre_interval(t.cell_vertices(c).map(|v| t.point(v))))
+                .flatten()
+        })
+        .collect();
+    let facets: Vec<FaceResult> = adj
+        .edges
+        .par_iter()
+        .map(|(e, ring)| check_facet(t, f, &dbox, &cc, *e, ring, o))
+        .collect();
+    for x in facets {
+        r.boxes += x.boxes;
+        failures.extend(x.failure);
+    }
+    if stop(&failures) {
+        r.skipped = vec![Test::Cell];
+        return finish(r, rdt, failures);
+    }
+    let verts: Vec<VertexId> = (crate::kernel::delaunay::FAR..t.points().len() as u32)
+        .filter(|&v| t.is_inserted(v))
+        .collect();
+    let cells: Vec<FaceResult> = verts
+        .par_iter()
+        .map(|&p| check_cell(t, f, &dbox, &cc, p, &adj.cells_of[p as usize], o))
+        .collect();
+    for x in cells {
+        r.boxes += x.boxes;
+        failures.extend(x.failure);
+    }
+    finish(r, rdt, failures)
+}
+
+fn finish(mut r: TbpReport, rdt: Scan, failures: Vec<Failure>) -> Tbp {
+    let count = |k: Test| failures.iter().filter(|x| x.test == k).count();
+    r.edge_failures = count(Test::Edge);
+    r.manifold_failures = count(Test::Manifold);
+    r.facet_failures = count(Test::Facet);
+    r.cell_failures = count(Test::Cell);
+    r.holds = failures.is_empty() && r.skipped.is_empty();
+    Tbp {
+        report: r,
+        rdt,
+        failures,
+    }
+}
