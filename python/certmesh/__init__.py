@@ -54,6 +54,7 @@ __all__ = [
     "CertmeshError",
     "MeshResult",
     "algorithms",
+    "certify",
     "compare",
     "curve",
     "curves",
@@ -370,3 +371,38 @@ def morse(
             max_boxes=max_boxes,
         )
     )
+
+
+def certify(
+    points,
+    faces,
+    *,
+    surface: Optional[str] = None,
+    formula: Optional[str] = None,
+    domain: Optional[Sequence[float]] = None,
+    max_boxes: Optional[int] = None,
+) -> Dict[str, Any]:
+    """Certify anyone's triangle mesh against f = 0 (``certmesh certify --json``): is it
+    the restricted Delaunay triangulation of its vertices, and does the topological ball
+    property hold (Boissonnat et al., *Meshing of Surfaces*, 2007, §1.3.2, Theorem 5)?
+    ``homeomorphic`` is True only when both were proven. The certified restricted
+    Delaunay triangulation comes back as ``rdt_points`` and ``rdt_faces``.
+
+    >>> r = certmesh.mesh("sphere", algo="bo", facet_angle=25, facet_size=0.3, facet_distance=0.02)
+    >>> c = certmesh.certify(r.points, r.faces, surface="sphere")
+    >>> isinstance(c["homeomorphic"], bool), c["verdict"] != ""
+    (True, True)
+    """
+    p = np.ascontiguousarray(points, dtype=np.float64)
+    f = np.ascontiguousarray(faces, dtype=np.int64)
+    d = _certmesh.certify(
+        p,
+        f,
+        surface=surface,
+        formula=formula,
+        domain=None if domain is None else [float(x) for x in domain],
+        max_boxes=max_boxes,
+    )
+    rep = _json.loads(d["report"])
+    rep["rdt_points"], rep["rdt_faces"] = d["points"], d["faces"]
+    return rep

@@ -392,6 +392,52 @@ fn morse(
     })
 }
 
+/// The topological-ball-property certificate of any triangle mesh against f = 0
+/// (`certmesh certify --json`): the report, and the certified restricted Delaunay
+/// triangulation of the mesh's vertices as arrays.
+#[pyfunction]
+#[pyo3(signature = (points, faces, surface=None, formula=None, domain=None, max_boxes=None))]
+fn certify<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'_, f64>,
+    faces: PyReadonlyArray2<'_, i64>,
+    surface: Option<String>,
+    formula: Option<String>,
+    domain: Option<Vec<f64>>,
+    max_boxes: Option<u32>,
+) -> PyResult<Bound<'py, PyDict>> {
+    use certmesh::restricted_delaunay::certify::{certify_mesh, CertifyOptions};
+    let vertices = read_points::<3>(points)?;
+    let n = vertices.len();
+    let m = TriMesh::new(vertices, read_cells::<3>(faces, n)?);
+    let t = resolve(surface, formula, None, domain, 3)?;
+    let mut o = CertifyOptions::default();
+    if let Some(b) = max_boxes {
+        if b == 0 {
+            return Err(CertmeshError::new_err("max_boxes must be at least 1"));
+        }
+        o.tbp.cover.max_boxes = b;
+    }
+    let (doc, rdt) = run::interruptible(py, None, |c| {
+        let f = run::Guarded {
+            f: t.f.as_ref(),
+            control: c,
+        };
+        let (r, rdt) = certify_mesh(&m, &f, &t.domain, &o).map_err(|e| e.to_string())?;
+        let mut v = serde_json::to_value(&r).map_err(|e| e.to_string())?;
+        if let Some(obj) = v.as_object_mut() {
+            obj.insert("surface".into(), t.name.clone().into());
+            obj.insert("domain".into(), serde_json::json!(t.domain));
+        }
+        Ok((json(&v), rdt))
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("report", doc)?;
+    d.set_item("faces", cells(py, &rdt.triangles)?)?;
+    d.set_item("points", points3(py, rdt.vertices)?)?;
+    Ok(d)
+}
+
 /// The catalog (`certmesh surfaces` and `certmesh curves`) as JSON.
 #[pyfunction]
 fn catalog() -> String {
@@ -419,6 +465,7 @@ fn _certmesh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(stats, m)?)?;
     m.add_function(wrap_pyfunction!(compare_runs, m)?)?;
     m.add_function(wrap_pyfunction!(morse, m)?)?;
+    m.add_function(wrap_pyfunction!(certify, m)?)?;
     m.add_function(wrap_pyfunction!(catalog, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms, m)?)?;
     m.add_function(wrap_pyfunction!(option_names, m)?)?;
