@@ -1,10 +1,12 @@
 //! Tape evaluation throughput on the catalog's genus-2 polynomial (issue 2 targets:
-//! >= 20 M f64 evaluations/s and >= 5 M interval boxes/s on one core).
+//! >= 20 M f64 evaluations/s and >= 5 M interval boxes/s on one core; issue 20, batch
+//! evaluation: >= 100 M and >= 20 M).
 //!
 //! Two groups with the same benchmarks: `genus2` on criterion's wall clock, and
 //! `genus2_cpu` on this thread's CPU clock (`CLOCK_THREAD_CPUTIME_ID`), which measures
 //! the time the benchmark actually ran on a core: on a shared, overloaded machine the
 //! wall clock mostly measures the waiting (`cargo bench --bench evaluator -- cpu`).
+use certmesh::implicit::batch::BatchScratch;
 use certmesh::implicit::number::point;
 use certmesh::{catalog, Implicit};
 use criterion::measurement::{Measurement, ValueFormatter};
@@ -148,6 +150,40 @@ fn benches_in<M: Measurement>(c: &mut Criterion<M>, group: &str) {
                 s = s + f.hessian_interval(black_box(q)).h[0];
             }
             s
+        })
+    });
+    // Batch (SIMD) evaluation: the same points and boxes, `LANES` per pass of the tape
+    // (src/implicit/batch.rs; issue 20 targets: >= 100 M f64 evaluations/s and >= 20 M
+    // interval boxes/s on one core).
+    let xs: [Vec<f64>; 3] = [0, 1, 2].map(|a| pts.iter().map(|p| p[a]).collect());
+    g.bench_function("f64_batch", |b| {
+        let mut out = vec![0.0; n];
+        b.iter(|| {
+            f.eval_batch([&xs[0], &xs[1], &xs[2]], black_box(&mut out));
+            out[n - 1]
+        })
+    });
+    g.bench_function("interval_batch", |b| {
+        let mut out = vec![Interval::EMPTY; n];
+        b.iter(|| {
+            f.eval_interval_batch(black_box(&boxes), &mut out);
+            out[n - 1]
+        })
+    });
+    let lo: [Vec<f64>; 3] = [0, 1, 2].map(|a| boxes.iter().map(|q| q[a].inf()).collect());
+    let hi: [Vec<f64>; 3] = [0, 1, 2].map(|a| boxes.iter().map(|q| q[a].sup()).collect());
+    g.bench_function("interval_batch_soa", |b| {
+        let (mut ol, mut oh) = (vec![0.0; n], vec![0.0; n]);
+        let mut s = BatchScratch::default();
+        b.iter(|| {
+            f.tape().eval_iv_batch(
+                [&lo[0], &lo[1], &lo[2]],
+                [&hi[0], &hi[1], &hi[2]],
+                black_box(&mut ol),
+                &mut oh,
+                &mut s,
+            );
+            oh[n - 1]
         })
     });
     // Reference: the same tape on inari intervals through the generic interpreter

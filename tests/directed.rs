@@ -8,27 +8,11 @@ use inari::Interval;
 use num_rational::BigRational;
 use proptest::prelude::*;
 
+mod common;
+use common::arb_f64;
+
 fn q(x: f64) -> BigRational {
     BigRational::from_float(x).expect("finite")
-}
-
-/// Floats of every scale: ordinary, integers, tiny and huge (to reach the fallback
-/// paths), signed zeros and infinities.
-fn arb_f64() -> impl Strategy<Value = f64> {
-    prop_oneof![
-        6 => -100.0f64..100.0,
-        2 => (-20i32..20).prop_map(|k| k as f64 / 4.0),
-        2 => (1u64..(1u64 << 52), -700i32..700, any::<bool>()).prop_map(|(m, e, s)| {
-            let x = (1.0 + m as f64 / (1u64 << 52) as f64) * 2f64.powi(e);
-            if s { -x } else { x }
-        }),
-        1 => Just(0.0),
-        1 => Just(-0.0),
-        1 => Just(f64::INFINITY),
-        1 => Just(f64::NEG_INFINITY),
-        1 => Just(f64::MAX),
-        1 => Just(f64::from_bits(1)),
-    ]
 }
 
 /// Intervals, including the empty one and unbounded ones.

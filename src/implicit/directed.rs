@@ -34,7 +34,7 @@ const TINY: f64 = 3.054936363499605e-151; // 2^-500
 const HUGE: f64 = 3.273390607896142e150; // 2^500
 
 #[inline(always)]
-fn moderate(x: f64) -> bool {
+pub(crate) fn moderate(x: f64) -> bool {
     let a = x.abs();
     // NaN and ±inf fail both comparisons' conjunction.
     a == 0.0 || (a >= TINY && a <= HUGE)
@@ -42,7 +42,7 @@ fn moderate(x: f64) -> bool {
 
 /// For sums only overflow matters (TwoSum is exact whenever no intermediate overflows).
 #[inline(always)]
-fn bounded(x: f64) -> bool {
+pub(crate) fn bounded(x: f64) -> bool {
     x.abs() <= HUGE
 }
 
@@ -76,12 +76,12 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
 
 /// Round-down of the exact a + b.
 #[inline(always)]
-fn add_dn(a: f64, b: f64) -> f64 {
+pub(crate) fn add_dn(a: f64, b: f64) -> f64 {
     let (s, e) = two_sum(a, b);
     down_if(s, e < 0.0)
 }
 #[inline(always)]
-fn add_up(a: f64, b: f64) -> f64 {
+pub(crate) fn add_up(a: f64, b: f64) -> f64 {
     let (s, e) = two_sum(a, b);
     up_if(s, e > 0.0)
 }
@@ -89,12 +89,12 @@ fn add_up(a: f64, b: f64) -> f64 {
 /// Round-down / round-up of the exact a·b: `fma(a, b, -p)` is the exact error of
 /// `p = fl(a·b)` for moderate operands.
 #[inline(always)]
-fn mul_dn(a: f64, b: f64) -> f64 {
+pub(crate) fn mul_dn(a: f64, b: f64) -> f64 {
     let p = a * b;
     down_if(p, a.mul_add(b, -p) < 0.0)
 }
 #[inline(always)]
-fn mul_up(a: f64, b: f64) -> f64 {
+pub(crate) fn mul_up(a: f64, b: f64) -> f64 {
     let p = a * b;
     up_if(p, a.mul_add(b, -p) > 0.0)
 }
@@ -117,12 +117,12 @@ fn div_up(a: f64, b: f64) -> f64 {
 /// [`div_dn`] and [`div_up`] for a positive divisor: the remainder's sign alone says
 /// on which side of the exact quotient `q` lies.
 #[inline(always)]
-fn div_dn_pos(a: f64, b: f64) -> f64 {
+pub(crate) fn div_dn_pos(a: f64, b: f64) -> f64 {
     let q = a / b;
     down_if(q, (-q).mul_add(b, a) < 0.0)
 }
 #[inline(always)]
-fn div_up_pos(a: f64, b: f64) -> f64 {
+pub(crate) fn div_up_pos(a: f64, b: f64) -> f64 {
     let q = a / b;
     up_if(q, (-q).mul_add(b, a) > 0.0)
 }

@@ -7,6 +7,7 @@
 //! * [`FromGeneric`]: Rust code generic over [`Num`] (every mode, rigorous);
 //! * [`PointFn`]: a plain `Fn([f64;3]) -> f64` with a Lipschitz bound (intervals from
 //!   the bound; used for signed distance to a mesh).
+pub mod batch;
 pub mod critical;
 pub mod directed;
 pub mod expr;
@@ -42,6 +43,27 @@ pub trait Implicit: Send + Sync {
     fn eval(&self, p: [f64; 3]) -> f64;
     /// A rigorous enclosure of f over a box (when [`Implicit::is_rigorous`]).
     fn eval_interval(&self, b: &IBox) -> Interval;
+    /// f at many points, given as coordinate slices (`p[0][i], p[1][i], p[2][i]` is
+    /// point `i`), into `out[i]`: the values of [`Implicit::eval`], bit for bit.
+    /// Formulas evaluate [`batch::LANES`] points per pass of the tape (SIMD); the
+    /// default calls `eval` point by point. Panics if the slices differ in length.
+    fn eval_batch(&self, p: [&[f64]; 3], out: &mut [f64]) {
+        assert!(
+            p.iter().all(|v| v.len() == out.len()),
+            "batch slices of different lengths"
+        );
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = self.eval([p[0][i], p[1][i], p[2][i]]);
+        }
+    }
+    /// Enclosures over many boxes into `out`: the bounds of [`Implicit::eval_interval`],
+    /// bit for bit (formulas: SIMD lanes, see [`batch`]). Panics if the lengths differ.
+    fn eval_interval_batch(&self, b: &[IBox], out: &mut [Interval]) {
+        assert!(b.len() == out.len(), "batch slices of different lengths");
+        for (o, q) in out.iter_mut().zip(b) {
+            *o = self.eval_interval(q);
+        }
+    }
     /// f and its gradient at a point.
     fn grad(&self, p: [f64; 3]) -> Dual<f64>;
     /// Enclosures of f and of its gradient over a box.
@@ -202,6 +224,12 @@ impl Implicit for Formula {
         } else {
             S_IV.with(|s| self.tape.eval_iv(v, &mut s.borrow_mut()).to_interval())
         }
+    }
+    fn eval_batch(&self, p: [&[f64]; 3], out: &mut [f64]) {
+        batch::eval_points(&self.tape, p, out)
+    }
+    fn eval_interval_batch(&self, b: &[IBox], out: &mut [Interval]) {
+        batch::eval_boxes(&self.tape, b, out)
     }
     fn grad(&self, p: [f64; 3]) -> Dual<f64> {
         let v = [0, 1, 2].map(|k| Dual::var(p[k], k));
@@ -378,6 +406,14 @@ impl Implicit for Counted<'_> {
     fn eval_interval(&self, b: &IBox) -> Interval {
         self.c[1].fetch_add(1, Relaxed);
         self.inner.eval_interval(b)
+    }
+    fn eval_batch(&self, p: [&[f64]; 3], out: &mut [f64]) {
+        self.c[0].fetch_add(out.len() as u64, Relaxed);
+        self.inner.eval_batch(p, out)
+    }
+    fn eval_interval_batch(&self, b: &[IBox], out: &mut [Interval]) {
+        self.c[1].fetch_add(out.len() as u64, Relaxed);
+        self.inner.eval_interval_batch(b, out)
     }
     fn grad(&self, p: [f64; 3]) -> Dual<f64> {
         self.c[2].fetch_add(1, Relaxed);

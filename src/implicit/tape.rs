@@ -140,6 +140,38 @@ unsafe fn load_iv(p: *const Iv) -> Iv {
     }
 }
 
+/// One instruction in any [`Num`], operands read through `r`: the step of the generic
+/// interpreter [`Tape::eval`], and the per-lane fallback of the batch interpreter
+/// (`super::batch`), so both compute exactly what the scalar paths compute.
+#[inline(always)]
+pub(crate) fn apply<T: Num>(op: Op, consts: &[Const], vars: &[T; 3], r: impl Fn(u32) -> T) -> T {
+    let k = |i: u32| &consts[i as usize];
+    match op {
+        Op::Var(j) => vars[j as usize].clone(),
+        Op::Const(c) => T::cst(*k(c)),
+        Op::Add(a, b) => r(a) + r(b),
+        Op::Sub(a, b) => r(a) - r(b),
+        Op::Mul(a, b) => r(a) * r(b),
+        Op::Div(a, b) => r(a) / r(b),
+        Op::Min(a, b) => r(a).min(&r(b)),
+        Op::Max(a, b) => r(a).max(&r(b)),
+        Op::AddC(a, c) => r(a).add_const(k(c)),
+        Op::SubC(a, c) => r(a).sub_const(k(c)),
+        Op::CSub(a, c) => r(a).const_sub(k(c)),
+        Op::MulC(a, c) => r(a).mul_const(k(c)),
+        Op::DivC(a, c) => r(a).div_const(k(c)),
+        Op::Neg(a) => -r(a),
+        Op::Square(a) => r(a).square(),
+        Op::Powi(a, n) => r(a).powi(n),
+        Op::Sqrt(a) => r(a).sqrt(),
+        Op::Abs(a) => r(a).abs(),
+        Op::Sin(a) => r(a).sin(),
+        Op::Cos(a) => r(a).cos(),
+        Op::Exp(a) => r(a).exp(),
+        Op::Ln(a) => r(a).ln(),
+    }
+}
+
 impl Tape {
     pub fn compile(e: &Expr) -> Tape {
         let mut b = Builder {
@@ -170,33 +202,8 @@ impl Tape {
     pub fn eval<T: Num>(&self, vars: &[T; 3], regs: &mut Vec<T>) -> T {
         regs.clear();
         regs.reserve(self.ops.len());
-        for op in &self.ops {
-            let r = |i: &u32| regs[*i as usize].clone();
-            let k = |i: &u32| &self.consts[*i as usize];
-            let v = match op {
-                Op::Var(j) => vars[*j as usize].clone(),
-                Op::Const(c) => T::cst(*k(c)),
-                Op::Add(a, b) => r(a) + r(b),
-                Op::Sub(a, b) => r(a) - r(b),
-                Op::Mul(a, b) => r(a) * r(b),
-                Op::Div(a, b) => r(a) / r(b),
-                Op::Min(a, b) => r(a).min(&r(b)),
-                Op::Max(a, b) => r(a).max(&r(b)),
-                Op::AddC(a, c) => regs[*a as usize].add_const(k(c)),
-                Op::SubC(a, c) => regs[*a as usize].sub_const(k(c)),
-                Op::CSub(a, c) => regs[*a as usize].const_sub(k(c)),
-                Op::MulC(a, c) => regs[*a as usize].mul_const(k(c)),
-                Op::DivC(a, c) => regs[*a as usize].div_const(k(c)),
-                Op::Neg(a) => -r(a),
-                Op::Square(a) => regs[*a as usize].square(),
-                Op::Powi(a, n) => regs[*a as usize].powi(*n),
-                Op::Sqrt(a) => regs[*a as usize].sqrt(),
-                Op::Abs(a) => regs[*a as usize].abs(),
-                Op::Sin(a) => regs[*a as usize].sin(),
-                Op::Cos(a) => regs[*a as usize].cos(),
-                Op::Exp(a) => regs[*a as usize].exp(),
-                Op::Ln(a) => regs[*a as usize].ln(),
-            };
+        for &op in &self.ops {
+            let v = apply(op, &self.consts, vars, |i| regs[i as usize].clone());
             regs.push(v);
         }
         regs.pop().expect("a compiled tape is never empty")

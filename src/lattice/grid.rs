@@ -279,18 +279,19 @@ impl Samples {
         let mut values = vec![0.0f64; grid.num_vertices()];
         progress.start("sampling f on the grid", (ny * nz) as u64);
         // One task per row of x: fine enough for planar grids, coarse enough that the
-        // scheduling cost vanishes next to nx evaluations.
-        values
-            .par_chunks_mut(nx)
-            .enumerate()
-            .for_each(|(row, out)| {
+        // scheduling cost vanishes next to nx evaluations. A row is one batch call
+        // (SIMD lanes for formulas; the same values as `eval` point by point).
+        let xs: Vec<f64> = (0..nx).map(|i| grid.coord(0, i)).collect();
+        values.par_chunks_mut(nx).enumerate().for_each_init(
+            || (vec![0.0; nx], vec![0.0; nx]),
+            |(ys, zs), (row, out)| {
                 let (j, k) = (row % ny, row / ny);
-                let (y, z) = (grid.coord(1, j), grid.coord(2, k));
-                for (i, o) in out.iter_mut().enumerate() {
-                    *o = f.eval([grid.coord(0, i), y, z]);
-                }
+                ys.fill(grid.coord(1, j));
+                zs.fill(grid.coord(2, k));
+                f.eval_batch([&xs, ys, zs], out);
                 progress.inc(1);
-            });
+            },
+        );
         progress.finish();
         Self::from_values(*grid, values)
     }
@@ -477,29 +478,46 @@ impl SparseSamples {
         progress.start("sampling f at the kept vertices", masks.len() as u64);
         let grid = self.grid;
         let [s0, s1, _] = self.shift;
+        // Per brick: gather the marked vertices' coordinates, evaluate them in one
+        // batch call, scatter the values back (in offset order, as before).
         let bad = pool
             .par_chunks_mut(bsize)
             .zip(masks.par_iter().zip(origin.par_iter()))
-            .filter_map(|(out, (mask, o))| {
-                let mut bad = None;
-                for (w, &word) in mask.iter().enumerate() {
-                    let mut m = word;
-                    while m != 0 {
-                        let off = (w << 6) | m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        let i = o[0] + (off & ((1 << s0) - 1));
-                        let j = o[1] + ((off >> s0) & ((1 << s1) - 1));
-                        let k = o[2] + (off >> (s0 + s1));
-                        let x = f.eval(grid.point(i, j, k));
+            .map_init(
+                || BrickBuf::new(bsize),
+                |buf, (out, (mask, o))| {
+                    buf.clear();
+                    for (w, &word) in mask.iter().enumerate() {
+                        let mut m = word;
+                        while m != 0 {
+                            let off = (w << 6) | m.trailing_zeros() as usize;
+                            m &= m - 1;
+                            let i = o[0] + (off & ((1 << s0) - 1));
+                            let j = o[1] + ((off >> s0) & ((1 << s1) - 1));
+                            let k = o[2] + (off >> (s0 + s1));
+                            buf.push(off, grid.point(i, j, k));
+                        }
+                    }
+                    let n = buf.offs.len();
+                    f.eval_batch(
+                        [&buf.p[0][..n], &buf.p[1][..n], &buf.p[2][..n]],
+                        &mut buf.v[..n],
+                    );
+                    let mut bad = None;
+                    for (&off, &x) in buf.offs.iter().zip(&buf.v[..n]) {
                         if !x.is_finite() && bad.is_none() {
+                            let i = o[0] + (off & ((1 << s0) - 1));
+                            let j = o[1] + ((off >> s0) & ((1 << s1) - 1));
+                            let k = o[2] + (off >> (s0 + s1));
                             bad = Some((grid.index(i, j, k), x));
                         }
                         out[off] = x;
                     }
-                }
-                progress.inc(1);
-                bad
-            })
+                    progress.inc(1);
+                    bad
+                },
+            )
+            .flatten()
             .min_by_key(|(v, _)| *v);
         progress.finish();
         if let Some((v, x)) = bad {
@@ -539,6 +557,33 @@ impl SparseSamples {
     /// Number of bricks allocated.
     pub fn bricks_allocated(&self) -> usize {
         self.pool.len() >> (self.shift[0] + self.shift[1] + self.shift[2])
+    }
+}
+
+/// The marked vertices of one brick, gathered for a batch evaluation.
+struct BrickBuf {
+    offs: Vec<usize>,
+    p: [Vec<f64>; 3],
+    v: Vec<f64>,
+}
+
+impl BrickBuf {
+    fn new(n: usize) -> BrickBuf {
+        BrickBuf {
+            offs: Vec::with_capacity(n),
+            p: [0, 1, 2].map(|_| vec![0.0; n]),
+            v: vec![0.0; n],
+        }
+    }
+    fn clear(&mut self) {
+        self.offs.clear();
+    }
+    fn push(&mut self, off: usize, q: [f64; 3]) {
+        let n = self.offs.len();
+        for (a, c) in self.p.iter_mut().zip(q) {
+            a[n] = c;
+        }
+        self.offs.push(off);
     }
 }
 

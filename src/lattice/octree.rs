@@ -14,9 +14,10 @@
 //! non-rigorous oracle ([`Implicit::is_rigorous`] false) the enclosure is only as good
 //! as the oracle's bound.
 use crate::error::Result;
-use crate::implicit::Implicit;
+use crate::implicit::{IBox, Implicit};
 use crate::lattice::grid::{Grid, SparseSamples};
 use crate::mesher::Progress;
+use inari::Interval;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
@@ -121,27 +122,74 @@ struct Descent<'a> {
 }
 
 impl Descent<'_> {
-    fn descend(&self, b: Block, out: &mut Vec<Block>) {
-        let bx = self.grid.vertex_box(b.lo, b.hi).intervals();
-        let v = self.f.eval_interval(&bx);
-        self.ivals.fetch_add(1, Relaxed);
-        // An empty enclosure (f undefined on the whole box) is not a proof of anything:
-        // keep the block so the point evaluations report where f is not finite.
+    /// Is the enclosure `v` of f over block `b` a proof that f = 0 misses it? An empty
+    /// enclosure (f undefined on the whole box) is not a proof of anything: the block is
+    /// kept so the point evaluations report where f is not finite.
+    fn prunes(&self, b: &Block, v: Interval) -> bool {
         if !v.is_empty() && !v.contains(0.0) {
             self.pruned.fetch_add(b.cells(), Relaxed);
+            return true;
+        }
+        false
+    }
+
+    fn is_leaf(&self, b: &Block) -> bool {
+        (0..3).all(|a| b.hi[a] - b.lo[a] <= self.leaf)
+    }
+
+    /// The root: one interval evaluation, then the batched descent.
+    fn descend(&self, b: Block, out: &mut Vec<Block>) {
+        let v = self
+            .f
+            .eval_interval(&self.grid.vertex_box(b.lo, b.hi).intervals());
+        self.ivals.fetch_add(1, Relaxed);
+        if self.prunes(&b, v) {
             return;
         }
-        if (0..3).all(|a| b.hi[a] - b.lo[a] <= self.leaf) {
+        if self.is_leaf(&b) {
             out.push(b);
             return;
         }
+        self.split(b, out);
+    }
+
+    /// `b` survived and is not a leaf: evaluate its children in one batch call (SIMD
+    /// lanes for formulas, the same enclosures as one by one), keep the leaves that
+    /// survive and split the others. The recursion depth is the octree's, at most
+    /// log2 of the longest axis (16 for [`crate::lattice::grid::MAX_AXIS_CELLS`]).
+    fn split(&self, b: Block, out: &mut Vec<Block>) {
         let (kids, n) = b.children();
+        let kids = &kids[..n];
+        let boxes: [IBox; 8] = std::array::from_fn(|c| {
+            let k = kids[c.min(n - 1)];
+            self.grid.vertex_box(k.lo, k.hi).intervals()
+        });
+        let mut vals = [Interval::EMPTY; 8];
+        self.f.eval_interval_batch(&boxes[..n], &mut vals[..n]);
+        self.ivals.fetch_add(n as u64, Relaxed);
+        // The surviving children, in order (the order of the blocks is that of the
+        // one-by-one descent).
+        let mut keep = [b; 8];
+        let mut m = 0;
+        for (c, k) in kids.iter().enumerate() {
+            if !self.prunes(k, vals[c]) {
+                keep[m] = *k;
+                m += 1;
+            }
+        }
+        let visit = |k: &Block, out: &mut Vec<Block>| {
+            if self.is_leaf(k) {
+                out.push(*k);
+            } else {
+                self.split(*k, out);
+            }
+        };
         if b.cells() > PARALLEL_CELLS {
-            let parts: Vec<Vec<Block>> = kids[..n]
+            let parts: Vec<Vec<Block>> = keep[..m]
                 .par_iter()
-                .map(|&c| {
+                .map(|k| {
                     let mut v = Vec::new();
-                    self.descend(c, &mut v);
+                    visit(k, &mut v);
                     v
                 })
                 .collect();
@@ -149,8 +197,8 @@ impl Descent<'_> {
                 out.append(&mut p);
             }
         } else {
-            for &c in &kids[..n] {
-                self.descend(c, out);
+            for k in &keep[..m] {
+                visit(k, out);
             }
         }
     }

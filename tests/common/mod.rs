@@ -5,6 +5,7 @@ use certmesh::catalog::{self, Topology};
 use certmesh::kernel::geom;
 use certmesh::mesh::{TetMesh, TriMesh};
 use certmesh::metrics::angles;
+use proptest::prelude::*;
 
 // ---------------------------------------------------------------- hand-built meshes
 
@@ -175,4 +176,25 @@ pub fn cube_tets() -> TetMesh {
         })
         .collect();
     TetMesh { vertices: v, tets }
+}
+
+// ---------------------------------------------------------------- floats
+
+/// Floats of every scale: ordinary, integers, tiny and huge (to reach the fallback
+/// paths), signed zeros and infinities.
+pub fn arb_f64() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        6 => -100.0f64..100.0,
+        2 => (-20i32..20).prop_map(|k| k as f64 / 4.0),
+        2 => (1u64..(1u64 << 52), -700i32..700, any::<bool>()).prop_map(|(m, e, s)| {
+            let x = (1.0 + m as f64 / (1u64 << 52) as f64) * 2f64.powi(e);
+            if s { -x } else { x }
+        }),
+        1 => Just(0.0),
+        1 => Just(-0.0),
+        1 => Just(f64::INFINITY),
+        1 => Just(f64::NEG_INFINITY),
+        1 => Just(f64::MAX),
+        1 => Just(f64::from_bits(1)),
+    ]
 }

@@ -1,0 +1,243 @@
+//! Batch (SIMD) evaluation of tapes (src/implicit/batch.rs) equals scalar evaluation bit
+//! for bit: f64 values against `Tape::eval_f64_in`, interval bounds against the scalar
+//! kernel `Iv` (`Tape::eval_iv_in`) and against inari's generic interpreter, on random
+//! formulas, random points and boxes of every scale (the fallback lanes included), and
+//! batches of every length (the padded last chunk included). The `Implicit` batch
+//! methods of `Formula` and `Counted` agree with their scalar methods likewise.
+use certmesh::catalog;
+use certmesh::implicit::batch::{BatchScratch, LANES};
+use certmesh::implicit::{Counted, Formula, Implicit, Iv};
+use inari::Interval;
+use proptest::prelude::*;
+
+mod common;
+use common::arb_f64;
+use std::mem::MaybeUninit;
+
+/// Random formula text over x, y, z: every operation of the tape but the
+/// transcendental ones (they need the `mpfr` feature), with exact and inexact
+/// constants (0.1 has a non-point enclosure) and negative ones.
+fn arb_formula() -> impl Strategy<Value = String> {
+    let leaf = prop_oneof![
+        Just("x".to_string()),
+        Just("y".to_string()),
+        Just("z".to_string()),
+        Just("0.1".to_string()),
+        Just("1.44".to_string()),
+        Just("2".to_string()),
+        Just("(-3)".to_string()),
+        Just("0".to_string()),
+        Just("1e200".to_string()),
+    ];
+    leaf.prop_recursive(5, 48, 2, |inner| {
+        prop_oneof![
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} + {b})")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} - {b})")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} * {b})")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} / {b})")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("min({a}, {b})")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("max({a}, {b})")),
+            inner.clone().prop_map(|a| format!("({a} * 0.3)")),
+            inner.clone().prop_map(|a| format!("({a} / 1.44)")),
+            inner.clone().prop_map(|a| format!("({a} / (-0.7))")),
+            inner.clone().prop_map(|a| format!("(0.1 - {a})")),
+            inner.clone().prop_map(|a| format!("({a} + 0.1)")),
+            inner.clone().prop_map(|a| format!("({a} * 0.1)")),
+            inner.clone().prop_map(|a| format!("({a} * (-0.1))")),
+            inner.clone().prop_map(|a| format!("(-{a})")),
+            inner.clone().prop_map(|a| format!("({a})^2")),
+            inner.clone().prop_map(|a| format!("({a})^3")),
+            inner.clone().prop_map(|a| format!("({a})^(-2)")),
+            inner.clone().prop_map(|a| format!("sqrt({a})")),
+            inner.clone().prop_map(|a| format!("abs({a})")),
+        ]
+    })
+}
+
+/// Coordinates of every scale (those of the `Iv` tests), signed zeros, infinities and
+/// NaN: the fallback lanes.
+fn arb_coord() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        12 => -2.0f64..2.0,
+        6 => arb_f64(),
+        1 => Just(f64::NAN),
+    ]
+}
+
+fn arb_point() -> impl Strategy<Value = [f64; 3]> {
+    [arb_coord(), arb_coord(), arb_coord()]
+}
+
+/// Boxes: ordinary ones, degenerate ones, unbounded ones, and the empty interval.
+fn arb_box() -> impl Strategy<Value = [Iv; 3]> {
+    let iv = prop_oneof![
+        12 => (-2.0f64..2.0, 0.0f64..1.0).prop_map(|(a, w)| Iv::new(a, a + w)),
+        3 => (arb_coord(), arb_coord()).prop_filter_map("nan", |(a, b)| {
+            let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+            Interval::try_from((lo, hi)).ok().map(Iv::from_interval)
+        }),
+        1 => Just(Iv::from_interval(Interval::EMPTY)),
+    ];
+    [iv.clone(), iv.clone(), iv]
+}
+
+fn scalar_f64(f: &Formula, p: [f64; 3]) -> f64 {
+    let mut regs = vec![MaybeUninit::uninit(); f.tape().len()];
+    f.tape().eval_f64_in(p, &mut regs)
+}
+
+fn scalar_iv(f: &Formula, b: [Iv; 3]) -> Iv {
+    let mut regs = vec![MaybeUninit::uninit(); f.tape().len()];
+    f.tape().eval_iv_in(b, &mut regs)
+}
+
+/// Same bits (NaN: any NaN).
+fn same_f64(a: f64, b: f64) -> bool {
+    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+}
+
+fn check_points(f: &Formula, pts: &[[f64; 3]]) -> Result<(), TestCaseError> {
+    let xs: [Vec<f64>; 3] = [0, 1, 2].map(|a| pts.iter().map(|p| p[a]).collect());
+    let mut out = vec![0.0; pts.len()];
+    let mut s = BatchScratch::default();
+    f.tape()
+        .eval_f64_batch(&xs[0], &xs[1], &xs[2], &mut out, &mut s);
+    let mut via_trait = vec![0.0; pts.len()];
+    f.eval_batch([&xs[0], &xs[1], &xs[2]], &mut via_trait);
+    for (i, p) in pts.iter().enumerate() {
+        let want = scalar_f64(f, *p);
+        prop_assert!(
+            same_f64(out[i], want),
+            "{}: at {:?} batch {} scalar {}",
+            f.text(),
+            p,
+            out[i],
+            want
+        );
+        prop_assert!(same_f64(via_trait[i], want));
+        prop_assert!(same_f64(f.eval(*p), want));
+    }
+    Ok(())
+}
+
+fn check_boxes(f: &Formula, boxes: &[[Iv; 3]]) -> Result<(), TestCaseError> {
+    let lo: [Vec<f64>; 3] = [0, 1, 2].map(|a| boxes.iter().map(|b| b[a].lo).collect());
+    let hi: [Vec<f64>; 3] = [0, 1, 2].map(|a| boxes.iter().map(|b| b[a].hi).collect());
+    let (mut ol, mut oh) = (vec![0.0; boxes.len()], vec![0.0; boxes.len()]);
+    let mut s = BatchScratch::default();
+    f.tape().eval_iv_batch(
+        [&lo[0], &lo[1], &lo[2]],
+        [&hi[0], &hi[1], &hi[2]],
+        &mut ol,
+        &mut oh,
+        &mut s,
+    );
+    let ib: Vec<[Interval; 3]> = boxes.iter().map(|b| b.map(Iv::to_interval)).collect();
+    let mut via_trait = vec![Interval::EMPTY; boxes.len()];
+    f.eval_interval_batch(&ib, &mut via_trait);
+    let mut regs = Vec::new();
+    for (i, b) in boxes.iter().enumerate() {
+        let want = scalar_iv(f, *b);
+        prop_assert!(
+            same_f64(ol[i], want.lo) && same_f64(oh[i], want.hi),
+            "{}: over {:?} batch [{}, {}] scalar [{}, {}]",
+            f.text(),
+            b,
+            ol[i],
+            oh[i],
+            want.lo,
+            want.hi
+        );
+        // inari's generic interpreter: the reference bounds (signed zeros compare
+        // equal; an empty result is empty in both).
+        let inari: Interval = f.tape().eval(&b.map(Iv::to_interval), &mut regs);
+        let got = Iv::new(ol[i], oh[i]).to_interval();
+        prop_assert!(
+            got == inari || (got.is_empty() && inari.is_empty()),
+            "{}: over {:?} batch {:?} inari {:?}",
+            f.text(),
+            b,
+            got,
+            inari
+        );
+        let t = via_trait[i];
+        prop_assert!(t == f.eval_interval(&ib[i]) || (t.is_empty() && got.is_empty()));
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+
+    #[test]
+    fn batch_f64_equals_scalar(
+        text in arb_formula(),
+        pts in prop::collection::vec(arb_point(), 1..(3 * LANES + 2)),
+    ) {
+        let f = Formula::surface(&text).unwrap();
+        check_points(&f, &pts)?;
+    }
+
+    #[test]
+    fn batch_intervals_equal_scalar_and_inari(
+        text in arb_formula(),
+        boxes in prop::collection::vec(arb_box(), 1..(3 * LANES + 2)),
+    ) {
+        let f = Formula::surface(&text).unwrap();
+        check_boxes(&f, &boxes)?;
+    }
+
+    /// The catalog's surfaces (the benchmarks' workloads among them).
+    #[test]
+    fn batch_on_catalog_surfaces(
+        pick in 0usize..64,
+        pts in prop::collection::vec(arb_point(), 1..(2 * LANES + 3)),
+        boxes in prop::collection::vec(arb_box(), 1..(2 * LANES + 3)),
+    ) {
+        let entries = catalog::surfaces();
+        let e = &entries[pick % entries.len()];
+        let f = Formula::surface(e.formula).unwrap();
+        check_points(&f, &pts)?;
+        check_boxes(&f, &boxes)?;
+    }
+}
+
+/// The counting wrapper counts one evaluation per point or box of a batch and returns
+/// the inner oracle's values.
+#[test]
+fn counted_batches_count_each_point() {
+    let f = catalog::get("genus2").unwrap().function();
+    let c = Counted::new(&f);
+    let xs: Vec<f64> = (0..21).map(|i| i as f64 * 0.1 - 1.0).collect();
+    let mut out = vec![0.0; xs.len()];
+    c.eval_batch([&xs, &xs, &xs], &mut out);
+    for (i, &x) in xs.iter().enumerate() {
+        assert_eq!(out[i].to_bits(), f.eval([x, x, x]).to_bits());
+    }
+    let boxes: Vec<[Interval; 3]> = xs
+        .iter()
+        .map(|&x| [Interval::try_from((x, x + 0.05)).unwrap(); 3])
+        .collect();
+    let mut iv = vec![Interval::EMPTY; boxes.len()];
+    c.eval_interval_batch(&boxes, &mut iv);
+    for (b, v) in boxes.iter().zip(&iv) {
+        assert_eq!(*v, f.eval_interval(b));
+    }
+    let n = c.counts();
+    assert_eq!((n.points, n.intervals), (21, 21));
+}
+
+/// A batch of slices of different lengths is refused with a clear panic message.
+#[test]
+#[should_panic(expected = "different lengths")]
+fn mismatched_batch_lengths_panic() {
+    let f = Formula::surface("x + y").unwrap();
+    let mut out = vec![0.0; 3];
+    f.tape().eval_f64_batch(
+        &[1.0, 2.0, 3.0],
+        &[1.0, 2.0],
+        &[0.0; 3],
+        &mut out,
+        &mut BatchScratch::default(),
+    );
+}
