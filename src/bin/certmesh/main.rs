@@ -210,8 +210,9 @@ enum Cmd {
     /// Figures of the proofs binary (papers/*/figures/) are indexed and checked, not
     /// regenerated: they need its certificates (the command is listed).
     ///
-    /// Example: certmesh figures --quick --out out/figures-quick --format svg,pdf
-    /// Example: certmesh figures --check --out papers
+    /// `certmesh figures --quick --out DIR` makes the reduced set in about a minute.
+    ///
+    /// Example: certmesh figures --check --out out
     #[command(verbatim_doc_comment)]
     Figures(figures_cmd::FiguresArgs),
     /// Render a mesh to a picture (PNG at 300 dpi, SVG or PDF), headless.
@@ -228,7 +229,7 @@ enum Cmd {
     ///
     /// Example: certmesh render --surface sphere --algo mc --resolution 12 -o out/render-sphere.png --wire
     /// Example: certmesh render --surface torus --algo stuffing --resolution 8 --cut y=0 --color none -o out/render-stuffing.svg
-    /// Example: certmesh render --surface two-spheres --algo pv --resolution 8 --color certificate -o out/render-cert.png
+    /// Example: certmesh render --surface double-cone --algo pv --max-depth 5 --color certificate -o out/render-cert.pdf --format svg
     #[command(verbatim_doc_comment)]
     Render(render_cmd::RenderArgs),
 }
