@@ -37,6 +37,7 @@ pub mod mesh;
 pub mod mesher;
 pub mod metrics;
 pub mod morse;
+pub mod render;
 pub mod reproduce;
 pub mod restricted_delaunay;
 pub mod stuffing;

@@ -885,6 +885,8 @@ fn every_documented_command_runs() {
         "compare",
         "demo",
         "reproduce",
+        "render",
+        "figures",
     ] {
         let (code, help, err) = certmesh_in(&dir, &[sub, "--help"]);
         assert_eq!(code, 0, "{err}");

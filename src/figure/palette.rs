@@ -2,6 +2,8 @@
 //! safe for the common colour-vision deficiencies and in greyscale print when paired
 //! with distinct markers, and viridis for continuous quantities.
 use plotters::style::RGBColor;
+/// An RGB colour (plotters' type, so charts and pictures share colours).
+pub use plotters::style::RGBColor as Rgb;
 
 pub const BLACK: RGBColor = RGBColor(0, 0, 0);
 pub const ORANGE: RGBColor = RGBColor(230, 159, 0);

@@ -365,60 +365,80 @@ pub fn csv(rows: &[Row]) -> String {
 
 /// The comparison as a markdown table.
 pub fn markdown(rows: &[Row]) -> String {
-    let mut s = String::from(
-        "| surface | algo | topology | found | angles (deg) | Hausdorff (est.) | time (s) | evals | certificate | χ mesh / certified |\n|---|---|---|---|---|---|---|---|---|---|\n",
+    let mut s = format!(
+        "| {} |\n|{}\n",
+        COLUMNS.join(" | "),
+        "---|".repeat(COLUMNS.len())
     );
     for r in rows {
-        if let Some(e) = &r.error {
-            s += &format!(
-                "| {} | {} | error | {} | | | | | | |\n",
-                r.surface,
-                r.algo,
-                e.replace('|', "/")
-            );
-            continue;
-        }
-        let verdict = match r.topology_ok {
-            Some(true) => "ok".to_string(),
-            Some(false) => "**WRONG**".to_string(),
-            None => "n/a".to_string(),
-        };
-        let angles = match (r.min_angle_deg, r.max_angle_deg) {
-            (Some(a), Some(b)) => format!("{a:.1}–{b:.1}"),
-            _ => "–".into(),
-        };
-        let cert = match &r.certificate {
-            Certificate::Certified { .. } => "certified".to_string(),
-            Certificate::Uncertified {
-                reason, regions, ..
-            } => {
-                if regions.is_empty() {
-                    format!("uncertified: {reason}")
-                } else {
-                    format!("uncertified ({} regions): {reason}", regions.len())
-                }
-            }
-        };
-        let chi = |c: Option<i64>| c.map(|c| c.to_string()).unwrap_or_else(|| "–".into());
-        let chis = match (r.mesh_chi, r.certified_chi) {
-            (Some(m), Some(c)) if m != c => format!("**{m}** / {c}"),
-            (m, c) => format!("{} / {}", chi(m), chi(c)),
-        };
-        s += &format!(
-            "| {} | {} | {} | {} | {} | {} | {:.3} | {} | {} | {} |\n",
-            r.surface,
-            r.algo,
-            verdict,
-            r.found.replace('|', "/"),
-            angles,
-            fmt_opt(r.hausdorff, 4),
-            r.seconds,
-            r.evaluations,
-            cert.replace('|', "/"),
-            chis
-        );
+        let c = cells(r).map(|c| c.replace('|', "/"));
+        s += &format!("| {} |\n", c.join(" | "));
     }
     s
+}
+
+/// The columns of the comparison table ([`markdown`], the demo's HTML page).
+pub const COLUMNS: [&str; 10] = [
+    "surface",
+    "algo",
+    "topology",
+    "found",
+    "angles (deg)",
+    "Hausdorff (est.)",
+    "time (s)",
+    "evals",
+    "certificate",
+    "χ mesh / certified",
+];
+
+/// One row's cells under [`COLUMNS`] (markdown emphasis on a wrong topology or χ).
+pub fn cells(r: &Row) -> [String; 10] {
+    if let Some(e) = &r.error {
+        let mut c: [String; 10] = Default::default();
+        c[0] = r.surface.clone();
+        c[1] = r.algo.clone();
+        c[2] = "error".into();
+        c[3] = e.clone();
+        return c;
+    }
+    let verdict = match r.topology_ok {
+        Some(true) => "ok".to_string(),
+        Some(false) => "**WRONG**".to_string(),
+        None => "n/a".to_string(),
+    };
+    let angles = match (r.min_angle_deg, r.max_angle_deg) {
+        (Some(a), Some(b)) => format!("{a:.1}–{b:.1}"),
+        _ => "–".into(),
+    };
+    let cert = match &r.certificate {
+        Certificate::Certified { .. } => "certified".to_string(),
+        Certificate::Uncertified {
+            reason, regions, ..
+        } => {
+            if regions.is_empty() {
+                format!("uncertified: {reason}")
+            } else {
+                format!("uncertified ({} regions): {reason}", regions.len())
+            }
+        }
+    };
+    let chi = |c: Option<i64>| c.map(|c| c.to_string()).unwrap_or_else(|| "–".into());
+    let chis = match (r.mesh_chi, r.certified_chi) {
+        (Some(m), Some(c)) if m != c => format!("**{m}** / {c}"),
+        (m, c) => format!("{} / {}", chi(m), chi(c)),
+    };
+    [
+        r.surface.clone(),
+        r.algo.clone(),
+        verdict,
+        r.found.clone(),
+        angles,
+        fmt_opt(r.hausdorff, 4),
+        format!("{:.3}", r.seconds),
+        r.evaluations.to_string(),
+        cert,
+        chis,
+    ]
 }
 
 /// The curves' embedding signatures and whether each run agrees with the certified

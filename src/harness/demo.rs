@@ -1,10 +1,12 @@
 //! `certmesh demo` (the main job on built-in defaults) and `certmesh reproduce PAPER`.
 use crate::catalog::{self, Entry};
 use crate::error::{Error, Result};
+use crate::figure::output::Format;
 use crate::harness::compare;
 use crate::mesher::options::MesherOptions;
 use crate::mesher::registry as algorithms;
 use crate::mesher::{Mesh, Progress, Run};
+use crate::render;
 use crate::reproduce::plot;
 use crate::{io, metrics};
 use std::path::Path;
@@ -55,7 +57,9 @@ pub struct DemoReport {
 }
 
 /// Mesh the demo entries with every registered algorithm and write meshes, the
-/// comparison table (markdown and JSON) and angle histograms into `out`.
+/// comparison table (markdown and JSON), angle histograms, one rendering per surface
+/// and method (`renders/`, coloured by the run's certificate) and `index.html`, the
+/// table beside the pictures, into `out`.
 pub fn run(out: &Path, quick: bool, progress: &dyn Progress) -> Result<DemoReport> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let mesh_dir = out.join("meshes");
@@ -73,8 +77,44 @@ pub fn run(out: &Path, quick: bool, progress: &dyn Progress) -> Result<DemoRepor
     };
     // Angles of every surface run, per algorithm, for the histograms.
     let mut angles: std::collections::BTreeMap<String, Vec<f64>> = Default::default();
+    let render_dir = out.join("renders");
+    std::fs::create_dir_all(&render_dir).map_err(|e| Error::io(&render_dir, e))?;
+    let mut renders: std::collections::BTreeMap<(String, String), String> = Default::default();
     let mut write = |e: &Entry, r: &Run| -> Result<()> {
         let base = mesh_dir.join(format!("{}-{}", e.name, r.algo));
+        let name = format!("{}-{}", e.name, r.algo);
+        let input = match &r.output.mesh {
+            Mesh::Surface(m) => Some(render::Input::Surface(m)),
+            Mesh::Volume { tets, .. } => Some(render::Input::Volume(tets)),
+            Mesh::Curve(_) => None,
+        };
+        if let Some(input) = input {
+            let o = render::RenderOptions {
+                color: render::ColorBy::Certificate,
+                title: format!("{}, {}", e.name, r.algo),
+                ..Default::default()
+            };
+            // A run that drew nothing (an empty mesh) has no picture.
+            if render::render(
+                &render_dir.join(&name),
+                input,
+                Some(&r.output.certificate),
+                &o,
+                &[Format::Png],
+            )
+            .is_ok()
+            {
+                renders.insert(
+                    (e.name.to_string(), r.algo.clone()),
+                    format!("renders/{name}.png"),
+                );
+            }
+        } else {
+            renders.insert(
+                (e.name.to_string(), r.algo.clone()),
+                format!("meshes/{name}.svg"),
+            );
+        }
         match &r.output.mesh {
             Mesh::Surface(m) => {
                 io::write_tri(base.with_extension("obj"), m)?;
@@ -101,6 +141,12 @@ pub fn run(out: &Path, quick: bool, progress: &dyn Progress) -> Result<DemoRepor
     };
     let rows = compare::compare_with(&entries, &algos, &opts, progress, &mut write);
     let table = compare::markdown(&rows);
+    let page = out.join("index.html");
+    std::fs::write(
+        &page,
+        crate::harness::demo_page::html(&rows, &renders, quick),
+    )
+    .map_err(|e| Error::io(&page, e))?;
     let md = out.join("compare.md");
     std::fs::write(&md, &table).map_err(|e| Error::io(&md, e))?;
     let js = out.join("compare.json");

@@ -491,6 +491,7 @@ pub fn reproduce_with(out_dir: &Path, o: &ReproduceOptions) -> Result<()> {
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|");
     let mut hist_series = Vec::new();
+    let mut renders = String::new();
     // Sphere: match the face count.
     let probe_r = 0.3;
     let sph = |r: f64| {
@@ -543,12 +544,27 @@ pub fn reproduce_with(out_dir: &Path, o: &ReproduceOptions) -> Result<()> {
             genus_ok(&row, &[genus])
         );
         if name == "genus2" {
+            renders.push_str(&crate::reproduce::render_md(
+                out_dir,
+                "render-genus2-gradnormal",
+                crate::render::Input::Surface(&mesh),
+                None,
+                &crate::render::RenderOptions {
+                    azimuth: 30.0,
+                    elevation: 50.0,
+                    wire: true,
+                    title: format!("GradNormal, genus 2, {} faces", row.faces),
+                    ..Default::default()
+                },
+                "The genus-2 surface of Fig 2 meshed by GradNormal (paper rules), coloured by the smallest angle of each triangle (`certmesh reproduce gradnormal`; `certmesh render` draws any mesh file the same way).",
+            )?);
             hist_series.push((
                 format!("GradNormal genus2 ({} faces)", row.faces),
                 angles(&mesh),
             ));
         }
     }
+    md.push_str(&renders);
     histogram_figure(
         out_dir,
         "angles",

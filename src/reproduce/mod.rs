@@ -23,6 +23,21 @@ pub mod stuffing_report;
 use crate::error::{Error, Result};
 use std::path::Path;
 
+/// Render a mesh as `out/NAME.<ext>` (the figure formats, [`crate::render`]) and return
+/// the markdown that shows it (an image line and its caption).
+pub fn render_md(
+    out: &Path,
+    name: &str,
+    input: crate::render::Input,
+    cert: Option<&crate::mesher::Certificate>,
+    o: &crate::render::RenderOptions,
+    caption: &str,
+) -> Result<String> {
+    let formats = crate::figure::output::default_formats();
+    crate::render::render(&out.join(name), input, cert, o, &formats)?;
+    Ok(format!("\n![{name}]({name}.png)\n\n*{caption}*\n"))
+}
+
 /// The papers that can be reproduced, by the name `certmesh reproduce` takes.
 pub const PAPERS: [&str; 4] = ["gradnormal", "stuffing", "meshing-of-surfaces", "morse"];
 

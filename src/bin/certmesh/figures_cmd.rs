@@ -169,6 +169,12 @@ fn markdown(entries: &[Entry]) -> String {
 
 pub(crate) fn figures_cmd(a: FiguresArgs, quiet: bool) -> CliResult<()> {
     let formats = a.format.apply()?;
+    if a.check && !a.out.is_dir() {
+        return Err(CliError::from(Error::Param(format!(
+            "--out: '{}' is not a folder of figures to check",
+            a.out.display()
+        ))));
+    }
     if !a.check {
         crate::input::check_out_dir(&a.out)?;
         let bar = Bar::new(quiet);

@@ -15,6 +15,7 @@ mod input;
 mod mesh_cmd;
 mod morse_cmd;
 mod progress;
+mod render_cmd;
 mod stats_cmd;
 
 use args::*;
@@ -232,10 +233,28 @@ enum Cmd {
     /// Figures of the proofs binary (papers/*/figures/) are indexed and checked, not
     /// regenerated: they need its certificates (the command is listed).
     ///
-    /// Example: certmesh figures --quick --out out/figures-quick --format svg,pdf
-    /// Example: certmesh figures --check --out papers
+    /// `certmesh figures --quick --out DIR` makes the reduced set in about a minute.
+    ///
+    /// Example: certmesh figures --check --out out
     #[command(verbatim_doc_comment)]
     Figures(figures_cmd::FiguresArgs),
+    /// Render a mesh to a picture (PNG at 300 dpi, SVG or PDF), headless.
+    ///
+    /// A software z-buffer with flat or Gouraud shading draws a triangle mesh or the
+    /// boundary of a tetrahedral mesh, seen from --view, one column (3.3 in) wide, with
+    /// a colour bar (--color quality) or a legend. --cut keeps one side of a plane and,
+    /// on a tetrahedral mesh, shows the faces of the tetrahedra it cuts (the stuffing
+    /// paper's Fig. 1). --color certificate colours what the mesher's certificate says,
+    /// and only that: faces meeting a region it reported uncertified, faces inside the
+    /// box of an isotopy claim of a certified output, and the rest as making no claim;
+    /// it needs the certificate, so it meshes and renders in one step (--surface with
+    /// --algo).
+    ///
+    /// Example: certmesh render --surface sphere --algo mc --resolution 12 -o out/render-sphere.png --wire
+    /// Example: certmesh render --surface torus --algo stuffing --resolution 8 --cut y=0 --color none -o out/render-stuffing.svg
+    /// Example: certmesh render --surface double-cone --algo pv --max-depth 5 --color certificate -o out/render-cert.pdf --format svg
+    #[command(verbatim_doc_comment)]
+    Render(render_cmd::RenderArgs),
 }
 
 fn main() {
@@ -354,6 +373,7 @@ fn run(cmd: Cmd, quiet: bool) -> CliResult<()> {
             reproduce_cmd(&paper, out.as_deref(), quick, quiet)?
         }
         Cmd::Figures(a) => figures_cmd::figures_cmd(a, quiet)?,
+        Cmd::Render(a) => render_cmd::render_cmd(a, quiet)?,
     }
     Ok(())
 }
