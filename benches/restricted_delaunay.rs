@@ -2,6 +2,13 @@
 //! (angle 30°, radius 0.1 and distance 0.01 on the catalog boxes), float mode and with
 //! `--certify` (interval re-derivation of the restricted triangulation and the
 //! certified reach bound). `benches/cgal/` holds the kernel comparison with CGAL.
+//!
+//! Group `certify`: the topological-ball-property certificate of a ~10⁴-vertex mesh
+//! (`certmesh certify`; target under 1 s). The mesh is the OFF file named by
+//! `CERTMESH_CERTIFY_OFF` with the surface `CERTMESH_CERTIFY_SURFACE` (default genus2)
+//! — a CGAL output written by `benches/cgal/surface_mesher` — or, without it, the `bo`
+//! mesh of genus2 at radius 0.02, distance 0.002 (about 1.2e4 vertices, like CGAL's).
+//! Group `cdrr`: the Cheng–Dey–Ramos–Ray driver on the catalog.
 use certmesh::catalog;
 use certmesh::mesher::options::MesherOptions;
 use certmesh::mesher::{Mesher, NoProgress};
@@ -34,5 +41,65 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+fn bench_certify(c: &mut Criterion) {
+    use certmesh::restricted_delaunay::certify::{certify_mesh, CertifyOptions};
+    let name = std::env::var("CERTMESH_CERTIFY_SURFACE").unwrap_or_else(|_| "genus2".into());
+    let e = catalog::get(&name).unwrap();
+    let f = e.function();
+    let mesh = match std::env::var("CERTMESH_CERTIFY_OFF") {
+        Ok(p) => certmesh::io::read_tri(&p).unwrap(),
+        Err(_) => {
+            let m = BoissonnatOudot::from_options(&MesherOptions {
+                facet_size: Some(0.02),
+                facet_distance: Some(0.002),
+                manifold: true,
+                ..Default::default()
+            })
+            .unwrap();
+            let out = m.mesh(&f, &e.domain, &NoProgress).unwrap();
+            out.mesh.surface().unwrap().clone()
+        }
+    };
+    let mut g = c.benchmark_group("certify");
+    g.sample_size(10);
+    g.warm_up_time(Duration::from_secs(1));
+    g.measurement_time(Duration::from_secs(15));
+    let o = CertifyOptions::default();
+    let id = format!("{name}-{}v", mesh.vertices.len());
+    g.bench_function(id, |b| {
+        b.iter(|| {
+            certify_mesh(&mesh, &f, &e.domain, &o)
+                .unwrap()
+                .0
+                .homeomorphic
+        })
+    });
+    g.finish();
+}
+
+fn bench_cdrr(c: &mut Criterion) {
+    use certmesh::restricted_delaunay::ChengDeyRamosRay;
+    let mut g = c.benchmark_group("cdrr");
+    g.sample_size(10);
+    g.warm_up_time(Duration::from_secs(1));
+    g.measurement_time(Duration::from_secs(10));
+    let m = ChengDeyRamosRay::default();
+    for name in [
+        "sphere",
+        "torus",
+        "two-spheres",
+        "genus2",
+        "tanglecube",
+        "thin-torus",
+    ] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        g.bench_function(name, |b| {
+            b.iter(|| m.mesh(&f, &e.domain, &NoProgress).unwrap().stats.len())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench, bench_certify, bench_cdrr);
 criterion_main!(benches);

@@ -883,6 +883,7 @@ fn every_documented_command_runs() {
         "curve",
         "stats",
         "compare",
+        "certify",
         "demo",
         "reproduce",
         "render",

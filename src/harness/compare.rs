@@ -303,6 +303,18 @@ fn fmt_opt(x: Option<f64>, prec: usize) -> String {
     }
 }
 
+/// "certified", with the topological claim's kind: `isotopic` (PV, Snyder, ...) or
+/// `homeomorphic` (the topological ball property of `cdrr`).
+fn certified_kind(claims: &[crate::mesher::Claim]) -> String {
+    if claims.iter().any(|c| c.is_isotopy()) {
+        "certified: isotopic".into()
+    } else if claims.iter().any(|c| c.is_topological()) {
+        "certified: homeomorphic (topological ball property)".into()
+    } else {
+        "certified".into()
+    }
+}
+
 /// The comparison as CSV (one row per run; the certificate as its one-line summary).
 pub fn csv(rows: &[Row]) -> String {
     fn field(s: &str) -> String {
@@ -322,7 +334,7 @@ pub fn csv(rows: &[Row]) -> String {
     );
     for r in rows {
         let cert = match &r.certificate {
-            Certificate::Certified { .. } => "certified".to_string(),
+            Certificate::Certified { claims_typed, .. } => certified_kind(claims_typed),
             Certificate::Uncertified { reason, .. } => format!("uncertified: {reason}"),
         };
         let cols = [
@@ -411,7 +423,7 @@ pub fn cells(r: &Row) -> [String; 10] {
         _ => "–".into(),
     };
     let cert = match &r.certificate {
-        Certificate::Certified { .. } => "certified".to_string(),
+        Certificate::Certified { claims_typed, .. } => certified_kind(claims_typed),
         Certificate::Uncertified {
             reason, regions, ..
         } => {

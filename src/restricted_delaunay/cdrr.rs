@@ -137,28 +137,36 @@ fn test_name(t: Test) -> &'static str {
     }
 }
 
-/// The point a failed test defines (on S, or `None`). An undecided Voronoi edge (a
-/// tangent crossing, or end points enclosed too loosely to decide, as for a sliver's
-/// circumcentre) whose approximate point does not project into the domain falls back
-/// to the projection of its dual triangle's circumcentre, a point of the edge's line.
-fn refinement_point(
-    f: &dyn Implicit,
-    domain: &Aabb,
-    t: &Delaunay,
-    x: &Failure,
-) -> Option<[f64; 3]> {
+/// The points a failed test defines, best first (each on S, inside the domain). An
+/// undecided Voronoi edge (a tangent crossing, or end points enclosed too loosely, as
+/// for a sliver's circumcentre) also offers the projections of its cells' circumcentres
+/// (a projection lies in the circumsphere when the cell's vertices are on S) and of its
+/// dual triangle's circumcentre (a point of the edge's line).
+fn refinement_points(f: &dyn Implicit, domain: &Aabb, t: &Delaunay, x: &Failure) -> Vec<[f64; 3]> {
     let tol = 1e-14 * domain.diagonal();
-    let inside = |q: Option<[f64; 3]>| q.filter(|q| domain.contains(*q));
+    let on_s = |q: [f64; 3]| -> Option<[f64; 3]> {
+        if f.eval(q).abs() < 1e-12 {
+            Some(q)
+        } else {
+            project(f, q, 40, tol)
+        }
+    };
+    let mut cands: Vec<[f64; 3]> = Vec::new();
     match x.test {
-        Test::Setup => None,
-        // Crossings are points of S already (up to the float root).
-        Test::Edge | Test::Manifold if f.eval(x.point).abs() < 1e-9 => inside(Some(x.point)),
-        Test::Edge if x.sites.len() == 3 => inside(project(f, x.point, 40, tol)).or_else(|| {
+        Test::Setup => {}
+        Test::Edge if x.sites.len() == 3 => {
+            cands.push(x.point);
+            cands.extend(x.alternatives.iter().copied());
             let s = [0, 1, 2].map(|k| t.point(x.sites[k]));
-            inside(project(f, triangle_circumcentre(s[0], s[1], s[2]), 40, tol))
-        }),
-        _ => inside(project(f, x.point, 40, tol)),
+            cands.push(triangle_circumcentre(s[0], s[1], s[2]));
+        }
+        _ => cands.push(x.point),
     }
+    cands
+        .into_iter()
+        .filter_map(on_s)
+        .filter(|q| domain.contains(*q))
+        .collect()
 }
 
 impl Mesher for ChengDeyRamosRay {
@@ -191,23 +199,35 @@ impl Mesher for ChengDeyRamosRay {
                 Err(_) => stats.refused += 1,
             }
         }
+        // Rounds use a small cover budget (a face not proven quickly gets a point);
+        // a face proven with any budget is proven, so the cache keeps it.
         let opts = TbpOptions {
             stop_early: true,
+            cover: tbp::cover::CoverBudget {
+                max_boxes: (self.cover_boxes / 10).max(16),
+                ..Default::default()
+            },
+            directions: 2,
+            ..Default::default()
+        };
+        let full = TbpOptions {
+            stop_early: false,
             cover: tbp::cover::CoverBudget {
                 max_boxes: self.cover_boxes,
                 ..Default::default()
             },
             ..Default::default()
         };
+        let mut cache = tbp::TbpCache::default();
         progress.start("cdrr rounds", 0);
         let mut stop: Option<String> = None;
         let check = loop {
             let tc = std::time::Instant::now();
-            let check = tbp::check(&t, f, domain, &opts);
+            let check = tbp::check_cached(&t, f, domain, &opts, &mut cache);
             stats.seconds_checks += tc.elapsed().as_secs_f64();
             stats.rounds += 1;
             progress.inc(1);
-            let mut points: Vec<([f64; 3], [f64; 3], &'static str)> = Vec::new();
+            let mut points: Vec<(Vec<[f64; 3]>, [f64; 3], &'static str)> = Vec::new();
             if check.failures.iter().any(|x| x.test == Test::Setup) {
                 stop = Some(format!(
                     "a hypothesis of the certificate fails: {}",
@@ -222,9 +242,10 @@ impl Mesher for ChengDeyRamosRay {
                 break check;
             }
             for x in &check.failures {
-                if let Some(q) = refinement_point(f, domain, &t, x) {
+                let qs = refinement_points(f, domain, &t, x);
+                if let Some(&q) = qs.first() {
                     let site = x.sites.first().map(|&v| t.point(v)).unwrap_or(q);
-                    points.push((q, site, test_name(x.test)));
+                    points.push((qs, site, test_name(x.test)));
                 }
             }
             if check.report.holds {
@@ -233,7 +254,7 @@ impl Mesher for ChengDeyRamosRay {
                     for fct in &check.rdt.facets {
                         if let Some(c) = fct.test.largest() {
                             if c.radius > size {
-                                points.push((c.point, t.point(fct.v[0]), "size"));
+                                points.push((vec![c.point], t.point(fct.v[0]), "size"));
                             }
                         }
                     }
@@ -255,22 +276,25 @@ impl Mesher for ChengDeyRamosRay {
             // One insertion per neighbourhood of a round.
             let mut chosen: Vec<[f64; 3]> = Vec::new();
             let mut inserted = 0;
-            for (q, site, why) in points {
-                let r = 0.5 * dist(q, site);
-                if chosen.iter().any(|c| dist(*c, q) < r) {
+            'failures: for (qs, site, why) in points {
+                let r = 0.5 * dist(qs[0], site);
+                if chosen.iter().any(|c| dist(*c, qs[0]) < r) {
                     continue;
                 }
                 let n = t.points().len() - crate::kernel::delaunay::FAR as usize;
                 if n >= self.max_vertices {
                     break;
                 }
-                match t.insert(q) {
-                    Ok(_) => {
-                        chosen.push(q);
-                        inserted += 1;
-                        *stats.insertions_by_test.entry(why.into()).or_default() += 1;
+                for q in qs {
+                    match t.insert(q) {
+                        Ok(_) => {
+                            chosen.push(q);
+                            inserted += 1;
+                            *stats.insertions_by_test.entry(why.into()).or_default() += 1;
+                            continue 'failures;
+                        }
+                        Err(_) => stats.refused += 1,
                     }
-                    Err(_) => stats.refused += 1,
                 }
             }
             let n = t.points().len() - crate::kernel::delaunay::FAR as usize;
@@ -279,8 +303,7 @@ impl Mesher for ChengDeyRamosRay {
                     "vertex budget reached: {} vertices (raise --max-vertices)",
                     self.max_vertices
                 ));
-                let c = tbp::check(&t, f, domain, &opts);
-                break c;
+                break check;
             }
             if inserted == 0 {
                 stop = Some(
@@ -289,6 +312,18 @@ impl Mesher for ChengDeyRamosRay {
                 );
                 break check;
             }
+        };
+        // A run stopped by a guard: the final check with the full budget (it may prove
+        // faces the rounds' small budget could not) and every test reported.
+        let setup_failed = check.failures.iter().any(|x| x.test == Test::Setup);
+        let check = if check.report.holds || setup_failed {
+            check
+        } else {
+            let c = tbp::check_cached(&t, f, domain, &full, &mut cache);
+            if c.report.holds {
+                stop = None;
+            }
+            c
         };
         let (mesh, _) = to_mesh(&t, &check.rdt);
         stats.vertices = t.points().len() - crate::kernel::delaunay::FAR as usize;

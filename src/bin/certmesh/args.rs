@@ -102,7 +102,7 @@ pub(crate) struct OptArgs {
     #[arg(long, value_name = "DEGREES")]
     pub(crate) facet_angle: Option<f64>,
     /// Largest surface Delaunay ball radius (bo; CGAL's facet_size; default the
-    /// domain diagonal / 20).
+    /// domain diagonal / 20; cdrr: geometry rounds after the topology, default none).
     #[arg(long, value_name = "R")]
     pub(crate) facet_size: Option<f64>,
     /// Largest distance from a facet's circumcentre to its surface point (bo; CGAL's
@@ -112,7 +112,7 @@ pub(crate) struct OptArgs {
     /// Refine until the output is a closed 2-manifold (bo; CGAL's Manifold_tag).
     #[arg(long)]
     pub(crate) manifold: bool,
-    /// Vertex budget of refinement meshers (bo; default 1000000). A run stopped by
+    /// Vertex budget of refinement meshers (bo: default 1000000; cdrr: 200000). A run stopped by
     /// it says refinement_complete: false and why.
     #[arg(long, value_name = "N")]
     pub(crate) max_vertices: Option<usize>,

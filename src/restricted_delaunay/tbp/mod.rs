@@ -84,6 +84,10 @@ pub struct Failure {
     /// not necessarily on S.
     pub point: [f64; 3],
     pub reason: String,
+    /// Other points near the failure a refinement may try (for an undecided Voronoi
+    /// edge: the float circumcentres of its two cells).
+    #[serde(skip)]
+    pub alternatives: Vec<[f64; 3]>,
 }
 
 /// Limits of the checks.
@@ -139,6 +143,31 @@ pub struct Tbp {
     pub report: TbpReport,
     pub rdt: Scan,
     pub failures: Vec<Failure>,
+}
+
+/// Voronoi facets and cells already proven, keyed by their exact combinatorics (the
+/// sites and the vertex sets of the dual cells, which fix the face and its vertex
+/// enclosures): a refinement driver re-checks only the faces its insertions changed.
+#[derive(Clone, Debug, Default)]
+pub struct TbpCache {
+    proven: std::collections::HashSet<Vec<u32>>,
+}
+
+fn face_key(t: &Delaunay, sites: &[VertexId], cells: &[CellId]) -> Vec<u32> {
+    let mut cs: Vec<[u32; 4]> = cells
+        .iter()
+        .map(|&c| {
+            let mut v = t.cell_vertices(c);
+            v.sort_unstable();
+            v
+        })
+        .collect();
+    cs.sort_unstable();
+    let mut k = Vec::with_capacity(1 + sites.len() + 4 * cs.len());
+    k.push(sites.len() as u32);
+    k.extend_from_slice(sites);
+    k.extend(cs.into_iter().flatten());
+    k
 }
 
 /// Cells around each Delaunay edge of two non-far vertices, and the cells incident to
@@ -247,6 +276,7 @@ struct FaceResult {
     boxes: u64,
 }
 
+#[allow(clippy::too_many_arguments)]
 fn check_facet(
     t: &Delaunay,
     f: &dyn Implicit,
@@ -254,6 +284,7 @@ fn check_facet(
     cc: &[Option<IBox>],
     (p, q): (VertexId, VertexId),
     ring: &[CellId],
+    crossings: &[[f64; 3]],
     o: &TbpOptions,
 ) -> FaceResult {
     let fail = |point: [f64; 3], reason: String, boxes| FaceResult {
@@ -262,6 +293,7 @@ fn check_facet(
             sites: vec![p, q],
             point,
             reason,
+            alternatives: Vec::new(),
         }),
         boxes,
     };
@@ -289,8 +321,16 @@ fn check_facet(
     };
     let n = crate::kernel::geom::sub(qp, pp);
     let ni = [0, 1, 2].map(|k| pt(qp[k]) - pt(pp[k]));
-    let g = f.grad(mid(&start)).g;
-    let mut cands = vec![cross(n, g)];
+    // Directions w x n, best first: perpendicular (in H) to the chord between the two
+    // crossings of the facet's edges (an arc roughly along the chord never has its
+    // tangent there), then the in-plane gradient at the crossings and at the centre.
+    let mut cands = Vec::new();
+    if let [a, b] = crossings {
+        cands.push(crate::kernel::geom::sub(*b, *a));
+    }
+    for x in crossings.iter().copied().chain([mid(&start)]) {
+        cands.push(cross(n, f.grad(x).g));
+    }
     for k in 0..3 {
         let mut e = [0.0; 3];
         e[k] = 1.0;
@@ -335,6 +375,7 @@ fn check_cell(
             sites: vec![p],
             point,
             reason,
+            alternatives: Vec::new(),
         }),
         boxes,
     };
@@ -388,6 +429,18 @@ fn check_cell(
 
 /// Run the checks on the kernel's triangulation `t` (see the module documentation).
 pub fn check(t: &Delaunay, f: &dyn Implicit, domain: &Aabb, o: &TbpOptions) -> Tbp {
+    check_cached(t, f, domain, o, &mut TbpCache::default())
+}
+
+/// [`check`], skipping the Voronoi facets and cells `cache` holds as proven and adding
+/// the ones proven now.
+pub fn check_cached(
+    t: &Delaunay,
+    f: &dyn Implicit,
+    domain: &Aabb,
+    o: &TbpOptions,
+    cache: &mut TbpCache,
+) -> Tbp {
     let dbox = domain.intervals();
     let mut r = TbpReport {
         rigorous: f.is_rigorous(),
@@ -400,6 +453,7 @@ pub fn check(t: &Delaunay, f: &dyn Implicit, domain: &Aabb, o: &TbpOptions) -> T
             sites: Vec::new(),
             point: domain.center(),
             reason: reason.into(),
+            alternatives: Vec::new(),
         })
     };
     if !r.rigorous {
@@ -431,11 +485,16 @@ pub fn check(t: &Delaunay, f: &dyn Implicit, domain: &Aabb, o: &TbpOptions) -> T
     r.voronoi_edges = rdt.segments;
     r.restricted_facets = rdt.facets.len();
     for u in &rdt.undecided {
+        let mut alternatives = vec![t.circumcentre(u.cell)];
+        if let Some((d, _)) = t.neighbor(u.cell, u.facet) {
+            alternatives.push(t.circumcentre(d));
+        }
         failures.push(Failure {
             test: Test::Edge,
             sites: u.v.to_vec(),
             point: u.points.first().copied().unwrap_or(t.point(u.v[0])),
             reason: format!("Voronoi edge: {}", u.reason),
+            alternatives,
         });
     }
     for fct in &rdt.facets {
@@ -453,6 +512,7 @@ pub fn check(t: &Delaunay, f: &dyn Implicit, domain: &Aabb, o: &TbpOptions) -> T
                 sites: fct.v.to_vec(),
                 point: far,
                 reason: format!("Voronoi edge crosses S {} times", fct.test.crossings.len()),
+                alternatives: Vec::new(),
             });
         }
     }
@@ -493,6 +553,7 @@ pub fn check(t: &Delaunay, f: &dyn Implicit, domain: &Aabb, o: &TbpOptions) -> T
             sites: vec![a, b],
             point: farthest(a),
             reason: format!("restricted edge in {n} restricted facets (2 needed)"),
+            alternatives: Vec::new(),
         });
     }
     let mut verts: Vec<_> = star.keys().copied().collect();
@@ -504,6 +565,7 @@ pub fn check(t: &Delaunay, f: &dyn Implicit, domain: &Aabb, o: &TbpOptions) -> T
                 sites: vec![v],
                 point: farthest(v),
                 reason: "the restricted facets around the vertex do not form one disk".into(),
+                alternatives: Vec::new(),
             });
         }
     }
@@ -521,14 +583,33 @@ pub fn check(t: &Delaunay, f: &dyn Implicit, domain: &Aabb, o: &TbpOptions) -> T
                 .flatten()
         })
         .collect();
-    let facets: Vec<FaceResult> = adj
+    let mut crossings: HashMap<(VertexId, VertexId), Vec<[f64; 3]>> = HashMap::new();
+    for fct in &rdt.facets {
+        for e in 0..3 {
+            let (a, b) = (fct.v[e], fct.v[(e + 1) % 3]);
+            let x = crossings.entry((a.min(b), a.max(b))).or_default();
+            x.extend(fct.test.crossings.iter().map(|c| c.point));
+        }
+    }
+    let none = Vec::new();
+    let facets: Vec<(Vec<u32>, FaceResult)> = adj
         .edges
         .par_iter()
-        .map(|(e, ring)| check_facet(t, f, &dbox, &cc, *e, ring, o))
+        .filter_map(|(e, ring)| {
+            let k = face_key(t, &[e.0, e.1], ring);
+            let xs = crossings.get(e).unwrap_or(&none);
+            (!cache.proven.contains(&k))
+                .then(|| (k, check_facet(t, f, &dbox, &cc, *e, ring, xs, o)))
+        })
         .collect();
-    for x in facets {
+    for (k, x) in facets {
         r.boxes += x.boxes;
-        failures.extend(x.failure);
+        match x.failure {
+            Some(x) => failures.push(x),
+            None => {
+                cache.proven.insert(k);
+            }
+        }
     }
     if stop(&failures) {
         r.skipped = vec![Test::Cell];
@@ -537,13 +618,22 @@ pub fn check(t: &Delaunay, f: &dyn Implicit, domain: &Aabb, o: &TbpOptions) -> T
     let verts: Vec<VertexId> = (crate::kernel::delaunay::FAR..t.points().len() as u32)
         .filter(|&v| t.is_inserted(v))
         .collect();
-    let cells: Vec<FaceResult> = verts
+    let cells: Vec<(Vec<u32>, FaceResult)> = verts
         .par_iter()
-        .map(|&p| check_cell(t, f, &dbox, &cc, p, &adj.cells_of[p as usize], o))
+        .filter_map(|&p| {
+            let star = &adj.cells_of[p as usize];
+            let k = face_key(t, &[p], star);
+            (!cache.proven.contains(&k)).then(|| (k, check_cell(t, f, &dbox, &cc, p, star, o)))
+        })
         .collect();
-    for x in cells {
+    for (k, x) in cells {
         r.boxes += x.boxes;
-        failures.extend(x.failure);
+        match x.failure {
+            Some(x) => failures.push(x),
+            None => {
+                cache.proven.insert(k);
+            }
+        }
     }
     finish(r, rdt, failures)
 }
