@@ -25,7 +25,7 @@ impl PyFunction {
 
     /// f at every point (coordinate slices `p[0][i], p[1][i], p[2][i]`), in one call
     /// of the Python function.
-    pub fn eval_batch(&self, p: [&[f64]; 3], out: &mut [f64]) {
+    fn call(&self, p: [&[f64]; 3], out: &mut [f64]) {
         let n = out.len();
         let r = Python::attach(|py| -> PyResult<()> {
             let coords: Vec<_> = (0..self.dim)
@@ -55,7 +55,7 @@ impl PyFunction {
 
     fn one(&self, p: [f64; 3]) -> f64 {
         let mut v = [0.0];
-        self.eval_batch([&[p[0]], &[p[1]], &[p[2]]], &mut v);
+        self.call([&[p[0]], &[p[1]], &[p[2]]], &mut v);
         v[0]
     }
 
@@ -72,7 +72,7 @@ impl PyFunction {
         }
         let mut v = vec![0.0; pts.len()];
         let c: Vec<Vec<f64>> = (0..3).map(|k| pts.iter().map(|q| q[k]).collect()).collect();
-        self.eval_batch([&c[0], &c[1], &c[2]], &mut v);
+        self.call([&c[0], &c[1], &c[2]], &mut v);
         let mut g = [0.0; 3];
         for k in 0..self.dim {
             g[k] = (v[1 + 2 * k] - v[2 + 2 * k]) / (2.0 * h[k]);
@@ -87,6 +87,10 @@ impl Implicit for PyFunction {
     }
     fn eval(&self, p: [f64; 3]) -> f64 {
         self.one(p)
+    }
+    /// One call of the Python function for the whole batch.
+    fn eval_batch(&self, p: [&[f64]; 3], out: &mut [f64]) {
+        self.call(p, out)
     }
     /// Nothing is known: the whole line (so no box is ever pruned or certified).
     fn eval_interval(&self, _b: &IBox) -> Interval {

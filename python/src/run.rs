@@ -82,6 +82,14 @@ impl Implicit for Guarded<'_> {
         self.control.check();
         self.f.eval_interval(b)
     }
+    fn eval_batch(&self, p: [&[f64]; 3], out: &mut [f64]) {
+        self.control.check();
+        self.f.eval_batch(p, out)
+    }
+    fn eval_interval_batch(&self, b: &[IBox], out: &mut [Interval]) {
+        self.control.check();
+        self.f.eval_interval_batch(b, out)
+    }
     fn grad(&self, p: [f64; 3]) -> Dual<f64> {
         self.control.check();
         self.f.grad(p)

@@ -86,12 +86,12 @@ def test_vectorised_callback_gives_the_formulas_mesh():
         calls.append(len(x))
         return x**2 + y**2 + z**2 - 0.8
 
-    a = certmesh.mesh(f, domain=(-1, -1, -1, 1, 1, 1), algo="mc", resolution=24, crossing="linear", progress=False)
+    a = certmesh.mesh(f, domain=(-1, -1, -1, 1, 1, 1), algo="mc", resolution=24, crossing="linear", report=False, progress=False)
     b = certmesh.mesh(formula="x^2 + y^2 + z^2 - 0.8", domain=(-1, -1, -1, 1, 1, 1), algo="mc", resolution=24, crossing="linear", progress=False)
     np.testing.assert_allclose(a.points, b.points, rtol=0, atol=1e-12)
     np.testing.assert_array_equal(a.faces, b.faces)
-    # called on whole batches (rows of the grid), not one point at a time
-    assert max(calls) >= 25 and len(calls) <= 25 * 25 + 10
+    # the mesher calls it on whole batches (rows of the grid), not one point at a time
+    assert min(calls) == max(calls) == 25 and len(calls) == 25 * 25
 
 
 @pytest.mark.parametrize("algo", ["mc", "pv", "snyder", "gradnormal", "stuffing"])
@@ -199,7 +199,9 @@ def test_ctrl_c_stops_a_long_run(what):
     p.send_signal(signal.SIGINT)
     out, _ = p.communicate(timeout=30)
     assert out.startswith("interrupted"), out
-    assert float(out.split()[2]) < 10
+    # a mesh stops at its next evaluation of f; a proof at its next box, after its
+    # case set-up (seconds on a loaded machine)
+    assert float(out.split()[2]) < (10 if what == "mesh" else 40)
 
 
 def test_proofs_stuffing_and_check(tmp_path):
