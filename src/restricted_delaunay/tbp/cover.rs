@@ -273,13 +273,13 @@ mod tests {
         // The cap z > 0.5 has normals with positive z: no tangency to d = z.
         let cap = b([-0.9, -0.9, 0.5], [0.9, 0.9, 1.2]);
         let c = cover(cap, &r, CoverBudget::default(), |x, _| {
-            no_tangency(&f, x, &up)
+            no_tangency(&f, x, &up, false)
         });
         assert!(c.ok, "{c:?}");
         // The equator z = 0 is where the normal is perpendicular to z: never accepted.
         let belt = b([-1.2, -1.2, -0.2], [1.2, 1.2, 0.2]);
         let c = cover(belt, &r, CoverBudget::default(), |x, _| {
-            no_tangency(&f, x, &up)
+            no_tangency(&f, x, &up, false)
         });
         assert!(!c.ok);
         let fb = c.failed.unwrap();
