@@ -137,6 +137,9 @@ fn test_name(t: Test) -> &'static str {
     }
 }
 
+/// A failure's refinement points (best first), its site, and the test's name.
+type Candidates = (Vec<[f64; 3]>, [f64; 3], &'static str);
+
 /// The points a failed test defines, best first (each on S, inside the domain). An
 /// undecided Voronoi edge (a tangent crossing, or end points enclosed too loosely, as
 /// for a sliver's circumcentre) also offers the projections of its cells' circumcentres
@@ -227,7 +230,7 @@ impl Mesher for ChengDeyRamosRay {
             stats.seconds_checks += tc.elapsed().as_secs_f64();
             stats.rounds += 1;
             progress.inc(1);
-            let mut points: Vec<(Vec<[f64; 3]>, [f64; 3], &'static str)> = Vec::new();
+            let mut points: Vec<Candidates> = Vec::new();
             if check.failures.iter().any(|x| x.test == Test::Setup) {
                 stop = Some(format!(
                     "a hypothesis of the certificate fails: {}",

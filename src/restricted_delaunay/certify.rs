@@ -96,7 +96,8 @@ fn max_f_over_grad(f: &dyn Implicit, pts: &[[f64; 3]]) -> Option<f64> {
         let b = p.map(tbp::cover::pt);
         let d = f.grad_interval(&b);
         let g2 = d.g[0].sqr() + d.g[1].sqr() + d.g[2].sqr();
-        if !(g2.inf() > 0.0) || d.v.is_empty() {
+        let grad_away_from_0 = g2.inf() > 0.0;
+        if !grad_away_from_0 || d.v.is_empty() {
             return None;
         }
         let fv = isup(d.v.abs());

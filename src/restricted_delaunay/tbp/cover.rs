@@ -182,19 +182,21 @@ fn icross(a: &[Interval; 3], b: &[Interval; 3]) -> [Interval; 3] {
     ]
 }
 
-fn excl(i: Interval) -> bool {
+pub(crate) fn excl(i: Interval) -> bool {
     !i.is_empty() && (i.inf() > 0.0 || i.sup() < 0.0)
 }
 
 /// The criterion of tests (3) and the fast path of (4): accept a box where f has no
 /// zero, or where f is proven C^∞ and ∇f·d ≠ 0 (no point of S in the box has a normal
 /// perpendicular to d). `d` is an interval vector (enclosing an exact direction).
-pub fn no_tangency(f: &dyn Implicit, x: &IBox, d: &[Interval; 3]) -> Verdict {
+/// `smooth`: f is already proven C^∞ on a box containing `x` (regularity is
+/// inclusion-monotone), so it is not asked again.
+pub fn no_tangency(f: &dyn Implicit, x: &IBox, d: &[Interval; 3], smooth: bool) -> Verdict {
     let (fv, g) = enclose(f, x);
     if excl(fv) {
         return Verdict::Accept;
     }
-    if excl(idot(&g, d)) && f.regularity(x) == Regularity::Smooth {
+    if excl(idot(&g, d)) && (smooth || f.regularity(x) == Regularity::Smooth) {
         return Verdict::Accept;
     }
     Verdict::Split
@@ -210,11 +212,12 @@ pub fn no_silhouette(
     place: Place,
     d: &[Interval; 3],
     d2: &[Interval; 3],
+    smooth: bool,
 ) -> Verdict {
-    if no_tangency(f, x, d) == Verdict::Accept {
+    if no_tangency(f, x, d, smooth) == Verdict::Accept {
         return Verdict::Accept;
     }
-    if place != Place::Inside || f.regularity(x) != Regularity::Smooth {
+    if place != Place::Inside || !(smooth || f.regularity(x) == Regularity::Smooth) {
         return Verdict::Split;
     }
     let h = f.hessian_interval(x);
@@ -270,13 +273,13 @@ mod tests {
         // The cap z > 0.5 has normals with positive z: no tangency to d = z.
         let cap = b([-0.9, -0.9, 0.5], [0.9, 0.9, 1.2]);
         let c = cover(cap, &r, CoverBudget::default(), |x, _| {
-            no_tangency(&f, x, &up)
+            no_tangency(&f, x, &up, false)
         });
         assert!(c.ok, "{c:?}");
         // The equator z = 0 is where the normal is perpendicular to z: never accepted.
         let belt = b([-1.2, -1.2, -0.2], [1.2, 1.2, 0.2]);
         let c = cover(belt, &r, CoverBudget::default(), |x, _| {
-            no_tangency(&f, x, &up)
+            no_tangency(&f, x, &up, false)
         });
         assert!(!c.ok);
         let fb = c.failed.unwrap();

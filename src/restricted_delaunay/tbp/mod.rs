@@ -47,7 +47,7 @@ pub mod cover;
 
 use super::restricted::{self, Ends3, Scan};
 use crate::implicit::critical::{boundary_clear, Bx};
-use crate::implicit::ops::SegmentBudget;
+use crate::implicit::ops::{enclose, SegmentBudget};
 use crate::implicit::{IBox, Implicit};
 use crate::kernel::delaunay::{CellId, Delaunay, VertexId};
 use crate::kernel::geom::{cross, dist, dot, Aabb};
@@ -135,6 +135,9 @@ pub struct TbpReport {
     pub boxes: u64,
     /// Tests not run because an earlier one failed (`stop_early`).
     pub skipped: Vec<Test>,
+    /// Seconds: set-up (boundary, exact Delaunay check), (1) edges, (2) manifold,
+    /// (3) facets, (4) cells.
+    pub seconds: [f64; 5],
 }
 
 /// The checks' result: the report, the certified restricted triangulation (every
@@ -311,6 +314,13 @@ fn check_facet(
             boxes: 0,
         };
     };
+    // Most facets are far from S: one enclosure over the start box settles them.
+    if cover::excl(enclose(f, &start).0) {
+        return FaceResult {
+            failure: None,
+            boxes: 1,
+        };
+    }
     let hs: Vec<HalfSpace> = other_sites(t, ring, &[p, q])
         .into_iter()
         .map(|r| HalfSpace::closer(pp, t.point(r)))
@@ -336,12 +346,15 @@ fn check_facet(
         e[k] = 1.0;
         cands.push(cross(n, e));
     }
+    let smooth = f.regularity(&start) == crate::implicit::Regularity::Smooth;
     let mut boxes = 0u64;
     let mut last = None;
     for w in cands.into_iter().filter_map(unit).take(o.directions.max(1)) {
         // d = w × (q − p) is exactly in the bisector plane; enclose it.
         let d = icross(&w.map(pt), &ni);
-        let c = cover(start, &region, o.cover, |x, _| no_tangency(f, x, &d));
+        let c = cover(start, &region, o.cover, |x, _| {
+            no_tangency(f, x, &d, smooth)
+        });
         boxes += c.boxes as u64;
         if c.ok {
             return FaceResult {
@@ -392,6 +405,12 @@ fn check_cell(
             boxes: 0,
         };
     };
+    if cover::excl(enclose(f, &start).0) {
+        return FaceResult {
+            failure: None,
+            boxes: 1,
+        };
+    }
     let hs: Vec<HalfSpace> = other_sites(t, cells, &[p])
         .into_iter()
         .map(|r| HalfSpace::closer(pp, t.point(r)))
@@ -402,13 +421,14 @@ fn check_cell(
     };
     let mut cands = vec![f.grad(pp).g, f.grad(mid(&start)).g];
     cands.extend([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+    let smooth = f.regularity(&start) == crate::implicit::Regularity::Smooth;
     let mut boxes = 0u64;
     let mut last = None;
     for d in cands.into_iter().filter_map(unit).take(o.directions.max(1)) {
         let d2 = transverse(d).map(pt);
         let di = d.map(pt);
         let c = cover(start, &region, o.cover, |x, place| {
-            no_silhouette(f, x, place, &di, &d2)
+            no_silhouette(f, x, place, &di, &d2, smooth)
         });
         boxes += c.boxes as u64;
         if c.ok {
@@ -466,6 +486,16 @@ pub fn check_cached(
             "0 in the enclosure of f on the domain boundary: S may leave the domain",
         );
     }
+    let clock = std::time::Instant::now();
+    let mut lap = {
+        let mut last = clock;
+        move || {
+            let now = std::time::Instant::now();
+            let d = (now - last).as_secs_f64();
+            last = now;
+            d
+        }
+    };
     r.delaunay_valid = t.check().valid;
     if !r.delaunay_valid {
         setup(
@@ -473,6 +503,7 @@ pub fn check_cached(
             "the Delaunay triangulation failed its exact check",
         );
     }
+    r.seconds[0] = lap();
     // (0)+(1): every dual segment.
     let rdt = restricted::scan(t, f, domain, &[], Ends3::Certified, o.segment);
     r.far_lemma = rdt.far_lemma;
@@ -517,6 +548,7 @@ pub fn check_cached(
         }
     }
     let stop = |failures: &Vec<Failure>| o.stop_early && !failures.is_empty();
+    r.seconds[1] = lap();
     let adj = adjacency(t);
     r.voronoi_facets = adj.edges.len();
     r.voronoi_cells = (crate::kernel::delaunay::FAR..t.points().len() as u32)
@@ -569,6 +601,7 @@ pub fn check_cached(
             });
         }
     }
+    r.seconds[2] = lap();
     if stop(&failures) {
         r.skipped = vec![Test::Facet, Test::Cell];
         return finish(r, rdt, failures);
@@ -611,6 +644,7 @@ pub fn check_cached(
             }
         }
     }
+    r.seconds[3] = lap();
     if stop(&failures) {
         r.skipped = vec![Test::Cell];
         return finish(r, rdt, failures);
@@ -635,6 +669,7 @@ pub fn check_cached(
             }
         }
     }
+    r.seconds[4] = lap();
     finish(r, rdt, failures)
 }
 
