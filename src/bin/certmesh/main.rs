@@ -165,7 +165,10 @@ enum Cmd {
     #[command(verbatim_doc_comment)]
     Delaunay(delaunay_cmd::DelaunayArgs),
     /// The main job on built-in defaults: mesh catalog entries with every algorithm,
-    /// print the comparison, write the meshes and angle histograms to the output folder.
+    /// print the comparison, write the meshes, angle histograms, one rendering per
+    /// surface and method (renders/, coloured by that run's certificate) and index.html
+    /// (each surface's rows of the table beside its pictures; no JavaScript) to the
+    /// output folder.
     ///
     /// Example: certmesh demo --quick
     #[command(verbatim_doc_comment)]
