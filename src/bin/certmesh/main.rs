@@ -215,7 +215,7 @@ enum Cmd {
     ///
     /// `certmesh figures --quick --out DIR` makes the reduced set in about a minute.
     ///
-    /// Example: certmesh figures --check --out out
+    /// Example: certmesh figures --check --out out/demo/renders
     #[command(verbatim_doc_comment)]
     Figures(figures_cmd::FiguresArgs),
     /// Render a mesh to a picture (PNG at 300 dpi, SVG or PDF), headless.
@@ -230,9 +230,9 @@ enum Cmd {
     /// it needs the certificate, so it meshes and renders in one step (--surface with
     /// --algo).
     ///
-    /// Example: certmesh render --surface sphere --algo mc --resolution 12 -o out/render-sphere.png --wire
-    /// Example: certmesh render --surface torus --algo stuffing --resolution 8 --cut y=0 --color none -o out/render-stuffing.svg
-    /// Example: certmesh render --surface double-cone --algo pv --max-depth 5 --color certificate -o out/render-cert.pdf --format svg
+    /// Example: certmesh render --surface sphere --algo mc --resolution 12 -o out/s.png --wire
+    /// Example: certmesh render --surface torus --algo stuffing --cut y=0 -o out/demo/renders/t.svg
+    /// Example: certmesh render --surface double-cone --algo pv --max-depth 4 --color certificate -o c.pdf
     #[command(verbatim_doc_comment)]
     Render(render_cmd::RenderArgs),
 }
