@@ -70,6 +70,7 @@ fn the_demo_page_renders_in_a_headless_browser() {
     // The renderings loaded: the certificate colours appear (green or vermillion).
     let coloured = px
         .iter()
+        .map(|p| [p[0] as i32, p[1] as i32, p[2] as i32])
         .filter(|p| (p[1] > p[0] + 40 && p[1] > p[2]) || (p[0] > 180 && p[1] < 120 && p[2] < 60))
         .count();
     assert!(

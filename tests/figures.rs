@@ -143,3 +143,35 @@ fn the_checker_rejects_what_the_style_forbids() {
     assert!(!all.contains("`x (m)` is not drawn"), "{all}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn subdivision_pictures_have_axes_and_a_legend_of_the_certifying_criteria() {
+    use certmesh::mesher::{Mesh, NoProgress};
+    use certmesh::subdivision::leaf_boxes;
+    use certmesh::subdivision::plantinga_vegter::{run_pv, PvParams};
+    let e = certmesh::catalog::get("cassini-2").unwrap();
+    let f = e.function();
+    let (tree, out) = run_pv(&f, &e.domain, &PvParams::new(2), 2, &NoProgress).unwrap();
+    let Mesh::Curve(c) = &out.mesh else {
+        panic!("a curve")
+    };
+    let d = tmp("subdivision");
+    let base = d.join("pv");
+    certmesh::reproduce::plot_subdivision::draw_subdivision_svg(
+        &base,
+        &f,
+        &e.domain,
+        &leaf_boxes(&tree),
+        c,
+    )
+    .unwrap();
+    let r = passes(&d.join("pv.svg"));
+    let legend = r.meta.unwrap().legend;
+    // One entry per criterion that certified a leaf, plus the two curves.
+    assert!(
+        legend.iter().any(|l| l == "small normal variation"),
+        "{legend:?}"
+    );
+    assert!(legend.iter().any(|l| l == "output"), "{legend:?}");
+    let _ = std::fs::remove_dir_all(&d);
+}

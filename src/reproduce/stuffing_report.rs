@@ -53,7 +53,7 @@ pub fn histogram_svg(
         base,
         title,
         "dihedral angle (degrees)",
-        "dihedral angles per 2° bin",
+        "angles per 2° bin",
         &bars,
         &markers,
         if emphasis { 20.0 } else { 1.0 },

@@ -196,8 +196,26 @@ fn render(f: &Fig, stem: &Path) -> Result<(), String> {
             let (w, h) = top.dim_in_pixel();
             let side = w.min(h);
             let (sq, _) = top.split_horizontally(side);
+            // The title in two lines (row; bound and values), so it fits one column.
+            let (l1, l2) = f.title.split_once(": ").unwrap_or((&f.title, ""));
+            for (i, l) in [l1, l2].iter().enumerate() {
+                area.draw(&Text::new(
+                    l.to_string(),
+                    (
+                        (w / 2) as i32,
+                        (pt(4.0) + i as f64 * pt(SMALL_PT + 3.0)) as i32,
+                    ),
+                    font(SMALL_PT)
+                        .color(&BLACK)
+                        .pos(plotters::style::text_anchor::Pos::new(
+                            plotters::style::text_anchor::HPos::Center,
+                            plotters::style::text_anchor::VPos::Top,
+                        )),
+                ))
+                .map_err(|x| pe(x.to_string()))?;
+            }
+            let (_, sq) = sq.split_vertically(pt(2.0 * SMALL_PT + 8.0) as u32);
             let mut ch = ChartBuilder::on(&sq)
-                .caption(&f.title, font(SMALL_PT))
                 .margin(pt(6.0) as u32)
                 .build_cartesian_2d(f.range.0.clone(), f.range.1.clone())
                 .map_err(|x| pe(x.to_string()))?;

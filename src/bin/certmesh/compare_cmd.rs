@@ -215,7 +215,7 @@ pub(crate) fn demo_cmd(out: &Path, quick: bool, json: bool, quiet: bool) -> CliR
             .count();
         let cert = rep.rows.iter().filter(|r| r.certified).count();
         out!(
-            "\n{} runs: {} with the wrong topology, {} certified. Meshes, compare.md/json and angle histograms in {}",
+            "\n{} runs: {} with the wrong topology, {} certified. Meshes, renderings, compare.md/json, angle histograms and index.html (the table beside the pictures) in {}",
             rep.rows.len(),
             wrong,
             cert,

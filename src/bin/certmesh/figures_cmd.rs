@@ -40,8 +40,12 @@ pub(crate) struct FiguresArgs {
     pub quick: bool,
     /// Only check the SVG figures already in OUT (fonts, axes, legends) and write no
     /// file; exit 1 if any figure breaks the style.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "index_only")]
     pub check: bool,
+    /// Regenerate nothing: check the figures in OUT and rewrite OUT/FIGURES.md (after
+    /// `certmesh reproduce PAPER` or a `proofs` command redrew some of them).
+    #[arg(long)]
+    pub index_only: bool,
     #[arg(long)]
     pub json: bool,
 }
@@ -169,13 +173,13 @@ fn markdown(entries: &[Entry]) -> String {
 
 pub(crate) fn figures_cmd(a: FiguresArgs, quiet: bool) -> CliResult<()> {
     let formats = a.format.apply()?;
-    if a.check && !a.out.is_dir() {
+    if (a.check || a.index_only) && !a.out.is_dir() {
         return Err(CliError::from(Error::Param(format!(
             "--out: '{}' is not a folder of figures to check",
             a.out.display()
         ))));
     }
-    if !a.check {
+    if !a.check && !a.index_only {
         crate::input::check_out_dir(&a.out)?;
         let bar = Bar::new(quiet);
         let mut folders: Vec<PathBuf> = Vec::new();

@@ -188,7 +188,10 @@ enum Cmd {
     #[command(verbatim_doc_comment)]
     Certify(certify_cmd::CertifyArgs),
     /// The main job on built-in defaults: mesh catalog entries with every algorithm,
-    /// print the comparison, write the meshes and angle histograms to the output folder.
+    /// print the comparison, write the meshes, angle histograms, one rendering per
+    /// surface and method (renders/, coloured by that run's certificate) and index.html
+    /// (each surface's rows of the table beside its pictures; no JavaScript) to the
+    /// output folder.
     ///
     /// Example: certmesh demo --quick
     #[command(verbatim_doc_comment)]
@@ -235,7 +238,7 @@ enum Cmd {
     ///
     /// `certmesh figures --quick --out DIR` makes the reduced set in about a minute.
     ///
-    /// Example: certmesh figures --check --out out
+    /// Example: certmesh figures --check --out out/demo/renders
     #[command(verbatim_doc_comment)]
     Figures(figures_cmd::FiguresArgs),
     /// Render a mesh to a picture (PNG at 300 dpi, SVG or PDF), headless.
@@ -250,9 +253,9 @@ enum Cmd {
     /// it needs the certificate, so it meshes and renders in one step (--surface with
     /// --algo).
     ///
-    /// Example: certmesh render --surface sphere --algo mc --resolution 12 -o out/render-sphere.png --wire
-    /// Example: certmesh render --surface torus --algo stuffing --resolution 8 --cut y=0 --color none -o out/render-stuffing.svg
-    /// Example: certmesh render --surface double-cone --algo pv --max-depth 5 --color certificate -o out/render-cert.pdf --format svg
+    /// Example: certmesh render --surface sphere --algo mc --resolution 12 -o out/s.png --wire
+    /// Example: certmesh render --surface torus --algo stuffing --cut y=0 -o out/demo/renders/t.svg
+    /// Example: certmesh render --surface double-cone --algo pv --max-depth 4 --color certificate -o c.pdf
     #[command(verbatim_doc_comment)]
     Render(render_cmd::RenderArgs),
 }
