@@ -2,7 +2,8 @@
 benches/marching.rs (catalog `torus`, domain [-1, 1]^3, 257^3 vertices, float64).
 
     pip install scikit-image
-    python3 benches/skimage_mc.py
+    python3 benches/skimage_mc.py          # several runs, readable
+    python3 benches/skimage_mc.py --once   # one run, JSON (scripts/bench.py)
 
 Prints the best and median of several runs of `skimage.measure.marching_cubes(volume, 0.0)`
 (the volume is sampled once, outside the timing, like bench (a) of benches/marching.rs),
@@ -24,6 +25,20 @@ def sample():
     z, y, x = np.meshgrid(t, t, t, indexing="ij")
     s = x * x + y * y + z * z + R * R - r * r
     return s * s - 4 * R * R * (x * x + y * y)
+
+
+def once():
+    """One sampling and one marching cubes call, timed in-process, as JSON."""
+    import json
+
+    t0 = time.perf_counter()
+    vol = sample()
+    t1 = time.perf_counter()
+    verts, faces, _, _ = measure.marching_cubes(vol, 0.0, method="lewiner")
+    t2 = time.perf_counter()
+    print(json.dumps({"sample_s": t1 - t0, "mc_s": t2 - t1, "vertices": len(verts),
+                      "triangles": len(faces),
+                      "version": __import__("skimage").__version__}))
 
 
 def main():
@@ -49,4 +64,6 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    import sys
+
+    once() if "--once" in sys.argv else main()

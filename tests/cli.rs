@@ -1701,3 +1701,51 @@ fn delaunay_errors_are_clear() {
         assert_eq!(v["position"], pos, "{args:?}: {out}");
     }
 }
+
+/// `--metrics` (issue 20): `fast` (the default) and `full` give the same report;
+/// `none` keeps every key, leaves topology and Hausdorff empty and says why; other
+/// levels are refused.
+#[test]
+fn metrics_levels_keep_the_keys() {
+    let run = |level: Option<&str>| {
+        let mut args = vec![
+            "mesh",
+            "torus",
+            "--algo",
+            "mc",
+            "--resolution",
+            "24",
+            "--json",
+        ];
+        if let Some(l) = level {
+            args.extend(["--metrics", l]);
+        }
+        let (code, out, err) = certmesh(&args);
+        assert_eq!(code, 0, "{err}");
+        let mut v: serde_json::Value = serde_json::from_str(&out).expect("json");
+        let o = v.as_object_mut().unwrap();
+        o.remove("seconds");
+        v
+    };
+    let (default, fast, full, none) = (
+        run(None),
+        run(Some("fast")),
+        run(Some("full")),
+        run(Some("none")),
+    );
+    assert_eq!(default, fast);
+    assert_eq!(fast, full);
+    assert!(fast["hausdorff"].as_f64().unwrap() > 0.0);
+    assert_eq!(fast["topology_ok"], serde_json::json!(true));
+    let keys = |v: &serde_json::Value| v.as_object().unwrap().keys().cloned().collect::<Vec<_>>();
+    assert_eq!(keys(&none), keys(&fast));
+    assert!(none["hausdorff"].is_null() && none["topology_ok"].is_null());
+    assert_eq!(
+        none["hausdorff_note"],
+        serde_json::json!("not computed (--metrics none)")
+    );
+    assert_eq!(none["faces"], fast["faces"]);
+    let (code, _, err) = certmesh(&["mesh", "torus", "--algo", "mc", "--metrics", "most"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("most"), "{err}");
+}

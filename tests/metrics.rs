@@ -700,3 +700,41 @@ fn shared_data_meshes_are_reported() {
         }
     }
 }
+
+/// `hausdorff_only` (the report's `--metrics fast`) gives exactly the Hausdorff fields
+/// of the full measure and leaves the skipped ones undefined, saying why.
+#[test]
+fn hausdorff_only_fidelity_keeps_the_hausdorff_fields() {
+    let f = Formula::surface("(x^2 + y^2 + z^2 + 1 - 0.09)^2 - 4*(x^2 + y^2)").unwrap();
+    let params = FidelityParams::default()
+        .mesh_samples(5_000)
+        .seed_grid(24)
+        .domain(Aabb::cube(1.5));
+    let m = torus(24, 12);
+    let full = fidelity::surface_fidelity(&m, &f, &params).unwrap();
+    let fast = fidelity::surface_fidelity(&m, &f, &params.clone().hausdorff_only(true)).unwrap();
+    for (a, b) in [
+        (full.hausdorff, fast.hausdorff),
+        (
+            full.hausdorff_mesh_to_surface,
+            fast.hausdorff_mesh_to_surface,
+        ),
+        (
+            full.hausdorff_surface_to_mesh,
+            fast.hausdorff_surface_to_mesh,
+        ),
+        (full.mean_mesh_to_surface, fast.mean_mesh_to_surface),
+        (full.mean_surface_to_mesh, fast.mean_surface_to_mesh),
+    ] {
+        assert_eq!(a.to_bits(), b.to_bits());
+    }
+    assert_eq!(full.fidelity_mesh_samples, fast.fidelity_mesh_samples);
+    assert!(full.normal_dev_max_deg.is_finite() && full.max_distance_estimate.is_finite());
+    assert!(fast.normal_dev_max_deg.is_nan() && fast.max_distance_estimate.is_nan());
+    for k in ["normal_dev_max_deg", "max_distance_estimate"] {
+        assert_eq!(
+            fast.fidelity_undefined.get(k).map(String::as_str),
+            Some(fidelity::NOT_COMPUTED)
+        );
+    }
+}

@@ -108,13 +108,57 @@ pub fn fidelity_params(domain: &Aabb, dim: usize) -> FidelityParams {
         .domain(*domain)
 }
 
-/// Judge one run against f and the expected topology.
+/// How much of the report to compute (`certmesh mesh --metrics`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Metrics {
+    /// Only what the run itself gives (sizes, time, certificate): no topology, angles
+    /// or Hausdorff estimate (their fields are empty and say why).
+    None,
+    /// Every field of the row, skipping the fidelity measures the row does not report
+    /// (the per-vertex distance estimate, the normal deviation): the same row as
+    /// `Full`, for a fraction of the work.
+    #[default]
+    Fast,
+    /// Every measure, as `certmesh compare` computes them.
+    Full,
+}
+
+impl Metrics {
+    /// Parse `none`, `fast` or `full`.
+    pub fn parse(s: &str) -> Result<Metrics> {
+        match s {
+            "none" => Ok(Metrics::None),
+            "fast" => Ok(Metrics::Fast),
+            "full" => Ok(Metrics::Full),
+            _ => Err(crate::error::Error::Param(format!(
+                "--metrics {s}: expected none, fast or full"
+            ))),
+        }
+    }
+}
+
+/// Why the topology and Hausdorff fields are empty under [`Metrics::None`].
+pub const METRICS_NONE: &str = "not computed (--metrics none)";
+
+/// Judge one run against f and the expected topology (every measure).
 pub fn evaluate(
     surface: &str,
     f: &dyn Implicit,
     domain: &Aabb,
     expected: Option<&Topology>,
     run: &Run,
+) -> Result<Row> {
+    evaluate_with(surface, f, domain, expected, run, Metrics::Full)
+}
+
+/// [`evaluate`] computing the measures `level` asks for.
+pub fn evaluate_with(
+    surface: &str,
+    f: &dyn Implicit,
+    domain: &Aabb,
+    expected: Option<&Topology>,
+    run: &Run,
+    level: Metrics,
 ) -> Result<Row> {
     let dim = f.dim();
     let mut row = Row::failed(surface, &run.algo, dim, String::new());
@@ -123,7 +167,25 @@ pub fn evaluate(
     row.evaluations = run.evaluations.total();
     row.certified = run.output.certificate.is_certified();
     row.certificate = run.output.certificate.clone();
-    let params = fidelity_params(domain, dim);
+    let params = fidelity_params(domain, dim).hausdorff_only(level == Metrics::Fast);
+    if level == Metrics::None {
+        // Sizes straight from the mesh (vertices as stored, not only the used ones).
+        let (v, fc) = match &run.output.mesh {
+            Mesh::Curve(c) => (c.vertices.len(), c.segments.len()),
+            m => {
+                let surf = m.surface().expect("surface or volume");
+                (surf.vertices.len(), surf.triangles.len())
+            }
+        };
+        (row.vertices, row.faces) = (v, fc);
+        if let Mesh::Volume { tets, .. } = &run.output.mesh {
+            row.tetrahedra = Some(tets.tets.len());
+        }
+        row.found = METRICS_NONE.into();
+        row.topology_reason = METRICS_NONE.into();
+        row.hausdorff_note = Some(METRICS_NONE.into());
+        return Ok(row);
+    }
     match &run.output.mesh {
         Mesh::Curve(c) => {
             let s = metrics::curve_stats(c, Some(f), &params)?;
@@ -142,7 +204,7 @@ pub fn evaluate(
         }
         m => {
             let surf = m.surface().expect("surface or volume");
-            let s = metrics::stats_with(surf, Some(f), &params)?;
+            let (s, report) = metrics::stats_and_topology(surf, Some(f), &params)?;
             row.components = s.components;
             row.genus = s.genus.clone();
             row.closed = s.closed;
@@ -155,7 +217,6 @@ pub fn evaluate(
             if let Mesh::Volume { tets, .. } = m {
                 row.tetrahedra = Some(tets.tets.len());
             }
-            let report = metrics::analyze(surf)?;
             row.mesh_chi = Some(report.euler_characteristic);
             if let Some(t) = expected {
                 set_verdict(&mut row, metrics::verdict(&report, t));

@@ -9,6 +9,7 @@
 //! are part of the interface (tests/cli.rs reads them): add fields, never rename.
 use crate::catalog::Topology;
 use crate::error::Result;
+pub use crate::harness::compare::Metrics;
 use crate::harness::compare::{self, Row};
 use crate::implicit::{EvalCounts, Implicit};
 use crate::kernel::geom::Aabb;
@@ -104,8 +105,9 @@ pub fn mesh_report(
     domain_source: DomainSource,
     expected: Option<&Topology>,
     run: &Run,
+    metrics: compare::Metrics,
 ) -> Result<MeshReport> {
-    let row = compare::evaluate(surface, f, domain, expected, run)?;
+    let row = compare::evaluate_with(surface, f, domain, expected, run, metrics)?;
     let c = &run.output.certificate;
     Ok(MeshReport {
         row,

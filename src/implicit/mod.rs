@@ -233,12 +233,21 @@ impl Implicit for Formula {
     }
     fn grad(&self, p: [f64; 3]) -> Dual<f64> {
         let v = [0, 1, 2].map(|k| Dual::var(p[k], k));
+        if self.tape.len() <= STACK_REGS {
+            let mut regs = [MaybeUninit::<Dual<f64>>::uninit(); STACK_REGS];
+            return self.tape.eval_in(&v, &mut regs);
+        }
         S_DF.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
     }
     fn grad_interval(&self, b: &IBox) -> Dual<Interval> {
         // Derivatives over the fast kernel `Iv` (same bounds as inari, see `directed`).
         let v = [0, 1, 2].map(|k| Dual::var(Iv::from_interval(b[k]), k));
-        let d = S_DI.with(|s| self.tape.eval(&v, &mut s.borrow_mut()));
+        let d = if self.tape.len() <= STACK_REGS {
+            let mut regs = [MaybeUninit::<Dual<Iv>>::uninit(); STACK_REGS];
+            self.tape.eval_in(&v, &mut regs)
+        } else {
+            S_DI.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
+        };
         Dual {
             v: d.v.to_interval(),
             g: d.g.map(Iv::to_interval),
@@ -246,11 +255,20 @@ impl Implicit for Formula {
     }
     fn hessian(&self, p: [f64; 3]) -> Hyper<f64> {
         let v = [0, 1, 2].map(|k| Hyper::var(p[k], k));
+        if self.tape.len() <= STACK_REGS {
+            let mut regs = [MaybeUninit::<Hyper<f64>>::uninit(); STACK_REGS];
+            return self.tape.eval_in(&v, &mut regs);
+        }
         S_HF.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
     }
     fn hessian_interval(&self, b: &IBox) -> Hyper<Interval> {
         let v = [0, 1, 2].map(|k| Hyper::var(Iv::from_interval(b[k]), k));
-        let h = S_HI.with(|s| self.tape.eval(&v, &mut s.borrow_mut()));
+        let h = if self.tape.len() <= STACK_REGS {
+            let mut regs = [MaybeUninit::<Hyper<Iv>>::uninit(); STACK_REGS];
+            self.tape.eval_in(&v, &mut regs)
+        } else {
+            S_HI.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
+        };
         Hyper {
             v: h.v.to_interval(),
             g: h.g.map(Iv::to_interval),

@@ -209,6 +209,24 @@ impl Tape {
         regs.pop().expect("a compiled tape is never empty")
     }
 
+    /// [`Tape::eval`] with registers in `regs` (at least [`Tape::len`] slots, e.g. on
+    /// the stack): no allocation, no thread-local lookup. The same values as
+    /// [`Tape::eval`] (both run [`apply`]).
+    #[inline]
+    pub fn eval_in<T: Num + Copy>(&self, vars: &[T; 3], regs: &mut [MaybeUninit<T>]) -> T {
+        let n = self.ops.len();
+        assert!(regs.len() >= n && n > 0, "register buffer too small");
+        for (i, &op) in self.ops.iter().enumerate() {
+            // SAFETY: SSA (see `Tape`): every operand j < i was written at instruction j.
+            let v = apply(op, &self.consts, vars, |j| unsafe {
+                regs.get_unchecked(j as usize).assume_init()
+            });
+            regs[i] = MaybeUninit::new(v);
+        }
+        // SAFETY: slot n - 1 was written by the last instruction.
+        unsafe { regs[n - 1].assume_init() }
+    }
+
     /// Specialised f64 evaluation: the hot path of every lattice method. `regs` is
     /// grown as needed (reuse it across calls to avoid allocation).
     #[inline]

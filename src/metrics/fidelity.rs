@@ -36,7 +36,15 @@ pub struct FidelityParams {
     /// Where to look for the surface. Give the catalog entry's domain to catch
     /// components the mesh misses entirely.
     pub domain: Option<Aabb>,
+    /// Compute only the Hausdorff fields (both directions): the first-order distance
+    /// estimate and the normal deviation, which need a gradient (and a Newton
+    /// projection) per vertex and per element, are left undefined with the reason
+    /// [`NOT_COMPUTED`]. The Hausdorff values are the same as without it.
+    pub hausdorff_only: bool,
 }
+
+/// Why a field is undefined when [`FidelityParams::hausdorff_only`] skipped it.
+pub const NOT_COMPUTED: &str = "not computed (Hausdorff fields only: --metrics fast)";
 
 impl Default for FidelityParams {
     fn default() -> Self {
@@ -45,6 +53,7 @@ impl Default for FidelityParams {
             seed_grid: 0,
             newton_steps: 16,
             domain: None,
+            hausdorff_only: false,
         }
     }
 }
@@ -65,6 +74,10 @@ impl FidelityParams {
     }
     pub fn domain(mut self, d: Aabb) -> Self {
         self.domain = Some(d);
+        self
+    }
+    pub fn hausdorff_only(mut self, yes: bool) -> Self {
+        self.hausdorff_only = yes;
         self
     }
 }
@@ -421,8 +434,21 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
     let steps = params.newton_steps;
 
     let mut undefined = BTreeMap::new();
-    let est: Vec<f64> = verts.par_iter().map(|&p| distance_estimate(f, p)).collect();
-    let (max_est, mean_est) = distance_estimates(&est, &mut undefined);
+    let skip = |undefined: &mut BTreeMap<String, String>, fields: &[&str]| {
+        for k in fields {
+            undefined.insert(k.to_string(), NOT_COMPUTED.to_string());
+        }
+        (f64::NAN, f64::NAN)
+    };
+    let (max_est, mean_est) = if params.hausdorff_only {
+        skip(
+            &mut undefined,
+            &["max_distance_estimate", "mean_distance_estimate"],
+        )
+    } else {
+        let est: Vec<f64> = verts.par_iter().map(|&p| distance_estimate(f, p)).collect();
+        distance_estimates(&est, &mut undefined)
+    };
 
     // Measure-proportional deterministic samples: stratified along the cumulative
     // measure.
@@ -461,50 +487,59 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
     let s2m: Vec<f64> = spts.par_iter().filter_map(|&p| (el.closest)(p)).collect();
     let (h_sm, mean_sm) = surface_to_mesh(&s2m, candidates, spts.len(), &mut undefined);
 
-    // Normal deviation at the projections of the elements' centres (at the centre
-    // itself where Newton fails; if it fails everywhere, the deviation is undefined).
-    let projected = std::sync::atomic::AtomicUsize::new(0);
-    let dev: Vec<f64> = (0..el.weights.len())
-        .into_par_iter()
-        .filter_map(|e| {
-            let (n, cen) = (el.normal)(e)?;
-            if !(geom::norm(n) > 0.0) {
-                return None;
-            }
-            let q = match project_sample(f, cen, steps, tol) {
-                Some(q) => {
-                    projected.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    q
-                }
-                None => cen,
-            };
-            let mut g = f.grad(q).g;
-            if el.planar {
-                g[2] = 0.0;
-            }
-            if !(geom::norm(g) > 0.0) {
-                return None;
-            }
-            Some(
-                geom::norm(geom::cross(n, g))
-                    .atan2(geom::dot(n, g))
-                    .to_degrees(),
-            )
-        })
-        .collect();
-    // A curve's segments carry no orientation: no flipped normals.
-    let flipped = if el.planar {
-        0
+    let (dmax, dmean, flipped) = if params.hausdorff_only {
+        let (a, b) = skip(
+            &mut undefined,
+            &["normal_dev_max_deg", "normal_dev_mean_deg"],
+        );
+        (a, b, 0)
     } else {
-        dev.iter().filter(|&&a| a > 90.0).count()
+        // Normal deviation at the projections of the elements' centres (at the centre
+        // itself where Newton fails; if it fails everywhere, the deviation is undefined).
+        let projected = std::sync::atomic::AtomicUsize::new(0);
+        let dev: Vec<f64> = (0..el.weights.len())
+            .into_par_iter()
+            .filter_map(|e| {
+                let (n, cen) = (el.normal)(e)?;
+                if !(geom::norm(n) > 0.0) {
+                    return None;
+                }
+                let q = match project_sample(f, cen, steps, tol) {
+                    Some(q) => {
+                        projected.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        q
+                    }
+                    None => cen,
+                };
+                let mut g = f.grad(q).g;
+                if el.planar {
+                    g[2] = 0.0;
+                }
+                if !(geom::norm(g) > 0.0) {
+                    return None;
+                }
+                Some(
+                    geom::norm(geom::cross(n, g))
+                        .atan2(geom::dot(n, g))
+                        .to_degrees(),
+                )
+            })
+            .collect();
+        // A curve's segments carry no orientation: no flipped normals.
+        let flipped = if el.planar {
+            0
+        } else {
+            dev.iter().filter(|&&a| a > 90.0).count()
+        };
+        let unsigned: Vec<f64> = dev.iter().map(|&a| a.min(180.0 - a)).collect();
+        let (dmax, dmean) = normal_deviation(
+            &unsigned,
+            el.weights.len(),
+            projected.into_inner(),
+            &mut undefined,
+        );
+        (dmax, dmean, flipped)
     };
-    let unsigned: Vec<f64> = dev.iter().map(|&a| a.min(180.0 - a)).collect();
-    let (dmax, dmean) = normal_deviation(
-        &unsigned,
-        el.weights.len(),
-        projected.into_inner(),
-        &mut undefined,
-    );
 
     Ok(Fidelity {
         max_distance_estimate: max_est,

@@ -129,13 +129,23 @@ pub fn stats_with(
     f: Option<&dyn Implicit>,
     params: &FidelityParams,
 ) -> Result<Stats> {
+    Ok(stats_and_topology(mesh, f, params)?.0)
+}
+
+/// [`stats_with`] and the [`TopologyReport`] it was computed from (for a verdict
+/// without analysing the mesh a second time).
+pub fn stats_and_topology(
+    mesh: &TriMesh,
+    f: Option<&dyn Implicit>,
+    params: &FidelityParams,
+) -> Result<(Stats, TopologyReport)> {
     let topo = analyze(mesh)?;
     let ang = angles::triangle_summary(mesh, ANGLE_BIN_DEG)?;
     let fidelity = match f {
         Some(f) => Some(fidelity::surface_fidelity(mesh, f, params)?),
         None => None,
     };
-    Ok(Stats {
+    let stats = Stats {
         vertices: topo.vertices,
         isolated_vertices: topo.isolated_vertices,
         faces: topo.faces,
@@ -152,7 +162,7 @@ pub fn stats_with(
         non_manifold_vertices: topo.non_manifold_vertices,
         degenerate_faces: topo.degenerate_faces,
         duplicate_faces: topo.duplicate_faces,
-        genus: topo.genus,
+        genus: topo.genus.clone(),
         min_angle_deg: ang.min_angle_deg,
         max_angle_deg: ang.max_angle_deg,
         mean_min_angle_deg: ang.mean_min_angle_deg,
@@ -160,7 +170,8 @@ pub fn stats_with(
         min_edge_ratio: ang.min_edge_ratio,
         max_edge_ratio: ang.max_edge_ratio,
         fidelity,
-    })
+    };
+    Ok((stats, topo))
 }
 
 /// Statistics of a tetrahedral mesh: conformity, its boundary's topology and angles,

@@ -51,6 +51,11 @@ pub(crate) struct MeshArgs {
     /// Print the report as JSON.
     #[arg(long)]
     pub(crate) json: bool,
+    /// How much of the report to compute: `none` (sizes, time and certificate only),
+    /// `fast` (every field of the report, skipping measures it does not print) or
+    /// `full` (every measure, as `certmesh compare`).
+    #[arg(long, default_value = "fast", value_parser = ["none", "fast", "full"])]
+    pub(crate) metrics: String,
 }
 
 #[derive(Args, Clone, Default)]

@@ -12,6 +12,7 @@ use std::io::Write;
 pub(crate) fn mesh_cmd(a: MeshArgs, dim: usize, quiet: bool) -> CliResult<()> {
     // Everything the user gave is checked before any work.
     let opts = a.opts.to_options()?;
+    let metrics = report::Metrics::parse(&a.metrics)?;
     let m = algorithms::build(&a.algo, dim, &opts)?;
     if let Some(out) = &a.output {
         check_mesh_output(out, dim)?;
@@ -65,6 +66,7 @@ pub(crate) fn mesh_cmd(a: MeshArgs, dim: usize, quiet: bool) -> CliResult<()> {
         t.domain_source,
         t.entry.as_ref().and_then(|e| e.topology.as_ref()),
         &run,
+        metrics,
     )?;
     bar.finish();
     report.notes = notes;

@@ -119,6 +119,7 @@ pub(crate) fn morse_cmd(a: MorseArgs, quiet: bool) -> CliResult<()> {
         boundary: None,
         certificate: None,
         json: a.json,
+        metrics: "fast".into(),
     };
     let t = target(&mesh_args, 3)?;
     let bar = Bar::new(quiet);
