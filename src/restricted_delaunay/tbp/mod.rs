@@ -279,6 +279,36 @@ struct FaceResult {
     boxes: u64,
 }
 
+/// Where the search over a Voronoi face (facet or cell) starts.
+enum Start {
+    /// The hull of its vertices' enclosures, clipped to the domain: search it.
+    Search(IBox),
+    /// Settled at once: the face misses the domain (0 boxes), or one enclosure over the
+    /// start box excludes S (1 box; most faces are far from S).
+    Settled(FaceResult),
+    /// A vertex of the face (a sliver's circumcentre) could not be enclosed.
+    Unenclosed,
+}
+
+fn start_box(f: &dyn Implicit, cc: &[Option<IBox>], cells: &[CellId], dbox: &IBox) -> Start {
+    let Some(vb) = vertex_boxes(cc, cells) else {
+        return Start::Unenclosed;
+    };
+    let Some(start) = clip(&hull(&vb), dbox) else {
+        return Start::Settled(FaceResult {
+            failure: None,
+            boxes: 0,
+        });
+    };
+    if cover::excl(enclose(f, &start).0) {
+        return Start::Settled(FaceResult {
+            failure: None,
+            boxes: 1,
+        });
+    }
+    Start::Search(start)
+}
+
 #[allow(clippy::too_many_arguments)]
 fn check_facet(
     t: &Delaunay,
@@ -301,26 +331,18 @@ fn check_facet(
         boxes,
     };
     let (pp, qp) = (t.point(p), t.point(q));
-    let Some(vb) = vertex_boxes(cc, ring) else {
-        return fail(
-            crate::kernel::geom::lerp(pp, qp, 0.5),
-            "a vertex of the Voronoi facet (a sliver's circumcentre) could not be enclosed".into(),
-            0,
-        );
+    let start = match start_box(f, cc, ring, dbox) {
+        Start::Search(b) => b,
+        Start::Settled(r) => return r,
+        Start::Unenclosed => {
+            return fail(
+                crate::kernel::geom::lerp(pp, qp, 0.5),
+                "a vertex of the Voronoi facet (a sliver's circumcentre) could not be enclosed"
+                    .into(),
+                0,
+            )
+        }
     };
-    let Some(start) = clip(&hull(&vb), dbox) else {
-        return FaceResult {
-            failure: None,
-            boxes: 0,
-        };
-    };
-    // Most facets are far from S: one enclosure over the start box settles them.
-    if cover::excl(enclose(f, &start).0) {
-        return FaceResult {
-            failure: None,
-            boxes: 1,
-        };
-    }
     let hs: Vec<HalfSpace> = other_sites(t, ring, &[p, q])
         .into_iter()
         .map(|r| HalfSpace::closer(pp, t.point(r)))
@@ -392,25 +414,18 @@ fn check_cell(
         }),
         boxes,
     };
-    let Some(vb) = vertex_boxes(cc, cells) else {
-        return fail(
-            pp,
-            "a vertex of the Voronoi cell (a sliver's circumcentre) could not be enclosed".into(),
-            0,
-        );
+    let start = match start_box(f, cc, cells, dbox) {
+        Start::Search(b) => b,
+        Start::Settled(r) => return r,
+        Start::Unenclosed => {
+            return fail(
+                pp,
+                "a vertex of the Voronoi cell (a sliver's circumcentre) could not be enclosed"
+                    .into(),
+                0,
+            )
+        }
     };
-    let Some(start) = clip(&hull(&vb), dbox) else {
-        return FaceResult {
-            failure: None,
-            boxes: 0,
-        };
-    };
-    if cover::excl(enclose(f, &start).0) {
-        return FaceResult {
-            failure: None,
-            boxes: 1,
-        };
-    }
     let hs: Vec<HalfSpace> = other_sites(t, cells, &[p])
         .into_iter()
         .map(|r| HalfSpace::closer(pp, t.point(r)))
