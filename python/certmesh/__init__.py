@@ -195,7 +195,7 @@ class MeshResult:
         )
 
 
-def _run(dim: int, surface, formula, domain, algo, report, progress, params) -> MeshResult:
+def _run(dim: int, surface, formula, domain, algo, report, metrics, progress, params) -> MeshResult:
     function = None
     if callable(surface):
         function, surface = surface, None
@@ -215,6 +215,7 @@ def _run(dim: int, surface, formula, domain, algo, report, progress, params) -> 
             domain=None if domain is None else [float(x) for x in domain],
             options=_json.dumps(params),
             report=report,
+            metrics=metrics,
             progress=cb,
         )
     finally:
@@ -230,6 +231,7 @@ def mesh(
     domain: Optional[Sequence[float]] = None,
     algo: str = "mc",
     report: bool = True,
+    metrics: str = "fast",
     progress: Any = "auto",
     **params: Any,
 ) -> MeshResult:
@@ -243,6 +245,9 @@ def mesh(
         ``stuffing``, ``bo``, ... (``certmesh.algorithms()``).
     report: compute the report (topology, angles, Hausdorff estimate); False returns
         the mesh, the certificate and the mesher's statistics only.
+    metrics: the report's measures, as the command line's ``--metrics``: ``"fast"``
+        (default; the same report as ``"full"`` for less work), ``"full"``, or
+        ``"none"`` (sizes, time and certificate only).
     **params: the mesher's options by name (``resolution=64``, ``max_depth=8``,
         ``facet_angle=30``, ...; ``certmesh._certmesh.option_names()``), and
         ``settings={key: value}`` for algorithm-specific settings.
@@ -251,7 +256,7 @@ def mesh(
     >>> r.kind, r.stats["genus"]
     ('surface', [1])
     """
-    return _run(3, surface, formula, domain, algo, report, progress, params)
+    return _run(3, surface, formula, domain, algo, report, metrics, progress, params)
 
 
 def curve(
@@ -261,6 +266,7 @@ def curve(
     domain: Optional[Sequence[float]] = None,
     algo: str = "pv",
     report: bool = True,
+    metrics: str = "fast",
     progress: Any = "auto",
     **params: Any,
 ) -> MeshResult:
@@ -271,7 +277,7 @@ def curve(
     >>> c.kind, c.points.shape[1], c.certified
     ('curve', 2, True)
     """
-    return _run(2, surface, formula, domain, algo, report, progress, params)
+    return _run(2, surface, formula, domain, algo, report, metrics, progress, params)
 
 
 def stats(points, faces, *, surface: Optional[str] = None, formula: Optional[str] = None):

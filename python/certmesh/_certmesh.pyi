@@ -20,6 +20,7 @@ def mesh(
     domain: Optional[Sequence[float]] = None,
     options: str = "{}",
     report: bool = True,
+    metrics: str = "fast",
     progress: Progress = None,
 ) -> Dict[str, Any]: ...
 def write_mesh(

@@ -138,7 +138,7 @@ fn resolve(
 /// and `report` (the JSON of `certmesh mesh --json`, or of the run alone when
 /// `report=False`).
 #[pyfunction]
-#[pyo3(signature = (dim, algo, surface=None, formula=None, function=None, domain=None, options="{}", report=true, progress=None))]
+#[pyo3(signature = (dim, algo, surface=None, formula=None, function=None, domain=None, options="{}", report=true, metrics="fast", progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn mesh<'py>(
     py: Python<'py>,
@@ -150,9 +150,11 @@ fn mesh<'py>(
     domain: Option<Vec<f64>>,
     options: &str,
     report: bool,
+    metrics: &str,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts = options::parse(options)?;
+    let metrics = compare::Metrics::parse(metrics).map_err(err)?;
     let m = registry::build(algo, dim, &opts).map_err(err)?;
     let t = resolve(surface, formula, function, domain, dim)?;
     let (run, doc) = run::interruptible(py, progress.as_ref(), |c| {
@@ -169,6 +171,7 @@ fn mesh<'py>(
                 t.domain_source,
                 t.entry.as_ref().and_then(|e| e.topology.as_ref()),
                 &run,
+                metrics,
             )
             .map_err(|e| e.to_string())?;
             json(&r)

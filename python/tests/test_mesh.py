@@ -164,6 +164,10 @@ def test_without_report_the_run_is_the_same_mesh():
     b = certmesh.mesh("sphere", algo="pv", report=False, progress=False)
     np.testing.assert_array_equal(a.points, b.points)
     assert a.certificate == b.certificate and b.evaluations > 0 and b.seconds >= 0
+    c = certmesh.mesh("sphere", algo="pv", metrics="none", progress=False)
+    assert c.certificate == a.certificate and c.report["vertices"] == a.report["vertices"]
+    with pytest.raises(CertmeshError, match="metrics|none"):
+        certmesh.mesh("sphere", algo="pv", metrics="everything")
 
 
 def test_progress_callback_sees_phases():
