@@ -132,11 +132,18 @@ pub fn interruptible<T: Send>(
     py.detach(|| {
         std::thread::scope(|s| {
             let c = &control;
-            let h = s.spawn(move || catch_unwind(AssertUnwindSafe(|| work(c))));
+            let (done_tx, done_rx) = std::sync::mpsc::channel::<()>();
+            let h = s.spawn(move || {
+                let r = catch_unwind(AssertUnwindSafe(|| work(c)));
+                let _ = done_tx.send(());
+                r
+            });
             let mut interrupt: Option<PyErr> = None;
             let mut last = (String::new(), u64::MAX);
-            while !h.is_finished() {
-                std::thread::sleep(Duration::from_millis(50));
+            // Wake at once when the work ends, else every 50 ms for Ctrl-C and progress.
+            while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+                done_rx.recv_timeout(Duration::from_millis(50))
+            {
                 if interrupt.is_some() {
                     continue;
                 }
