@@ -19,5 +19,15 @@ if [ -z "${CERTMESH_BIN:-}" ]; then
   (cd "$repo" && cargo build -q --bin certmesh)
   export CERTMESH_BIN="$CARGO_TARGET_DIR/debug/certmesh"
 fi
+# pytest runs in python/, where `import certmesh` finds the source package first: give
+# it the extension module the install just built (the same file as in site-packages).
+so="$("$venv/bin/python" -c '
+import glob, os, site
+for d in site.getsitepackages():
+    for f in glob.glob(os.path.join(d, "certmesh", "_certmesh*.so")):
+        print(f)
+' | head -n 1)"
+[ -n "$so" ] || { echo "run-tests.sh: the installed extension module was not found" >&2; exit 1; }
+cp "$so" "$here/certmesh/"
 cd "$here"
 "$venv/bin/python" -m pytest -q "$@"
