@@ -279,6 +279,26 @@ struct FaceResult {
     boxes: u64,
 }
 
+/// Fold the checked faces into the failures and the set of proven faces; returns the
+/// boxes they used.
+fn record<K: Eq + std::hash::Hash>(
+    results: Vec<(K, FaceResult)>,
+    failures: &mut Vec<Failure>,
+    proven: &mut std::collections::HashSet<K>,
+) -> u64 {
+    let mut boxes = 0;
+    for (k, x) in results {
+        boxes += x.boxes;
+        match x.failure {
+            Some(x) => failures.push(x),
+            None => {
+                proven.insert(k);
+            }
+        }
+    }
+    boxes
+}
+
 /// Where the search over a Voronoi face (facet or cell) starts.
 enum Start {
     /// The hull of its vertices' enclosures, clipped to the domain: search it.
@@ -650,15 +670,7 @@ pub fn check_cached(
                 .then(|| (k, check_facet(t, f, &dbox, &cc, *e, ring, xs, o)))
         })
         .collect();
-    for (k, x) in facets {
-        r.boxes += x.boxes;
-        match x.failure {
-            Some(x) => failures.push(x),
-            None => {
-                cache.proven.insert(k);
-            }
-        }
-    }
+    r.boxes += record(facets, &mut failures, &mut cache.proven);
     r.seconds[3] = lap();
     if stop(&failures) {
         r.skipped = vec![Test::Cell];
@@ -675,15 +687,7 @@ pub fn check_cached(
             (!cache.proven.contains(&k)).then(|| (k, check_cell(t, f, &dbox, &cc, p, star, o)))
         })
         .collect();
-    for (k, x) in cells {
-        r.boxes += x.boxes;
-        match x.failure {
-            Some(x) => failures.push(x),
-            None => {
-                cache.proven.insert(k);
-            }
-        }
-    }
+    r.boxes += record(cells, &mut failures, &mut cache.proven);
     r.seconds[4] = lap();
     finish(r, rdt, failures)
 }
