@@ -141,6 +141,15 @@ enum Cmd {
         /// With `--graded`: number of sample octrees of the sampled-contexts model.
         #[arg(long, default_value_t = proofs::stuffing::graded::DEFAULT_TREES)]
         trees: usize,
+        /// With `--graded`: the all-contexts model enumerates the non-BCC tetrahedra of
+        /// octree levels 0..=K at their real coordinates (K = this) and covers the
+        /// coarser levels by the free model with the warps shrunk by 2^-K.
+        #[arg(long, default_value_t = proofs::stuffing::graded::DEFAULT_LEVELS)]
+        levels: u32,
+        /// With `--graded`: which configuration spaces to search: `free`,
+        /// `sampled-contexts`, `all-contexts` (comma-separated), or `every` (all three).
+        #[arg(long, default_value = "every")]
+        model: String,
         #[command(flatten)]
         budget: BudgetArgs,
     },
@@ -264,6 +273,8 @@ fn run(cli: Cli) -> Result<(), Fail> {
             tol_deg,
             graded: true,
             trees,
+            levels,
+            model,
             budget,
             ..
         } => {
@@ -278,6 +289,8 @@ fn run(cli: Cli) -> Result<(), Fail> {
                 &out,
                 tol_deg,
                 trees,
+                levels,
+                &model,
                 budget.budget()?,
             )
         }
@@ -293,6 +306,8 @@ fn run(cli: Cli) -> Result<(), Fail> {
             count,
             graded: false,
             trees: _,
+            levels: _,
+            model: _,
             budget,
         } => stuffing_cmd(
             &stuffing_row_arg(row, alpha_long, alpha_short, ordered, &side)?,
@@ -731,9 +746,16 @@ fn graded_cmd(
     out: &PathBuf,
     tol_deg: f64,
     trees: usize,
+    levels: u32,
+    model: &str,
     budget: Budget,
 ) -> Result<(), Fail> {
     use proofs::stuffing::graded as g;
+    if !(1..=6).contains(&levels) {
+        return Err(Fail::input(format!(
+            "--levels {levels}: the all-contexts model enumerates octree levels 0..=K for K in 1..=6"
+        )));
+    }
     let names: Vec<&str> = if row == "all" {
         g::DAGGERS.iter().map(|d| d.0).collect()
     } else if g::DAGGERS.iter().any(|d| d.0 == row) {
@@ -748,6 +770,24 @@ fn graded_cmd(
             g::DAGGERS.map(|d| d.0).join(" ")
         )));
     };
+    let mut models = Vec::new();
+    for m in model.split(',') {
+        match m.trim() {
+            "every" => models.extend([
+                g::Model::Free,
+                g::Model::Sampled(trees),
+                g::Model::AllContexts(levels),
+            ]),
+            "free" => models.push(g::Model::Free),
+            "sampled-contexts" => models.push(g::Model::Sampled(trees)),
+            "all-contexts" => models.push(g::Model::AllContexts(levels)),
+            other => {
+                return Err(Fail::input(format!(
+                    "--model {other}: expected free, sampled-contexts, all-contexts or every"
+                )))
+            }
+        }
+    }
     check_tol_deg(tol_deg)?;
     if trees == 0 {
         return Err(Fail::input("--trees must be at least 1"));
@@ -763,8 +803,8 @@ fn graded_cmd(
     let mut all = Vec::new();
     for n in names {
         let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
-        for context in [false, true] {
-            let res = g::run_within(r, tol_deg, context, trees, &budget);
+        for &model in &models {
+            let res = g::run_model(r, tol_deg, model, &budget);
             if res.verdict.starts_with("incomplete") {
                 return Err(Fail {
                     kind: Kind::Budget,

@@ -285,32 +285,9 @@ pub fn face_cases_in_context(trees: usize) -> (Vec<FaceCase>, usize, usize) {
 /// fine (it is an edge of a fine BCC tetrahedron). A necessary condition only, so the
 /// filtered set is still a superset of what the mesher realises in that tree.
 pub fn continuation_ok(tree: &HashSet<(u32, [i64; 3])>, v: [i64; 3], d: [i64; 3]) -> bool {
-    let w = crate::stuffing::cases::add(v, d);
-    let leaf = |c: [i64; 3]| tree.contains(&(0, c));
-    let odd = |p: [i64; 3]| p[0].rem_euclid(2) == 1;
-    if d.iter().all(|&x| x.abs() == 1) {
-        let (corner, centre) = if odd(v) { (w, v) } else { (v, w) };
-        let idx = centre.map(|x| (x - 1).div_euclid(2));
-        leaf(idx)
-            && (0..3).all(|a| {
-                let mut n = idx;
-                n[a] += corner[a] - centre[a];
-                leaf(n)
-            })
-    } else if odd(v) {
-        leaf(v.map(|x| (x - 1).div_euclid(2))) && leaf(w.map(|x| (x - 1).div_euclid(2)))
-    } else {
-        let a = (0..3).find(|&k| d[k] != 0).unwrap_or(0);
-        let lo = v[a].min(w[a]).div_euclid(2);
-        let (b, c) = ((a + 1) % 3, (a + 2) % 3);
-        [(0, 0), (0, 1), (1, 0), (1, 1)].iter().all(|&(sb, sc)| {
-            let mut idx = [0i64; 3];
-            idx[a] = lo;
-            idx[b] = v[b].div_euclid(2) - sb;
-            idx[c] = v[c].div_euclid(2) - sc;
-            leaf(idx)
-        })
-    }
+    super::contexts::required_cubes(v, d)
+        .iter()
+        .all(|c| tree.contains(&(0, *c)))
 }
 
 /// The warping rules on a face of tetrahedron `t`. The mesher refuses a non-BCC
@@ -355,6 +332,9 @@ pub struct DaggerResult {
     pub model: String,
     /// Number of sample octrees (sampled-contexts model).
     pub trees: usize,
+    /// `K` of the all-contexts model: levels `0..=K` enumerated, the free model with
+    /// `α·2^-K` above.
+    pub levels: Option<u32>,
     pub uniform: f64,
     pub paper: f64,
     pub shapes: Vec<(String, [[i64; 3]; 4], u32, usize)>,
@@ -387,6 +367,31 @@ pub fn run(row: &Row, tol_deg: f64, context: bool, trees: usize) -> DaggerResult
     run_within(row, tol_deg, context, trees, &crate::bnb::Budget::default())
 }
 
+/// Which configuration space a dagger run searches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Model {
+    /// Every direction at every vertex of the finest instance of each shape.
+    Free,
+    /// The sampled octree contexts ([`face_cases_in_context`]), this many trees.
+    Sampled(usize),
+    /// Every octree context ([`super::contexts`]): instances of levels `0..=K` at their
+    /// real coordinates, the free model with `α·2^-K` above.
+    AllContexts(u32),
+}
+
+impl Model {
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::Free => "free",
+            Model::Sampled(_) => "sampled-contexts",
+            Model::AllContexts(_) => "all-contexts",
+        }
+    }
+}
+
+/// The default `K` of the all-contexts model.
+pub const DEFAULT_LEVELS: u32 = 3;
+
 /// [`run`] within a work budget: a run that exhausts it returns the verdict
 /// `incomplete: ...` (no bound is claimed).
 pub fn run_within(
@@ -396,6 +401,43 @@ pub fn run_within(
     trees: usize,
     budget: &crate::bnb::Budget,
 ) -> DaggerResult {
+    let model = if context {
+        Model::Sampled(trees)
+    } else {
+        Model::Free
+    };
+    run_model(row, tol_deg, model, budget)
+}
+
+/// The face cases of a model, each group with the α it is searched with.
+pub fn model_cases(model: Model, a: &Alphas) -> (Vec<(Vec<FaceCase>, Alphas)>, usize) {
+    match model {
+        Model::Free => {
+            let (c, r) = face_cases(&shapes());
+            (vec![(c, *a)], r)
+        }
+        Model::Sampled(trees) => {
+            let (c, r, _) = face_cases_in_context(trees);
+            (vec![(c, *a)], r)
+        }
+        Model::AllContexts(k) => {
+            let (c, r) = super::contexts::face_cases_all_contexts(k);
+            let (t, rt) = face_cases(&shapes());
+            (
+                vec![(c, *a), (t, super::contexts::tail_alphas(a, k))],
+                r + rt,
+            )
+        }
+    }
+}
+
+/// The dagger branch and bound on the face cases of `model`.
+pub fn run_model(
+    row: &Row,
+    tol_deg: f64,
+    model: Model,
+    budget: &crate::bnb::Budget,
+) -> DaggerResult {
     let t0 = std::time::Instant::now();
     let (_, uniform, paper) = *DAGGERS
         .iter()
@@ -403,17 +445,15 @@ pub fn run_within(
         .expect("a dagger row");
     let a = Alphas::of(row);
     let sh = shapes();
-    let (cases, raw) = if context {
-        let (c, r, _) = face_cases_in_context(trees);
-        (c, r)
-    } else {
-        face_cases(&sh)
-    };
-    let probs: Vec<Problem> = cases
-        .iter()
-        .enumerate()
-        .map(|(i, c)| problem(i, c, &a))
-        .collect();
+    let (groups, raw) = model_cases(model, &a);
+    let mut cases = Vec::new();
+    let mut probs = Vec::new();
+    for (cs, al) in groups {
+        for c in cs {
+            probs.push(problem(cases.len(), &c, &al));
+            cases.push(c);
+        }
+    }
     // cos of the paper's value, widened by 1e-15 ≫ the f64 cos error (< 1 ulp).
     let thr = paper.to_radians().cos();
     let thr_lo = thr - 1e-15;
@@ -504,8 +544,15 @@ pub fn run_within(
     });
     DaggerResult {
         row: row.name.to_string(),
-        model: if context { "sampled-contexts" } else { "free" }.to_string(),
-        trees: if context { trees } else { 0 },
+        model: model.name().to_string(),
+        trees: match model {
+            Model::Sampled(n) => n,
+            _ => 0,
+        },
+        levels: match model {
+            Model::AllContexts(k) => Some(k),
+            _ => None,
+        },
         uniform,
         paper,
         shapes: sh
@@ -543,7 +590,7 @@ pub fn half_pyramid_witness_cos(t: f64) -> Interval {
 }
 
 /// Face cases from canonical descriptors and their multiplicities (sorted by descriptor).
-fn collect_face_cases(map: BTreeMap<Vec<Seg>, usize>) -> Vec<FaceCase> {
+pub(crate) fn collect_face_cases(map: BTreeMap<Vec<Seg>, usize>) -> Vec<FaceCase> {
     map.into_iter()
         .map(|(k, multiplicity)| FaceCase {
             v: [k[0], k[1], k[2]],

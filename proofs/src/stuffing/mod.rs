@@ -26,6 +26,7 @@
 //! when every angle is certified farther than that.
 pub mod cases;
 mod check;
+pub mod contexts;
 pub mod custom;
 pub mod eval;
 pub mod figures;
