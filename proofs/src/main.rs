@@ -150,6 +150,10 @@ enum Cmd {
         /// `sampled-contexts`, `all-contexts` (comma-separated), or `every` (all three).
         #[arg(long, default_value = "every")]
         model: String,
+        /// With `--graded`: write one certificate per row and model into this folder
+        /// (`graded-ROW-MODEL.json`, with every leaf of the search), for `proofs check`.
+        #[arg(long)]
+        certificates: Option<PathBuf>,
         #[command(flatten)]
         budget: BudgetArgs,
     },
@@ -275,6 +279,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
             trees,
             levels,
             model,
+            certificates,
             budget,
             ..
         } => {
@@ -291,6 +296,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
                 trees,
                 levels,
                 &model,
+                certificates.as_deref(),
                 budget.budget()?,
             )
         }
@@ -308,6 +314,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
             trees: _,
             levels: _,
             model: _,
+            certificates: _,
             budget,
         } => stuffing_cmd(
             &stuffing_row_arg(row, alpha_long, alpha_short, ordered, &side)?,
@@ -377,6 +384,41 @@ fn run(cli: Cli) -> Result<(), Fail> {
                     wanted.join(", ")
                 )));
             }
+            Ok(())
+        }
+        Cmd::Check { cert } if is_graded(&cert)? => {
+            let c: stuffing::graded::DaggerCertificate =
+                read_json(&cert, "graded dagger certificate")?;
+            let t0 = std::time::Instant::now();
+            let r = stuffing::graded::check_dagger(&c).map_err(Fail::check)?;
+            if json {
+                return print_json(&serde_json::json!({
+                    "ok": true,
+                    "kind": "graded-dagger",
+                    "row": r.row,
+                    "model": r.model,
+                    "levels": r.levels,
+                    "leaves": r.leaves,
+                    "unresolved": r.unresolved,
+                    "enclosure_deg": r.enclosure_deg,
+                    "paper": r.paper,
+                    "verdict": r.verdict,
+                    "seconds": t0.elapsed().as_secs_f64(),
+                }));
+            }
+            print_check_ok(
+                &format!(
+                    "graded dagger, row {} ({} model), {} problems",
+                    r.row, r.model, r.distinct
+                ),
+                r.leaves,
+                r.verdict != "undecided" && !r.verdict.starts_with("incomplete"),
+                t0,
+            );
+            println!(
+                "  max plane angle: superset supremum in [{:.6}, {:.6}] deg (paper {}): {}",
+                r.enclosure_deg[0], r.enclosure_deg[1], r.paper, r.verdict
+            );
             Ok(())
         }
         Cmd::Check { cert } if is_stuffing(&cert)? => {
@@ -748,6 +790,7 @@ fn graded_cmd(
     trees: usize,
     levels: u32,
     model: &str,
+    certificates: Option<&std::path::Path>,
     budget: Budget,
 ) -> Result<(), Fail> {
     use proofs::stuffing::graded as g;
@@ -800,11 +843,20 @@ fn graded_cmd(
         )));
     }
     check_out_path(out)?;
+    if let Some(dir) = certificates {
+        if !dir.is_dir() {
+            return Err(Fail::input(format!(
+                "--certificates {}: not a folder",
+                dir.display()
+            )));
+        }
+    }
     let mut all = Vec::new();
-    for n in names {
+    for &n in &names {
         let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
         for &model in &models {
-            let res = g::run_model(r, tol_deg, model, &budget);
+            let cert = g::certify_model(r, tol_deg, model, &budget);
+            let res = cert.result.clone();
             if res.verdict.starts_with("incomplete") {
                 return Err(Fail {
                     kind: Kind::Budget,
@@ -838,10 +890,38 @@ fn graded_cmd(
                     );
                 }
             }
+            if let Some(dir) = certificates {
+                let path = dir.join(format!("graded-{}-{}.json", res.row, res.model));
+                save_json(&path, &cert)?;
+                if !json {
+                    println!("  certificate: {}", path.display());
+                }
+            }
             all.push(res);
         }
     }
-    let v = serde_json::to_value(&all).map_err(|e| e.to_string())?;
+    // The safe property of the non-BCC tetrahedra, over the all-contexts model.
+    let mut safe = Vec::new();
+    if models.iter().any(|m| matches!(m, g::Model::AllContexts(_))) {
+        for n in &names {
+            let r = certmesh::stuffing::row(n).map_err(|e| e.to_string())?;
+            let a = proofs::stuffing::cases::Alphas::of(r);
+            let t0 = std::time::Instant::now();
+            let sres = proofs::stuffing::contexts::safe_non_bcc(&a, levels);
+            if !json {
+                println!(
+                    "non-BCC safe property, row {n} (all-contexts, levels 0..={levels}): {} ({} configurations, min volume ratio {:.6} at a {} tetrahedron, {:.1} s)",
+                    sres.verdict,
+                    sres.configurations,
+                    sres.min_ratio,
+                    sres.witness.0,
+                    t0.elapsed().as_secs_f64()
+                );
+            }
+            safe.push(serde_json::json!({"row": n, "result": sres}));
+        }
+    }
+    let v = serde_json::json!({ "daggers": all, "non_bcc_safe": safe });
     let text = serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?;
     std::fs::write(out, &text).map_err(|e| Fail::input(format!("{}: {e}", out.display())))?;
     if json {

@@ -23,8 +23,10 @@
 //! decided by the exact `orient3d` predicate. The angle bounds of Table 1 (the paper's
 //! Theorem 1, whose proof code was never published) are re-verified for *this* stencil
 //! table over the §4.1 configuration space by `proofs stuffing` (all 76 entries proven:
-//! `papers/stuffing/PROOF.md`); the graded variant's dagger bounds (§5) are not, and one
-//! of them (147.0470°) is refuted by a mesh (`papers/stuffing/README.md`). The angles we
+//! `papers/stuffing/PROOF.md`); of the graded variant's (§5), `proofs stuffing --graded`
+//! proves the dagger 158.1918° over every octree context and refutes 147.0470° (a mesh
+//! reaches 150.35°, the supremum is arccos(−17/19)); the graded variant's other bounds
+//! are the paper's claim. The angles we
 //! report are measured in floating point. The certificate stays `Uncertified` with the
 //! reason spelled out, because geometric and topological fidelity (Theorems 2 and 3)
 //! need `d_M > ωc`, which we do not check.
@@ -719,13 +721,15 @@ impl Mesher for Stuffing {
         };
         // Table 1 prints "n/a" where the paper gives no bound.
         let deg = |x: Option<f64>| x.map_or("n/a".to_string(), |v| format!("{v}°"));
-        let provenance = if p.graded {
+        let provenance = if p.graded && p.row.name == "min-exposed-unsafe" {
+            "claimed by Labelle-Shewchuk §5 for graded meshes; of these, the daggered max plane angle 158.1918° of the non-BCC tetrahedra is proven over every octree context by `proofs stuffing --graded` (papers/stuffing/PROOF.md), the others are not re-verified by certmesh"
+        } else if p.graded {
             "claimed by Labelle-Shewchuk §5 for graded meshes, not re-verified by certmesh"
         } else {
             "certified for this stencil table by `proofs stuffing` (papers/stuffing/PROOF.md)"
         };
         if refuted_dagger {
-            reason.push_str("graded row 'min-exposed-safe-ordered': its dagger bound 147.0470° is refuted (a half-pyramid reaches 150.35°, papers/stuffing/README.md), no angle bound claimed; ");
+            reason.push_str("graded row 'min-exposed-safe-ordered': its dagger bound 147.0470° is refuted (a half-pyramid reaches 150.35°; over every octree context the supremum is arccos(-17/19) = 153.4746°, `proofs stuffing --graded`, papers/stuffing/PROOF.md), no angle bound claimed; ");
         }
         match bounds {
             Some(b) => {

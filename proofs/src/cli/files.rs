@@ -77,6 +77,16 @@ pub(crate) fn parse_shard(s: &str) -> Result<(usize, usize), Fail> {
 /// Is the file a stuffing certificate (by its `format` field; any other file is read
 /// as a GradNormal certificate and refused with a position if it is none)?
 pub(crate) fn is_stuffing(p: &PathBuf) -> Result<bool, Fail> {
+    Ok(format_of(p)?.is_some_and(|f| f == stuffing::FORMAT))
+}
+
+/// Is this a graded dagger certificate (`proofs stuffing --graded --certificates`)?
+pub(crate) fn is_graded(p: &PathBuf) -> Result<bool, Fail> {
+    Ok(format_of(p)?.is_some_and(|f| f == stuffing::graded::DAGGER_FORMAT))
+}
+
+/// The `format` field of a JSON certificate, if it has one.
+fn format_of(p: &PathBuf) -> Result<Option<String>, Fail> {
     #[derive(serde::Deserialize)]
     struct Head {
         format: Option<String>,
@@ -85,8 +95,7 @@ pub(crate) fn is_stuffing(p: &PathBuf) -> Result<bool, Fail> {
         std::fs::read_to_string(p).map_err(|e| Fail::input(format!("{}: {e}", p.display())))?;
     Ok(serde_json::from_str::<Head>(&text)
         .ok()
-        .and_then(|h| h.format)
-        .is_some_and(|f| f == stuffing::FORMAT))
+        .and_then(|h| h.format))
 }
 
 pub(crate) fn check_tol_deg(tol_deg: f64) -> Result<(), Fail> {

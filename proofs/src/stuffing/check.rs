@@ -16,7 +16,7 @@ pub struct CheckReport {
 }
 
 /// Partition check of a list of dyadic cells of [0,1]^dim.
-fn check_partition(dim: usize, cells: &[(u8, Vec<u64>)]) -> Result<(), String> {
+pub(crate) fn check_partition(dim: usize, cells: &[(u8, Vec<u64>)]) -> Result<(), String> {
     if dim == 0 {
         return if cells.len() == 1 {
             Ok(())

@@ -109,6 +109,23 @@ pub struct Instance {
     pub level: u32,
     pub v: [[i64; 3]; 4],
     pub forbidden: HashSet<Cube>,
+    /// A finest half-pyramid's apex and the two ends of its diagonal: step (3) of §5
+    /// (a leaf with a violated centre and a face with two opposite violated corners gets
+    /// the neighbour across that face, which a half-pyramid's face does not have) means
+    /// the three are never all violated, so never all warped.
+    pub asterisk: Option<[[i64; 3]; 3]>,
+}
+
+impl Instance {
+    /// Are these warp choices (one per vertex of `p`, vertices of this instance) allowed
+    /// by the asterisk rule?
+    pub fn asterisk_ok(&self, p: &[[i64; 3]], ch: &[Option<[i64; 3]>]) -> bool {
+        let Some(tri) = self.asterisk else {
+            return true;
+        };
+        !tri.iter()
+            .all(|q| p.iter().zip(ch).any(|(v, c)| v == q && c.is_some()))
+    }
 }
 
 fn unit(k: usize, s: i64) -> [i64; 3] {
@@ -163,6 +180,8 @@ pub fn instances(level: u32) -> Vec<Instance> {
                     level,
                     v: [r(0), r(1), r(2), c],
                     forbidden: across.clone(),
+                    // Step (3) looks at the finest leaves only.
+                    asterisk: (level == 0).then(|| [c, r(0), r(2)]),
                 });
             }
             if level == 0 {
@@ -178,6 +197,7 @@ pub fn instances(level: u32) -> Vec<Instance> {
                         level,
                         v: [p, m, c, c2],
                         forbidden: around_d.clone(),
+                        asterisk: None,
                     });
                     // The child of o at corner p.
                     let clo = p.map(|x| if x == 0 { 0 } else { h });
@@ -186,6 +206,7 @@ pub fn instances(level: u32) -> Vec<Instance> {
                         level,
                         v: [p, m, d, c],
                         forbidden: cubes_in(clo, clo.map(|x| x + h)).collect(),
+                        asterisk: None,
                     });
                 }
                 out.push(Instance {
@@ -193,6 +214,7 @@ pub fn instances(level: u32) -> Vec<Instance> {
                     level,
                     v: [e.0, e.1, d, c],
                     forbidden: cubes_around(m).collect(),
+                    asterisk: None,
                 });
             }
         }
@@ -234,6 +256,9 @@ pub fn face_cases_all_contexts(k: u32) -> (Vec<FaceCase>, usize) {
                 for a in &opts[0] {
                     for b in &opts[1] {
                         for c in &opts[2] {
+                            if !inst.asterisk_ok(&p, &[*a, *b, *c]) {
+                                continue;
+                            }
                             raw += 1;
                             let v: Vec<Seg> = [*a, *b, *c]
                                 .iter()
@@ -251,6 +276,176 @@ pub fn face_cases_all_contexts(k: u32) -> (Vec<FaceCase>, usize) {
         }
     }
     (collect_face_cases(map), raw)
+}
+
+/// The safe property of the non-BCC tetrahedra (no warped one inverts or flattens),
+/// decided exactly over the all-contexts model: the smallest 6·volume of every instance
+/// of levels `0..=k` with every vertex fixed or warped along one of its
+/// [`warp_options`], at least one vertex fixed (§5: a non-BCC background tetrahedron is
+/// output when it has a positive vertex, and a vertex that warped is zero), and of every shape's finest instance with every direction and
+/// `α·2^-k` above. The volume is multilinear in the warp parameters
+/// ([`super::cases::volume_range`]), so its minimum over a closed box is at a corner and
+/// exact.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct NonBccSafe {
+    /// `proven` (every volume > 0 on the closed configuration space), or `refuted on the
+    /// superset` (a configuration of volume ≤ 0; the superset's, not necessarily one the
+    /// mesher builds).
+    pub verdict: String,
+    pub levels: u32,
+    /// Configurations (tetrahedron, warp directions) decided.
+    pub configurations: usize,
+    /// The smallest 6·volume over the unwarped 6·volume, as f64 (exact ratio rounded).
+    pub min_ratio: f64,
+    /// Where: the kind, the level (`None`: the tail), the segments and the parameters
+    /// (fractions of the edges).
+    pub witness: (String, Option<u32>, [Seg; 4], [f64; 4]),
+}
+
+pub fn safe_non_bcc(a: &Alphas, k: u32) -> NonBccSafe {
+    use rayon::prelude::*;
+    // (tetrahedron, level or None, options per vertex, alphas)
+    type Job = (Instance, Option<u32>, Vec<Vec<Option<[i64; 3]>>>, Alphas);
+    let mut jobs: Vec<Job> = Vec::new();
+    for level in 0..=k {
+        for inst in instances(level) {
+            let opts = inst.v.iter().map(|&p| warp_options(&inst, p)).collect();
+            jobs.push((inst, Some(level), opts, *a));
+        }
+    }
+    let tail = tail_alphas(a, k);
+    for sh in super::graded::shapes() {
+        let opts =
+            sh.v.iter()
+                .map(|&p| {
+                    std::iter::once(None)
+                        .chain(
+                            directions()
+                                .into_iter()
+                                .filter(|&d| !sh.v.contains(&add(p, d)))
+                                .map(Some),
+                        )
+                        .collect()
+                })
+                .collect();
+        let rule = match sh.kind {
+            Kind::HalfPyramid => Rule::HalfPyramid,
+            Kind::Quadrisected => Rule::Quadrisected,
+            _ => Rule::BisectedA,
+        };
+        let inst = Instance {
+            rule,
+            level: sh.level,
+            v: sh.v,
+            forbidden: HashSet::new(),
+            asterisk: None,
+        };
+        jobs.push((inst, None, opts, tail));
+    }
+    type Found = (
+        i128,
+        i128,
+        usize,
+        [Seg; 4],
+        [i64; 4],
+        Kind,
+        Option<u32>,
+        usize,
+    );
+    let per: Vec<Found> = jobs
+        .par_iter()
+        .map(|(inst, level, opts, al)| {
+            // Positively oriented (swap the first two vertices if need be).
+            let orient0 = |v: &[[i64; 3]; 4]| {
+                super::cases::orient_exact(&v.map(|q| super::cases::pos_exact(&Seg::fixed(q), 0)))
+            };
+            let (v, opts) = if orient0(&inst.v) < 0 {
+                let mut v = inst.v;
+                v.swap(0, 1);
+                let mut o = opts.clone();
+                o.swap(0, 1);
+                (v, o)
+            } else {
+                (inst.v, opts.clone())
+            };
+            let unwarped = orient0(&v);
+            let seg = |i: usize, ch: Option<[i64; 3]>| match ch {
+                None => Seg::fixed(v[i]),
+                Some(d) => Seg::warp(v[i], d),
+            };
+            let mut best = (i128::MAX, [seg(0, None); 4], [0i64; 4]);
+            let (mut n, mut flat_on_real_set) = (0, 0);
+            for a0 in &opts[0] {
+                for a1 in &opts[1] {
+                    for a2 in &opts[2] {
+                        for a3 in &opts[3] {
+                            // An output non-BCC tetrahedron has a positive vertex, and a
+                            // positive vertex is one that did not warp.
+                            if a0.is_some() && a1.is_some() && a2.is_some() && a3.is_some() {
+                                continue;
+                            }
+                            if !inst.asterisk_ok(&v, &[*a0, *a1, *a2, *a3]) {
+                                continue;
+                            }
+                            n += 1;
+                            let c = super::cases::Case {
+                                v: [seg(0, *a0), seg(1, *a1), seg(2, *a2), seg(3, *a3)],
+                                multiplicity: 1,
+                            };
+                            let (r, t) = super::cases::volume_range(&c, al);
+                            // A zero on the closed box only: decided on the real set (a
+                            // warp of exactly α is excluded by the strict violation rule,
+                            // the §6 midpoint convention aside), as in the BCC proof.
+                            if r[0] < 0
+                                || (r[0] == 0
+                                    && !super::safe::strictly_positive_on_real_set(&c, al))
+                            {
+                                flat_on_real_set += 1;
+                            }
+                            if r[0] < best.0 {
+                                best = (r[0], c.v, t[0]);
+                            }
+                        }
+                    }
+                }
+            }
+            (
+                best.0,
+                unwarped,
+                n,
+                best.1,
+                best.2,
+                inst.rule.kind(),
+                *level,
+                flat_on_real_set,
+            )
+        })
+        .collect();
+    let configurations = per.iter().map(|p| p.2).sum();
+    let ratio = |x: &Found| x.0 as f64 / x.1 as f64;
+    let w = per
+        .iter()
+        .min_by(|x, y| ratio(x).total_cmp(&ratio(y)))
+        .expect("instances");
+    // Decided exactly: every minimum is an exact integer 6·volume.
+    let flat: usize = per.iter().map(|p| p.7).sum();
+    let zero_on_closure = per.iter().any(|p| p.0 == 0);
+    let proven = flat == 0;
+    let den = super::cases::DEN as f64;
+    NonBccSafe {
+        verdict: if proven && zero_on_closure {
+            "proven (volume 0 only at warps of exactly α, which the strict violation rule excludes)"
+                .into()
+        } else if proven {
+            "proven".into()
+        } else {
+            format!("refuted on the superset ({flat} configurations flat or inverted)")
+        },
+        levels: k,
+        configurations,
+        min_ratio: ratio(w),
+        witness: (format!("{:?}", w.5), w.6, w.3, w.4.map(|t| t as f64 / den)),
+    }
 }
 
 /// The α of the levels above `K`: `α·2^-K`, rounded up (a larger range is a superset).

@@ -118,7 +118,9 @@ pub fn shapes() -> Vec<Shape> {
             instances: 0,
         });
         e.instances += 1;
-        if level < e.level {
+        // The smallest level, then the smallest vertex list: deterministic (the octree's
+        // hash order is not).
+        if (level, t) < (e.level, e.v) {
             e.v = t;
             e.level = level;
         }
@@ -325,7 +327,7 @@ fn problem(ci: usize, c: &FaceCase, a: &Alphas) -> Problem {
 }
 
 /// The result for one dagger row.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct DaggerResult {
     pub row: String,
     /// "free" (superset over all octrees) or "sampled-contexts".
@@ -431,21 +433,9 @@ pub fn model_cases(model: Model, a: &Alphas) -> (Vec<(Vec<FaceCase>, Alphas)>, u
     }
 }
 
-/// The dagger branch and bound on the face cases of `model`.
-pub fn run_model(
-    row: &Row,
-    tol_deg: f64,
-    model: Model,
-    budget: &crate::bnb::Budget,
-) -> DaggerResult {
-    let t0 = std::time::Instant::now();
-    let (_, uniform, paper) = *DAGGERS
-        .iter()
-        .find(|d| d.0 == row.name)
-        .expect("a dagger row");
-    let a = Alphas::of(row);
-    let sh = shapes();
-    let (groups, raw) = model_cases(model, &a);
+/// The face cases and problems of a model for a row (in the order certificates use).
+pub fn model_problems(model: Model, a: &Alphas) -> (Vec<FaceCase>, Vec<Problem>, usize) {
+    let (groups, raw) = model_cases(model, a);
     let mut cases = Vec::new();
     let mut probs = Vec::new();
     for (cs, al) in groups {
@@ -454,33 +444,83 @@ pub fn run_model(
             cases.push(c);
         }
     }
-    // cos of the paper's value, widened by 1e-15 ≫ the f64 cos error (< 1 ulp).
+    (cases, probs, raw)
+}
+
+/// A leaf of one problem's search: the dyadic cell `(depth, index)` of `[0,1]^dim` and
+/// the smallest lower end of the cosine enclosures on it.
+pub type DaggerLeaf = (u32, Vec<u64>, f64);
+
+/// The thresholds of a dagger search: cos of the paper's value widened by 1e-15 (≫ the
+/// f64 cos error, < 1 ulp) on both sides, and the target width in cosine.
+fn thresholds(paper: f64, tol_deg: f64) -> (f64, f64, f64) {
     let thr = paper.to_radians().cos();
-    let thr_lo = thr - 1e-15;
-    let thr_hi = thr + 1e-15;
-    let tol = tol_deg.to_radians() * 0.5;
+    (thr - 1e-15, thr + 1e-15, tol_deg.to_radians() * 0.5)
+}
+
+/// The stopping rule: must a cell with smallest lower end `l` be split, given the best
+/// (smallest) attained cosine `b`? Monotone in `b` (b only decreases during a search),
+/// so a checker may re-apply it with the final `b`.
+fn needs_split(l: f64, b: f64, thr: (f64, f64, f64)) -> bool {
+    let (thr_lo, thr_hi, tol) = thr;
+    l < b - tol || (l < thr_hi && b >= thr_lo)
+}
+
+/// The depth limit of the dagger searches.
+const DEPTH_LIMIT: u32 = 40;
+
+/// The smallest cosine attained at the sample points of a cell (its centre and corners)
+/// and where: the witnesses of the search.
+fn best_point(pr: &Problem, x: &[f64]) -> Option<[f64; 2]> {
+    pr.point(x).and_then(|v| {
+        v.iter()
+            .map(|y| [y.inf(), y.sup()])
+            .min_by(|a, b| a[1].total_cmp(&b[1]))
+    })
+}
+
+/// The dagger branch and bound on the face cases of `model`.
+pub fn run_model(
+    row: &Row,
+    tol_deg: f64,
+    model: Model,
+    budget: &crate::bnb::Budget,
+) -> DaggerResult {
+    certify_model(row, tol_deg, model, budget).result
+}
+
+/// [`run_model`], keeping the leaves: a certificate `proofs check` re-verifies.
+pub fn certify_model(
+    row: &Row,
+    tol_deg: f64,
+    model: Model,
+    budget: &crate::bnb::Budget,
+) -> DaggerCertificate {
+    let t0 = std::time::Instant::now();
+    let (_, _, paper) = *DAGGERS
+        .iter()
+        .find(|d| d.0 == row.name)
+        .expect("a dagger row");
+    let a = Alphas::of(row);
+    let (cases, probs, raw) = model_problems(model, &a);
+    let thr = thresholds(paper, tol_deg);
     let best = AtomicU64::new(2.0f64.to_bits());
     let wit: Mutex<Option<(usize, Vec<f64>, [f64; 2])>> = Mutex::new(None);
-    let offer = |pi: usize, x: &[f64], v: &[Interval]| {
-        for y in v {
-            let cur = f64::from_bits(best.load(Ordering::Relaxed));
-            if y.sup() < cur {
-                let mut w = wit.lock().unwrap_or_else(|e| e.into_inner());
-                if y.sup() < f64::from_bits(best.load(Ordering::Relaxed)) {
-                    best.store(y.sup().to_bits(), Ordering::Relaxed);
-                    *w = Some((pi, x.to_vec(), [y.inf(), y.sup()]));
-                }
+    let offer = |pi: usize, x: &[f64], y: [f64; 2]| {
+        if y[1] < f64::from_bits(best.load(Ordering::Relaxed)) {
+            let mut w = wit.lock().unwrap_or_else(|e| e.into_inner());
+            if y[1] < f64::from_bits(best.load(Ordering::Relaxed)) {
+                best.store(y[1].to_bits(), Ordering::Relaxed);
+                *w = Some((pi, x.to_vec(), y));
             }
         }
     };
-    let per: Vec<(f64, usize, usize)> = probs
+    let leaves: Vec<Vec<DaggerLeaf>> = probs
         .par_iter()
         .enumerate()
         .map(|(pi, pr)| {
             let dim = pr.dim;
-            let lim = 40u32;
-            let mut lo_min = f64::INFINITY;
-            let (mut leaves, mut unresolved) = (0, 0);
+            let mut out = Vec::new();
             let mut stack: Vec<(Vec<f64>, Vec<f64>, u32)> =
                 vec![(vec![0.0; dim], vec![1.0; dim], 0)];
             while let Some((lo, hi, d)) = stack.pop() {
@@ -494,14 +534,13 @@ pub fn run_model(
                         .map(|k| if m >> k & 1 == 1 { hi[k] } else { lo[k] })
                         .collect()
                 })) {
-                    if let Some(v) = pr.point(&x) {
-                        offer(pi, &x, &v);
+                    if let Some(y) = best_point(pr, &x) {
+                        offer(pi, &x, y);
                     }
                 }
                 let l = vals.iter().map(|v| v.inf()).fold(f64::INFINITY, f64::min);
                 let b = f64::from_bits(best.load(Ordering::Relaxed));
-                let need = l < b - tol || (l < thr_hi && b >= thr_lo);
-                if need && d < lim && dim > 0 {
+                if needs_split(l, b, thr) && d < DEPTH_LIMIT && dim > 0 {
                     for m in 0..1usize << dim {
                         let (mut l2, mut h2) = (lo.clone(), hi.clone());
                         for k in 0..dim {
@@ -514,20 +553,78 @@ pub fn run_model(
                         stack.push((l2, h2, d + 1));
                     }
                 } else {
-                    if need {
-                        unresolved += 1;
-                    }
-                    leaves += 1;
-                    lo_min = lo_min.min(l);
+                    // lo is dyadic with denominator 2^d: the index is exact.
+                    let idx = lo
+                        .iter()
+                        .map(|&x| (x * (1u64 << d) as f64) as u64)
+                        .collect();
+                    out.push((d, idx, l));
                 }
             }
-            (lo_min, leaves, unresolved)
+            out
         })
         .collect();
-    let lo = per.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
-    let hi = f64::from_bits(best.load(Ordering::Relaxed));
-    let verdict = if budget.is_exhausted() {
-        format!("incomplete: {}", budget.message())
+    let exhausted = budget.is_exhausted().then(|| budget.message());
+    let witness = wit.into_inner().unwrap_or(None);
+    let result = summarize(
+        row,
+        model,
+        &cases,
+        &probs,
+        raw,
+        thr,
+        &leaves,
+        witness.clone(),
+        exhausted,
+        t0.elapsed().as_secs_f64(),
+    );
+    DaggerCertificate {
+        format: DAGGER_FORMAT.to_string(),
+        row: row.name.to_string(),
+        model: model.name().to_string(),
+        trees: result.trees,
+        levels: result.levels,
+        tol_deg,
+        leaves,
+        best: witness,
+        result,
+    }
+}
+
+/// Every derived field of a dagger result, from the leaves and the best point: the
+/// search and the checker share it.
+#[allow(clippy::too_many_arguments)]
+fn summarize(
+    row: &Row,
+    model: Model,
+    cases: &[FaceCase],
+    probs: &[Problem],
+    raw: usize,
+    thr: (f64, f64, f64),
+    leaves: &[Vec<DaggerLeaf>],
+    best: Option<(usize, Vec<f64>, [f64; 2])>,
+    exhausted: Option<String>,
+    seconds: f64,
+) -> DaggerResult {
+    let (_, uniform, paper) = *DAGGERS
+        .iter()
+        .find(|d| d.0 == row.name)
+        .expect("a dagger row");
+    let sh = shapes();
+    let lo = leaves
+        .iter()
+        .flatten()
+        .map(|l| l.2)
+        .fold(f64::INFINITY, f64::min);
+    let hi = best.as_ref().map_or(2.0, |b| b.2[1]);
+    let unresolved = leaves
+        .iter()
+        .flatten()
+        .filter(|l| needs_split(l.2, hi, thr))
+        .count();
+    let (thr_lo, thr_hi, _) = thr;
+    let verdict = if let Some(m) = exhausted {
+        format!("incomplete: {m}")
     } else if lo >= thr_hi {
         "proven".to_string()
     } else if hi < thr_lo {
@@ -535,7 +632,7 @@ pub fn run_model(
     } else {
         "undecided".to_string()
     };
-    let witness = wit.into_inner().unwrap_or(None).map(|(pi, x, cos)| {
+    let witness = best.map(|(pi, x, cos)| {
         let pr = &probs[pi];
         let pos: Vec<[f64; 3]> = (0..3)
             .map(|k| pr.geo[k].at_f64(pr.roles[k], &x).map(|c| 0.5 * c))
@@ -561,15 +658,141 @@ pub fn run_model(
             .collect(),
         raw,
         distinct: cases.len(),
-        leaves: per.iter().map(|p| p.1).sum(),
-        unresolved: per.iter().map(|p| p.2).sum(),
+        leaves: leaves.iter().map(|l| l.len()).sum(),
+        unresolved,
         // acos is decreasing; widen by 1e-9° for the f64 acos.
         enclosure_deg: [acos_deg(hi) - 1e-9, acos_deg(lo) + 1e-9],
         cos_enclosure: [lo, hi],
         verdict,
         witness,
-        seconds: t0.elapsed().as_secs_f64(),
+        seconds,
     }
+}
+
+/// The format name of a dagger certificate.
+pub const DAGGER_FORMAT: &str = "certmesh-graded-dagger/1";
+
+/// A dagger run with its leaves: `proofs check` re-derives the cases of the model,
+/// checks that each problem's leaves partition its box, re-evaluates every leaf and the
+/// best point, re-applies the stopping rule and recomputes every field of `result`.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct DaggerCertificate {
+    pub format: String,
+    pub row: String,
+    pub model: String,
+    pub trees: usize,
+    pub levels: Option<u32>,
+    pub tol_deg: f64,
+    /// Per problem (in [`model_problems`] order), its leaves.
+    pub leaves: Vec<Vec<DaggerLeaf>>,
+    /// The best point: problem, parameters, the cosine enclosure there.
+    pub best: Option<(usize, Vec<f64>, [f64; 2])>,
+    pub result: DaggerResult,
+}
+
+/// Re-verify a dagger certificate (see [`DaggerCertificate`]); returns the recomputed
+/// result, equal to the stated one in every field but `seconds`.
+pub fn check_dagger(cert: &DaggerCertificate) -> Result<DaggerResult, String> {
+    if cert.format != DAGGER_FORMAT {
+        return Err(format!("format: unknown format `{}`", cert.format));
+    }
+    let row = certmesh::stuffing::row(&cert.row).map_err(|e| format!("row: {e}"))?;
+    let (_, _, paper) = *DAGGERS
+        .iter()
+        .find(|d| d.0 == row.name)
+        .ok_or_else(|| format!("row: `{}` has no dagger bound", cert.row))?;
+    let model = match (cert.model.as_str(), cert.levels) {
+        ("free", None) => Model::Free,
+        ("sampled-contexts", None) if cert.trees > 0 => Model::Sampled(cert.trees),
+        ("all-contexts", Some(k)) if (1..=6).contains(&k) => Model::AllContexts(k),
+        (m, k) => return Err(format!("model: `{m}` with levels {k:?} is not a model")),
+    };
+    if !(cert.tol_deg >= super::MIN_TOL_DEG && cert.tol_deg <= 90.0) {
+        return Err(format!("tol_deg: {} out of range", cert.tol_deg));
+    }
+    let thr = thresholds(paper, cert.tol_deg);
+    let a = Alphas::of(row);
+    let (cases, probs, raw) = model_problems(model, &a);
+    if cert.leaves.len() != probs.len() {
+        return Err(format!(
+            "leaves: {} problems in the certificate, {} in the model",
+            cert.leaves.len(),
+            probs.len()
+        ));
+    }
+    // The best point first: the stopping rule is re-applied with it.
+    let best = match &cert.best {
+        None => None,
+        Some((pi, x, y)) => {
+            let pr = probs
+                .get(*pi)
+                .ok_or_else(|| format!("best: problem {pi} does not exist"))?;
+            if x.len() != pr.dim || x.iter().any(|v| !(0.0..=1.0).contains(v)) {
+                return Err("best: the point is not in its problem's box".into());
+            }
+            let z = best_point(pr, x).ok_or("best: the point does not evaluate")?;
+            if z != *y {
+                return Err(format!("best: recomputed {z:?}, stated {y:?}"));
+            }
+            Some((*pi, x.clone(), z))
+        }
+    };
+    let b = best.as_ref().map_or(2.0, |w| w.2[1]);
+    probs
+        .par_iter()
+        .zip(&cert.leaves)
+        .enumerate()
+        .try_for_each(|(pi, (pr, ls))| -> Result<(), String> {
+            let cells: Vec<(u8, Vec<u64>)> = ls
+                .iter()
+                .map(|l| (l.0.min(255) as u8, l.1.clone()))
+                .collect();
+            if ls.iter().any(|l| l.0 > DEPTH_LIMIT || l.1.len() != pr.dim) {
+                return Err(format!(
+                    "leaves[{pi}]: a leaf has the wrong depth or dimension"
+                ));
+            }
+            super::check::check_partition(pr.dim, &cells)
+                .map_err(|e| format!("leaves[{pi}]: {e}"))?;
+            for (d, idx, l) in ls {
+                let w = 1.0 / (1u64 << d) as f64;
+                let lo: Vec<f64> = idx.iter().map(|&i| i as f64 * w).collect();
+                let hi: Vec<f64> = lo.iter().map(|x| x + w).collect();
+                let v = pr
+                    .enclose(&lo, &hi)
+                    .iter()
+                    .map(|v| v.inf())
+                    .fold(f64::INFINITY, f64::min);
+                if v.to_bits() != l.to_bits() {
+                    return Err(format!(
+                        "leaves[{pi}]: cell {d}/{idx:?} encloses from {v}, stated {l}"
+                    ));
+                }
+                if *d < DEPTH_LIMIT && pr.dim > 0 && needs_split(v, b, thr) {
+                    return Err(format!(
+                        "leaves[{pi}]: cell {d}/{idx:?} should have been split"
+                    ));
+                }
+            }
+            Ok(())
+        })?;
+    let r = summarize(
+        row,
+        model,
+        &cases,
+        &probs,
+        raw,
+        thr,
+        &cert.leaves,
+        best,
+        cert.result
+            .verdict
+            .strip_prefix("incomplete: ")
+            .map(str::to_string),
+        cert.result.seconds,
+    );
+    crate::fields::same("result", &cert.result, &r)?;
+    Ok(r)
 }
 
 /// The realised 147.0470° counterexample (README, mesher test
@@ -678,5 +901,70 @@ mod run_tests {
             res.cos_enclosure[0] <= c + 1e-9 && res.cos_enclosure[1] >= c - 1e-6,
             "{res:?}"
         );
+    }
+}
+
+#[cfg(test)]
+mod all_contexts_tests {
+    use super::*;
+
+    /// The all-contexts model with levels 0..=1 (the free model with α/2 above) proves
+    /// the 158.1918° dagger; its certificate passes the checker, and the checker rejects
+    /// a changed leaf value, a missing leaf, a changed verdict and a moved best point.
+    #[test]
+    fn all_contexts_proves_158_1918_and_the_checker_rejects_tampering() {
+        let r = certmesh::stuffing::row("min-exposed-unsafe").expect("row");
+        let b = crate::bnb::Budget::default();
+        let cert = certify_model(r, 1e-3, Model::AllContexts(1), &b);
+        assert_eq!(cert.result.verdict, "proven", "{:?}", cert.result);
+        assert!(cert.result.enclosure_deg[1] < 158.1918);
+        // Attained (the paper's configuration): the enclosure is tight.
+        assert!(cert.result.enclosure_deg[0] > 158.19);
+        let ok = check_dagger(&cert).expect("the certificate checks");
+        assert_eq!(ok.verdict, "proven");
+
+        let (pi, _) = cert
+            .leaves
+            .iter()
+            .enumerate()
+            .find(|(_, l)| l.len() > 1)
+            .expect("a split problem");
+        let mut c = cert.clone();
+        c.leaves[pi][0].2 -= 1e-9;
+        assert!(check_dagger(&c).unwrap_err().contains("encloses from"));
+        let mut c = cert.clone();
+        c.leaves[pi].pop();
+        assert!(check_dagger(&c).unwrap_err().contains("cover"));
+        let mut c = cert.clone();
+        c.result.verdict = "exceeded-on-superset".into();
+        assert!(check_dagger(&c).unwrap_err().contains("verdict"));
+        let mut c = cert.clone();
+        if let Some(bp) = &mut c.best {
+            bp.2[1] += 1e-6;
+        }
+        assert!(check_dagger(&c).unwrap_err().contains("best"));
+        // A model the certificate was not made with.
+        let mut c = cert;
+        c.levels = Some(2);
+        assert!(check_dagger(&c).is_err());
+    }
+
+    /// The safe property of the non-BCC tetrahedra over the all-contexts model: proven
+    /// for both dagger rows (the ordered row's α_short = ½ reaches volume 0 only at a
+    /// warp of exactly α, which the strict rule excludes; the unsafe row stays away
+    /// from 0).
+    #[test]
+    fn non_bcc_safe_property_over_all_contexts() {
+        use crate::stuffing::contexts::safe_non_bcc;
+        for (row, zero) in [
+            ("min-exposed-unsafe", false),
+            ("min-exposed-safe-ordered", true),
+        ] {
+            let a = Alphas::of(certmesh::stuffing::row(row).expect("row"));
+            let s = safe_non_bcc(&a, 1);
+            assert!(s.verdict.starts_with("proven"), "{row}: {s:?}");
+            assert_eq!(s.min_ratio == 0.0, zero, "{row}: {s:?}");
+            assert!(s.configurations > 100_000);
+        }
     }
 }

@@ -59,7 +59,7 @@ fn top_attainable(s: &Seg, a: &Alphas) -> bool {
     s.kind == Kind::Warp && !s.black() && a.short == DEN / 2 && s.p[0] & 1 != 0
 }
 
-fn strictly_positive_on_real_set(c: &Case, a: &Alphas) -> bool {
+pub(crate) fn strictly_positive_on_real_set(c: &Case, a: &Alphas) -> bool {
     let ranges = c.v.map(|s| a.range(&s));
     for m in 0..16u32 {
         let top = |k: usize| m >> k & 1 == 1;
