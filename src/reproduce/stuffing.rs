@@ -244,6 +244,10 @@ const FINDINGS: &str = r#"
   supremum for this configuration is arccos(−17/19) = 153.4746° (both corners warped by
   α_short = ½ of their red edges). Second computation: the closed form above, independent of
   the mesher; the test `graded_dagger_147_is_exceeded_on_a_half_pyramid` checks both.
+  Over every octree context (`proofs stuffing --graded`, the all-contexts model of
+  `papers/stuffing/PROOF.md`) arccos(−17/19) is the supremum of the non-BCC tetrahedra's
+  plane angles for this row, and the other dagger, 158.1918° (row `min-exposed-unsafe`), is
+  proven, with certificates that `proofs check` re-verifies.
   A scan of all 13 rows × 6 surfaces × 3 resolutions × 4 random offsets
   (`graded_scan_all_rows`, ignored test) finds no other graded bound exceeded (also
   148.85° and 150.98° for genus5 at 30 cubes), and no inverted tetrahedra.
