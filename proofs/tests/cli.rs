@@ -312,3 +312,30 @@ fn stuffing_audit_of_a_custom_pair() {
         "{text}"
     );
 }
+
+/// The graded dagger certificates shipped in papers/stuffing/graded/ re-verify with the
+/// current code (`proofs check` re-derives the all-contexts model and every leaf): the
+/// 158.1918° dagger proven, 147.0470° exceeded with the supremum arccos(−17/19).
+#[test]
+fn shipped_graded_dagger_certificates_check() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../papers/stuffing/graded");
+    for (row, verdict) in [
+        ("min-exposed-unsafe", "proven"),
+        ("min-exposed-safe-ordered", "exceeded-on-superset"),
+    ] {
+        let p = dir.join(format!("graded-{row}-all-contexts.json"));
+        let o = proofs(&["--json", "check", p.to_str().expect("utf-8 path")]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+        assert_eq!(v["kind"], "graded-dagger");
+        assert_eq!(v["verdict"], verdict, "{v}");
+        let hi = v["enclosure_deg"][1].as_f64().expect("enclosure");
+        if verdict == "proven" {
+            assert!(hi < 158.1918);
+        } else {
+            let sup = (-17.0f64 / 19.0).acos().to_degrees();
+            let lo = v["enclosure_deg"][0].as_f64().expect("enclosure");
+            assert!(lo <= sup + 1e-6 && hi >= sup - 1e-6, "{v}");
+        }
+    }
+}
