@@ -35,6 +35,16 @@ struct Cli {
     /// object `{"error": ..., "kind": ..., "position": ...}` on stdout.
     #[arg(long, global = true)]
     json: bool,
+    /// Figure formats, comma-separated, for the commands that draw figures: svg (vector,
+    /// text as text), png (300 dpi), pdf (vector, for LaTeX). Each figure is drawn once
+    /// in certmesh's figure style and converted.
+    #[arg(
+        long = "format",
+        global = true,
+        value_name = "LIST",
+        default_value = "svg,png"
+    )]
+    format: String,
     #[command(subcommand)]
     cmd: Cmd,
 }
@@ -222,6 +232,9 @@ enum Cmd {
 
 fn run(cli: Cli) -> Result<(), Fail> {
     let json = cli.json;
+    let formats = certmesh::figure::output::Format::parse_list(&cli.format)
+        .map_err(|e| Fail::input(e.to_string()))?;
+    certmesh::figure::output::set_default_formats(&formats);
     match cli.cmd {
         Cmd::Gradnormal {
             a,

@@ -8,6 +8,7 @@ use crate::error::{Error, Result};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor;
 use std::ops::Range;
 
 /// Figure units per printed point (1/72 in): 4 keeps plotters' integer coordinates
@@ -107,7 +108,7 @@ pub fn tick(v: f64) -> String {
     }
 }
 
-pub(crate) fn perr(e: impl std::fmt::Display) -> Error {
+pub fn perr(e: impl std::fmt::Display) -> Error {
     Error::Param(format!("plotting failed: {e}"))
 }
 
@@ -140,10 +141,118 @@ pub fn chart<'a, 'b>(
     b.margin(pt(6.0) as u32)
         .x_label_area_size(pt(SMALL_PT + LABEL_PT + 9.0) as u32)
         .y_label_area_size(y_room(&y) as u32);
-    if !title.is_empty() {
+    let (w, _) = area.dim_in_pixel();
+    let lines = wrap(title, TITLE_PT, w as f64 - pt(12.0));
+    if lines.len() == 1 {
         b.caption(title, font(TITLE_PT));
+    } else if lines.len() > 1 {
+        // A title too long for the width: centred lines in the top margin.
+        let h = title_lines(area, &lines)?;
+        b.margin_top((pt(3.0) + h) as u32);
     }
     b.build_cartesian_2d(x, y).map_err(perr)
+}
+
+/// Draw `lines` centred at the top of `area` in the title font; the height they take
+/// (figure units).
+pub fn title_lines(area: &Area, lines: &[String]) -> Result<f64> {
+    let (w, _) = area.dim_in_pixel();
+    let line_h = pt(TITLE_PT + 2.5);
+    for (i, l) in lines.iter().enumerate() {
+        area.draw(&Text::new(
+            l.clone(),
+            ((w / 2) as i32, (pt(3.0) + i as f64 * line_h) as i32),
+            font(TITLE_PT).color(&BLACK).pos(text_anchor::Pos::new(
+                text_anchor::HPos::Center,
+                text_anchor::VPos::Top,
+            )),
+        ))
+        .map_err(perr)?;
+    }
+    Ok(pt(3.0) + lines.len() as f64 * line_h)
+}
+
+/// A title across the top of `area`, broken into lines that fit ([`wrap`]); returns
+/// the area below it.
+pub fn titled<'b>(area: &Area<'b>, title: &str) -> Result<Area<'b>> {
+    area.fill(&WHITE).map_err(perr)?;
+    let (w, _) = area.dim_in_pixel();
+    let lines = wrap(title, TITLE_PT, w as f64 - pt(12.0));
+    if lines.is_empty() {
+        return Ok(area.clone());
+    }
+    let h = title_lines(area, &lines)?;
+    Ok(area.split_vertically(h.ceil() as u32).1)
+}
+
+/// The height (figure units) of a [`colour_bar`].
+pub fn colour_bar_height() -> u32 {
+    pt(SMALL_PT + LABEL_PT + 9.0 + 7.0 + 12.0) as u32
+}
+
+/// A horizontal colour bar for a colour map over `range`: the map drawn in 200 steps,
+/// ticks in the style's format and the quantity with its unit as the axis label.
+pub fn colour_bar(
+    area: &Area,
+    range: Range<f64>,
+    label: &str,
+    map: impl Fn(f64) -> RGBColor,
+) -> Result<()> {
+    area.fill(&WHITE).map_err(perr)?;
+    let (lo, hi) = (range.start, range.end.max(range.start + 1e-12));
+    let mut ch = ChartBuilder::on(area)
+        .margin(pt(6.0) as u32)
+        .margin_left(pt(18.0) as u32)
+        .margin_right(pt(18.0) as u32)
+        .x_label_area_size(pt(SMALL_PT + LABEL_PT + 9.0) as u32)
+        .build_cartesian_2d(lo..hi, 0.0..1.0)
+        .map_err(perr)?;
+    ch.configure_mesh()
+        .disable_mesh()
+        .disable_y_axis()
+        .x_labels(5)
+        .x_label_formatter(&|v| tick(*v))
+        .x_desc(label)
+        .label_style(font(SMALL_PT))
+        .axis_desc_style(font(LABEL_PT))
+        .axis_style(BLACK.stroke_width(stroke(THIN_PT)))
+        .set_all_tick_mark_size(pt(2.5) as u32)
+        .draw()
+        .map_err(perr)?;
+    let n = 200;
+    ch.draw_series((0..n).map(|i| {
+        let (a, b) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
+        Rectangle::new(
+            [(lo + a * (hi - lo), 0.0), (lo + b * (hi - lo), 1.0)],
+            map(0.5 * (a + b)).filled(),
+        )
+    }))
+    .map_err(perr)?;
+    ch.draw_series(std::iter::once(Rectangle::new(
+        [(lo, 0.0), (hi, 1.0)],
+        BLACK.stroke_width(stroke(THIN_PT)),
+    )))
+    .map_err(perr)?;
+    Ok(())
+}
+
+/// `text` broken at spaces into lines that fit `width` figure units at `points`
+/// (glyphs estimated at 0.55 em, wider than [`super::check`]'s 0.5 em); empty text: no
+/// line; a word longer than the width stands on its own line.
+pub fn wrap(text: &str, points: f64, width: f64) -> Vec<String> {
+    let per_char = 0.55 * pt(points.max(MIN_FONT_PT));
+    let max = ((width / per_char).floor() as usize).max(1);
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split_whitespace() {
+        match lines.last_mut() {
+            Some(l) if l.chars().count() + 1 + word.chars().count() <= max => {
+                l.push(' ');
+                l.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
 }
 
 /// Axes with labelled ticks ([`tick`]) and axis labels (with their units), light grid.
@@ -306,5 +415,21 @@ mod tests {
         assert_eq!(Width::Full.units(), 2016);
         assert_eq!(Width::Column.size(0.5), (950, 475));
         assert!(font(5.0).get_size() >= pt(MIN_FONT_PT));
+    }
+    #[test]
+    fn long_titles_wrap_at_spaces() {
+        assert!(wrap("", TITLE_PT, 900.0).is_empty());
+        assert_eq!(wrap("short title", TITLE_PT, 900.0), vec!["short title"]);
+        let long =
+            "mid(AB) mid(AC) mid(AB2) of the valence-4 square at AD (cut A): projected angles";
+        let lines = wrap(long, TITLE_PT, 900.0);
+        assert!(lines.len() >= 2, "{lines:?}");
+        assert_eq!(lines.join(" "), long);
+        for l in &lines {
+            assert!(
+                0.55 * pt(TITLE_PT) * l.chars().count() as f64 <= 900.0,
+                "{l}"
+            );
+        }
     }
 }

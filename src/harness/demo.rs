@@ -109,11 +109,23 @@ pub fn run(out: &Path, quick: bool, progress: &dyn Progress) -> Result<DemoRepor
                     format!("renders/{name}.png"),
                 );
             }
-        } else {
-            renders.insert(
-                (e.name.to_string(), r.algo.clone()),
-                format!("meshes/{name}.svg"),
-            );
+        } else if let Mesh::Curve(c) = &r.output.mesh {
+            // The mesh file meshes/NAME.svg holds the curve's coordinates only; the
+            // page shows its figure (axes in the curve's coordinates, the style's fonts).
+            if !c.vertices.is_empty()
+                && crate::reproduce::plot_subdivision::draw_curve_figure(
+                    &render_dir.join(&name),
+                    &format!("{}, {}", e.name, r.algo),
+                    c,
+                    &[Format::Svg, Format::Png],
+                )
+                .is_ok()
+            {
+                renders.insert(
+                    (e.name.to_string(), r.algo.clone()),
+                    format!("renders/{name}.png"),
+                );
+            }
         }
         match &r.output.mesh {
             Mesh::Surface(m) => {

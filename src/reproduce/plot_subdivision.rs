@@ -123,25 +123,97 @@ pub fn draw_subdivision_svg(
             }
         }
         chart.draw_series(cells).map_err(perr)?;
-        chart
-            .draw_series(curve.segments.iter().map(|s| {
-                let a = curve.vertices[s[0] as usize];
-                let b = curve.vertices[s[1] as usize];
-                PathElement::new(
-                    vec![(a[0], a[1]), (b[0], b[1])],
-                    palette::BLACK.stroke_width(stroke(LINE_PT)),
-                )
-            }))
-            .map_err(perr)?;
-        chart
-            .draw_series(
-                curve
-                    .vertices
-                    .iter()
-                    .map(|v| Circle::new((v[0], v[1]), pt(1.0) as i32, palette::BLACK.filled())),
-            )
-            .map_err(perr)?;
-        Ok(())
+        draw_polyline(&mut chart, curve)
     })
     .map(|_| ())
+}
+
+/// A curve's segments (1 pt, black) and its vertices (dots) on a chart in its own
+/// coordinates.
+fn draw_polyline(chart: &mut style::Chart, curve: &Curve2) -> Result<()> {
+    chart
+        .draw_series(curve.segments.iter().map(|s| {
+            let a = curve.vertices[s[0] as usize];
+            let b = curve.vertices[s[1] as usize];
+            PathElement::new(
+                vec![(a[0], a[1]), (b[0], b[1])],
+                palette::BLACK.stroke_width(stroke(LINE_PT)),
+            )
+        }))
+        .map_err(perr)?;
+    chart
+        .draw_series(
+            curve
+                .vertices
+                .iter()
+                .map(|v| Circle::new((v[0], v[1]), pt(1.0) as i32, palette::BLACK.filled())),
+        )
+        .map_err(perr)?;
+    Ok(())
+}
+
+/// The legend entry of a curve figure's polyline.
+pub const CURVE_OUTPUT: &str = "output polyline and its vertices";
+
+/// Write `base.<ext>` in `formats`: a mesher's output curve on axes in the curve's own
+/// coordinates (equal scales, one column wide), the picture of a planar mesh in the
+/// figure style. (The mesh file `io::write_curve` writes as `.svg` is a mesh format,
+/// full-precision coordinates and nothing else, not a figure.)
+pub fn draw_curve_figure(
+    base: &Path,
+    title: &str,
+    curve: &Curve2,
+    formats: &[output::Format],
+) -> Result<Vec<std::path::PathBuf>> {
+    let (x0, x1, y0, y1) = crate::reproduce::plot::extent(
+        curve
+            .vertices
+            .iter()
+            .map(|v| (v[0], v[1]))
+            .filter(|(x, y)| x.is_finite() && y.is_finite()),
+    );
+    let m = 0.05 * (x1 - x0).max(y1 - y0);
+    let (x0, x1, y0, y1) = (x0 - m, x1 + m, y0 - m, y1 + m);
+    let keys = vec![(CURVE_OUTPUT.to_string(), Key::Line(palette::BLACK))];
+    let meta = Meta::chart("x", "y", vec![CURVE_OUTPUT.into()], 1);
+    let aspect = ((y1 - y0) / (x1 - x0)).clamp(0.3, 1.6) * 0.86 + 0.2;
+    output::figure_as(base, Width::Column, aspect, &meta, formats, |area| {
+        let top = style::legend_below(area, &keys)?;
+        let mut chart = style::chart(&top, title, x0..x1, y0..y1)?;
+        style::axes(&mut chart, "x", "y")?;
+        draw_polyline(&mut chart, curve)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn a_curve_figure_keeps_the_style() {
+        let n = 24;
+        let curve = Curve2 {
+            vertices: (0..n)
+                .map(|i| {
+                    let t = i as f64 / n as f64 * std::f64::consts::TAU;
+                    [2.0 * t.cos(), t.sin()]
+                })
+                .collect(),
+            segments: (0..n).map(|i| [i, (i + 1) % n]).collect(),
+        };
+        let d = std::env::temp_dir().join(format!("certmesh-curve-fig-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let files = draw_curve_figure(
+            &d.join("ellipse"),
+            "ellipse, pv",
+            &curve,
+            &[output::Format::Svg, output::Format::Png],
+        )
+        .unwrap();
+        assert_eq!(files.len(), 2);
+        let r =
+            crate::figure::check::check_svg(&std::fs::read_to_string(&files[0]).unwrap()).unwrap();
+        assert!(r.problems.is_empty(), "{:?}", r.problems);
+        assert!(r.texts.iter().any(|t| t == CURVE_OUTPUT), "{:?}", r.texts);
+        std::fs::remove_dir_all(&d).ok();
+    }
 }

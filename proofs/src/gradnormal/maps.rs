@@ -1,8 +1,12 @@
 //! Maps of the smallest and largest projected angle over the full region of plane normals
-//! of a case (gnomonic chart: great-circle arcs are straight lines), SVG and PNG.
+//! of a case (gnomonic chart: great-circle arcs are straight lines), full width in the
+//! project's figure style (`certmesh::figure`): viridis with a colour bar in degrees per
+//! panel, written in the figure formats (`--format`).
 use super::cases::{Case, Ratio};
 use super::sample::angles_at;
-use plotters::coord::Shift;
+use certmesh::figure::output::{self, Meta};
+use certmesh::figure::palette;
+use certmesh::figure::style::{self, perr, Area, Width};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -102,111 +106,73 @@ fn grid(ratio: Ratio, case: &Case, n: usize) -> Grid {
     }
 }
 
-fn colour(t: f64) -> RGBColor {
-    // A blue → green → yellow ramp.
-    let t = t.clamp(0.0, 1.0);
-    let (r, g, b) = if t < 0.5 {
-        let s = t / 0.5;
-        (0.2 * (1.0 - s), 0.2 + 0.5 * s, 0.6 * (1.0 - s) + 0.3 * s)
-    } else {
-        let s = (t - 0.5) / 0.5;
-        (0.95 * s, 0.7 + 0.2 * s, 0.3 * (1.0 - s))
-    };
-    RGBColor((r * 255.0) as u8, (g * 255.0) as u8, (b * 255.0) as u8)
-}
+/// The axis labels of a map: gnomonic chart coordinates (tangents, no unit).
+pub const X_LABEL: &str = "gnomonic x (tangent, no unit)";
+pub const Y_LABEL: &str = "gnomonic y (tangent, no unit)";
+/// The quantities of the two panels, with their unit (the colour bars' labels).
+pub const BARS: [&str; 2] = [
+    "smallest projected angle (degrees)",
+    "largest projected angle (degrees)",
+];
 
-fn draw<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    g: &Grid,
-    title: &str,
-) -> Result<(), String> {
-    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
-    area.fill(&WHITE).map_err(e)?;
-    let panels = area.split_evenly((1, 2));
+fn draw(area: &Area, g: &Grid, title: &str) -> certmesh::Result<()> {
+    let rest = style::titled(area, title)?;
+    let panels = rest.split_evenly((1, 2));
     for (pi, panel) in panels.iter().enumerate() {
-        let (lo, hi) = if pi == 0 {
-            let v: Vec<f64> = g.cells.iter().flatten().map(|c| c.0).collect();
-            (
-                v.iter().cloned().fold(f64::INFINITY, f64::min),
-                v.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
-            )
-        } else {
-            let v: Vec<f64> = g.cells.iter().flatten().map(|c| c.1).collect();
-            (
-                v.iter().cloned().fold(f64::INFINITY, f64::min),
-                v.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
-            )
-        };
-        let cap = format!(
-            "{} angle: {:.4}° (dark) .. {:.4}° (light)",
-            if pi == 0 { "smallest" } else { "largest" },
-            lo,
-            hi
-        );
-        let mut chart = ChartBuilder::on(panel)
-            .caption(cap, ("sans-serif", 16))
-            .margin(10)
-            .x_label_area_size(30)
-            .y_label_area_size(40)
-            .build_cartesian_2d(
-                g.x0..g.x0 + g.step * g.n as f64,
-                g.y0..g.y0 + g.step * g.n as f64,
-            )
-            .map_err(|x| x.to_string())?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc("gnomonic x")
-            .y_desc("gnomonic y")
-            .draw()
-            .map_err(|x| x.to_string())?;
+        let pick = |c: &(f64, f64)| if pi == 0 { c.0 } else { c.1 };
+        let (lo, hi) = g
+            .cells
+            .iter()
+            .flatten()
+            .map(pick)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            });
+        let (_, h) = panel.dim_in_pixel();
+        let (plot, bar) = panel.split_vertically(h.saturating_sub(style::colour_bar_height()));
+        let name = if pi == 0 { "smallest" } else { "largest" };
+        let mut chart = style::chart(
+            &plot,
+            &format!("{name} angle over the region"),
+            g.x0..g.x0 + g.step * g.n as f64,
+            g.y0..g.y0 + g.step * g.n as f64,
+        )?;
+        style::axes(&mut chart, X_LABEL, Y_LABEL)?;
         let span = (hi - lo).max(1e-12);
         chart
             .draw_series(g.cells.iter().enumerate().filter_map(|(idx, c)| {
-                c.map(|(mn, mx)| {
-                    let v = if pi == 0 { mn } else { mx };
+                c.as_ref().map(|c| {
                     let (i, j) = (idx % g.n, idx / g.n);
                     let x = g.x0 + i as f64 * g.step;
                     let y = g.y0 + j as f64 * g.step;
                     Rectangle::new(
                         [(x, y), (x + g.step, y + g.step)],
-                        colour((v - lo) / span).filled(),
+                        palette::viridis((pick(c) - lo) / span).filled(),
                     )
                 })
             }))
-            .map_err(|x| x.to_string())?;
+            .map_err(perr)?;
+        style::colour_bar(&bar, lo..hi, BARS[pi], palette::viridis)?;
     }
-    let _ = (g.lo, g.hi, title);
+    let _ = (g.lo, g.hi);
     Ok(())
 }
 
-/// Write `map-case<i>.svg/.png` for the chosen cases.
+/// Write `map-case<i>` (figure formats) for the chosen cases.
 pub fn write_maps(dir: &Path, ratio: Ratio, cases: &[Case], which: &[usize]) -> Result<(), String> {
     for &i in which {
         let Some(case) = cases.get(i) else { continue };
         let title = format!("{}: {}", case.name, case.region);
-        let g = grid(ratio, case, 60);
-        let svg = dir.join(format!("map-case{i}.svg"));
-        {
-            let area = SVGBackend::new(&svg, (1100, 520)).into_drawing_area();
-            area.fill(&WHITE).map_err(|e| e.to_string())?;
-            let (top, rest) = area.split_vertically(30);
-            top.titled(&title, ("sans-serif", 16))
-                .map_err(|e| e.to_string())?;
-            draw(&rest, &g, &title)?;
-            area.present().map_err(|e| e.to_string())?;
-        }
-        let g = grid(ratio, case, 300);
-        let png = dir.join(format!("map-case{i}.png"));
-        {
-            let area = BitMapBackend::new(&png, (1100, 520)).into_drawing_area();
-            area.fill(&WHITE).map_err(|e| e.to_string())?;
-            let (top, rest) = area.split_vertically(30);
-            top.titled(&title, ("sans-serif", 16))
-                .map_err(|e| e.to_string())?;
-            draw(&rest, &g, &title)?;
-            area.present().map_err(|e| e.to_string())?;
-        }
+        let g = grid(ratio, case, 80);
+        let meta = Meta::chart(X_LABEL, Y_LABEL, BARS.map(String::from).to_vec(), 2);
+        output::figure(
+            &dir.join(format!("map-case{i}")),
+            Width::Full,
+            0.62,
+            &meta,
+            |area| draw(area, &g, &title),
+        )
+        .map_err(|e| e.to_string())?;
     }
     Ok(())
 }

@@ -113,6 +113,57 @@ fn fmt2(x: [f64; 2]) -> String {
     format!("[{:.9}°, {:.9}°]", x[0], x[1])
 }
 
+/// The boundary-arc figures: `arcs-case<i>` for the cases `which` (the paper's Figs 17,
+/// 14/15) and `arcs-all`, the pointwise min and max over every case (Fig 18), in `fig`.
+pub fn write_arcs(fig: &Path, ratio: Ratio, cases: &[Case], which: &[usize]) -> Result<(), String> {
+    let mut all = Vec::new();
+    // The cases' arcs one after another (x = arcs of the cases before + arc + t), so
+    // the envelope has no gaps to bridge.
+    let mut offset = 0.0;
+    for (i, c) in cases.iter().enumerate() {
+        let series = boundary_series(ratio, c, 200);
+        let arcs = series
+            .first()
+            .and_then(|s| s.points.last())
+            .map_or(0.0, |p| p.0.round());
+        if which.contains(&i) {
+            let base = fig.join(format!("arcs-case{i}"));
+            certmesh::reproduce::plot::lines(
+                &base,
+                &c.name,
+                "boundary arc k + position t on it (no unit)",
+                "projected angle (degrees)",
+                &series,
+            )
+            .map_err(|e| e.to_string())?;
+        }
+        for (k, s) in series.into_iter().enumerate() {
+            all.push(certmesh::reproduce::plot::Series {
+                name: if i == 0 {
+                    format!("angle {k}")
+                } else {
+                    String::new()
+                },
+                points: s.points.iter().map(|&(x, y)| (x + offset, y)).collect(),
+            });
+        }
+        offset += arcs;
+    }
+    let envelope = envelope_series(&all);
+    certmesh::reproduce::plot::lines(
+        &fig.join("arcs-all"),
+        &format!(
+            "All {} triangles: min and max projected angle along their boundary arcs, case after case",
+            cases.len()
+        ),
+        "boundary arc k of all cases + position t (no unit)",
+        "projected angle (degrees)",
+        &envelope,
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
 /// Run every rule at `ratio`, write the certificates, figures and PROOF.md into `dir`.
 pub fn write_papers(dir: &Path, ratio: Ratio, budget: &crate::bnb::Budget) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -144,45 +195,7 @@ pub fn write_papers(dir: &Path, ratio: Ratio, budget: &crate::bnb::Budget) -> Re
     let d = Derived::new(ratio);
     let paper = &runs[0].1;
     let cases = d.cases(DiagonalRule::Paper)?;
-    // Figures: boundary arcs of a few cases and of all cases (Fig 18).
-    let mut all = Vec::new();
-    for (i, c) in cases.iter().enumerate() {
-        let series = boundary_series(ratio, c, 200);
-        if [0usize, 8, 10].contains(&i) {
-            let base = fig.join(format!("arcs-case{i}"));
-            certmesh::reproduce::plot::lines(
-                &base,
-                &format!("{}: projected angles along the boundary arcs", c.name),
-                "boundary arc index + t",
-                "angle (degrees)",
-                &series,
-            )
-            .map_err(|e| e.to_string())?;
-        }
-        for (k, s) in series.into_iter().enumerate() {
-            all.push(certmesh::reproduce::plot::Series {
-                name: if i == 0 {
-                    format!("angle {k}")
-                } else {
-                    String::new()
-                },
-                points: s
-                    .points
-                    .iter()
-                    .map(|&(x, y)| (x + 100.0 * i as f64, y))
-                    .collect(),
-            });
-        }
-    }
-    let envelope = envelope_series(&all);
-    certmesh::reproduce::plot::lines(
-        &fig.join("arcs-all"),
-        "All 18 triangles: min and max projected angle along boundary arcs (x = 100·case + arc)",
-        "case·100 + arc + t",
-        "angle (degrees)",
-        &envelope,
-    )
-    .map_err(|e| e.to_string())?;
+    write_arcs(&fig, ratio, &cases, &[0, 8, 10])?;
     super::maps::write_maps(&fig, ratio, &cases, &[0, 8, 10, 4])?;
 
     let mut s = String::new();
@@ -391,7 +404,7 @@ pub fn scan(
     certmesh::reproduce::plot::lines(
         &dir.join(format!("scan-{}", rule.name())),
         "GradNormal certified angle bounds vs a/e",
-        "a/e",
+        "a/e (length ratio, no unit)",
         "angle (degrees)",
         &series,
     )

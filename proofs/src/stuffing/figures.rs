@@ -258,25 +258,33 @@ fn render(f: &Fig, stem: &Path) -> Result<(), String> {
                     .map(|&p| Circle::new(p, r as i32, palette::BLACK.filled())),
             )
             .map_err(|x| m(x.to_string()))?;
-            let px: Vec<(f64, f64)> = pts
-                .iter()
-                .map(|p| {
-                    let c = ch.backend_coord(p);
-                    (c.0 as f64, c.1 as f64)
-                })
-                .collect();
+            // Vertices that project onto one point (the two ends of a dihedral edge seen
+            // end-on) share one label, "W1, W2", instead of two crowding each other.
+            let mut px: Vec<(f64, f64)> = Vec::new();
+            let mut labels: Vec<String> = Vec::new();
+            for (p, l) in pts.iter().zip(&f.labels) {
+                let c = ch.backend_coord(p);
+                let c = (c.0 as f64, c.1 as f64);
+                match px.iter().position(|q| (q.0 - c.0).hypot(q.1 - c.1) <= r) {
+                    Some(k) => labels[k] = format!("{}, {l}", labels[k]),
+                    None => {
+                        px.push(c);
+                        labels.push(l.clone());
+                    }
+                }
+            }
             let (b0, b1) = (
                 ch.backend_coord(&(f.range.0.start, f.range.1.end)),
                 ch.backend_coord(&(f.range.0.end, f.range.1.start)),
             );
             let at = certmesh::figure::labels::place(
                 &px,
-                &f.labels,
+                &labels,
                 pt(SMALL_PT + 1.0),
                 r,
                 (b0.0 as f64, b0.1 as f64, b1.0 as f64, b1.1 as f64),
             );
-            for (l, (x, y)) in f.labels.iter().zip(at) {
+            for (l, (x, y)) in labels.iter().zip(at) {
                 area.draw(&Text::new(
                     l.clone(),
                     (x as i32, y as i32),
