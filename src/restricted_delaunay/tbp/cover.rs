@@ -49,7 +49,16 @@ impl HalfSpace {
     }
     /// An enclosure of a·x − b over the box (the box as [`Iv`]s, see [`Region::place`]).
     pub fn value(&self, x: &[Iv; 3]) -> Iv {
-        self.a[0] * x[0] + self.a[1] * x[1] + self.a[2] * x[2] - self.b
+        // A point coefficient (the common case: 2 (r − p) is exact) takes two products.
+        let term = |k: usize| {
+            let a = self.a[k];
+            if a.lo == a.hi {
+                x[k].mul_point(a.lo)
+            } else {
+                a * x[k]
+            }
+        };
+        term(0) + term(1) + term(2) - self.b
     }
 }
 

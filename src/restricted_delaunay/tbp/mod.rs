@@ -151,9 +151,34 @@ pub struct Tbp {
 /// Voronoi facets and cells already proven, keyed by their exact combinatorics (the
 /// sites and the vertex sets of the dual cells, which fix the face and its vertex
 /// enclosures): a refinement driver re-checks only the faces its insertions changed.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct TbpCache {
     proven: std::collections::HashSet<Vec<u32>>,
+    /// `false`: a one-off check ([`check`]) that neither reads nor fills the cache, so
+    /// the faces' keys are not built.
+    keep: bool,
+}
+
+impl Default for TbpCache {
+    fn default() -> Self {
+        TbpCache {
+            proven: Default::default(),
+            keep: true,
+        }
+    }
+}
+
+impl TbpCache {
+    fn key(&self, t: &Delaunay, sites: &[VertexId], cells: &[CellId]) -> Vec<u32> {
+        if self.keep {
+            face_key(t, sites, cells)
+        } else {
+            Vec::new()
+        }
+    }
+    fn proven(&self, k: &Vec<u32>) -> bool {
+        self.keep && self.proven.contains(k)
+    }
 }
 
 fn face_key(t: &Delaunay, sites: &[VertexId], cells: &[CellId]) -> Vec<u32> {
@@ -281,19 +306,20 @@ struct FaceResult {
 
 /// Fold the checked faces into the failures and the set of proven faces; returns the
 /// boxes they used.
-fn record<K: Eq + std::hash::Hash>(
-    results: Vec<(K, FaceResult)>,
+fn record(
+    results: Vec<(Vec<u32>, FaceResult)>,
     failures: &mut Vec<Failure>,
-    proven: &mut std::collections::HashSet<K>,
+    cache: &mut TbpCache,
 ) -> u64 {
     let mut boxes = 0;
     for (k, x) in results {
         boxes += x.boxes;
         match x.failure {
             Some(x) => failures.push(x),
-            None => {
-                proven.insert(k);
+            None if cache.keep => {
+                cache.proven.insert(k);
             }
+            None => {}
         }
     }
     boxes
@@ -514,7 +540,11 @@ fn check_cell(
 
 /// Run the checks on the kernel's triangulation `t` (see the module documentation).
 pub fn check(t: &Delaunay, f: &dyn Implicit, domain: &Aabb, o: &TbpOptions) -> Tbp {
-    check_cached(t, f, domain, o, &mut TbpCache::default())
+    let mut none = TbpCache {
+        keep: false,
+        ..Default::default()
+    };
+    check_cached(t, f, domain, o, &mut none)
 }
 
 /// [`check`], skipping the Voronoi facets and cells `cache` holds as proven and adding
@@ -689,8 +719,8 @@ pub fn check_cached(
         .flat_map_iter(|chunk| {
             let todo: Vec<_> = chunk
                 .iter()
-                .map(|(e, ring)| (face_key(t, &[e.0, e.1], ring), e, ring))
-                .filter(|x| !cache.proven.contains(&x.0))
+                .map(|(e, ring)| (cache.key(t, &[e.0, e.1], ring), e, ring))
+                .filter(|x| !cache.proven(&x.0))
                 .collect();
             let rings: Vec<&[CellId]> = todo.iter().map(|x| x.2.as_slice()).collect();
             let starts = start_boxes(f, &cc, &rings, &dbox);
@@ -703,7 +733,7 @@ pub fn check_cached(
                 .collect::<Vec<_>>()
         })
         .collect();
-    r.boxes += record(facets, &mut failures, &mut cache.proven);
+    r.boxes += record(facets, &mut failures, cache);
     r.seconds[3] = lap();
     if stop(&failures) {
         r.skipped = vec![Test::Cell];
@@ -717,8 +747,8 @@ pub fn check_cached(
         .flat_map_iter(|chunk| {
             let todo: Vec<_> = chunk
                 .iter()
-                .map(|&p| (face_key(t, &[p], &adj.cells_of[p as usize]), p))
-                .filter(|x| !cache.proven.contains(&x.0))
+                .map(|&p| (cache.key(t, &[p], &adj.cells_of[p as usize]), p))
+                .filter(|x| !cache.proven(&x.0))
                 .collect();
             let stars: Vec<&[CellId]> = todo
                 .iter()
@@ -733,7 +763,7 @@ pub fn check_cached(
                 .collect::<Vec<_>>()
         })
         .collect();
-    r.boxes += record(cells, &mut failures, &mut cache.proven);
+    r.boxes += record(cells, &mut failures, cache);
     r.seconds[4] = lap();
     finish(r, rdt, failures)
 }
