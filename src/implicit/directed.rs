@@ -194,7 +194,7 @@ impl Iv {
 
     /// x · c for a point c (two products instead of four).
     #[inline]
-    fn mul_point(self, c: f64) -> Iv {
+    pub fn mul_point(self, c: f64) -> Iv {
         if !(moderate(self.lo) & moderate(self.hi) & moderate(c) & (self.lo <= self.hi)) {
             return self.slow2(Iv::point(c), |a, b| a * b);
         }

@@ -102,13 +102,16 @@ pub fn enclose(f: &dyn Implicit, b: &IBox) -> (Interval, [Interval; 3]) {
 pub fn mean_value(f: &dyn Implicit, b: &IBox, d: &crate::implicit::Dual<Interval>) -> Interval {
     let c = [0, 1, 2].map(|k| b[k].mid());
     let cb = c.map(|x| Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE));
-    let mut mv = f.eval_interval(&cb);
+    // Summed in the fast interval type (inari's bounds, bit for bit).
+    use crate::implicit::directed::Iv;
+    let mut mv = Iv::from_interval(f.eval_interval(&cb));
     for k in 0..3 {
         if b[k].wid() > 0.0 {
-            mv = mv + d.g[k] * (b[k] - cb[k]);
+            mv = mv
+                + Iv::from_interval(d.g[k]) * (Iv::from_interval(b[k]) - Iv::from_interval(cb[k]));
         }
     }
-    let v = d.v.intersection(mv);
+    let v = d.v.intersection(mv.to_interval());
     // The mean-value form is an enclosure only for a continuous f whose derivative
     // enclosures are slopes (C¹, or Lipschitz through |·|, min, max): across a pole or
     // a gap of the domain it may exclude values f takes. Ask only when it tightens.

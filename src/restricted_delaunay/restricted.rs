@@ -24,7 +24,7 @@
 //! circumcentre of cell c to that of its neighbour d in the direction of c's outward
 //! normal of the facet, so a rising crossing orients the facet outward from c.
 use crate::implicit::ops::{
-    isolate_segment, segment_root_point, segment_sign, SegmentBudget, SegmentRoot,
+    excludes_zero, isolate_segment, segment_root_point, segment_sign, SegmentBudget, SegmentRoot,
 };
 use crate::implicit::{IBox, Implicit};
 use crate::kernel::delaunay::{circumcentre, CellId, Delaunay, VertexId};
@@ -287,8 +287,23 @@ pub enum Ends3 {
     Certified,
 }
 
+/// The interval circumcentre of every live cell of `t` ([`circumcentre_interval`]), by
+/// cell id (`None` for dead cells and unenclosed slivers); computed in parallel.
+pub fn certified_circumcentres(t: &Delaunay) -> Vec<Option<IBox>> {
+    use rayon::prelude::*;
+    (0..t.cell_capacity() as u32)
+        .into_par_iter()
+        .map(|c| {
+            t.is_live(c)
+                .then(|| circumcentre_interval(t.cell_vertices(c).map(|v| t.point(v))))
+                .flatten()
+        })
+        .collect()
+}
+
 /// Test every facet of `t`: the restricted facets, and the facets whose dual could
-/// not be decided. `cc` holds the float circumcentre per cell id (`Float` mode).
+/// not be decided. `cc` holds the float circumcentre per cell id (`Float` mode; the
+/// `Certified` mode encloses them itself, see [`scan_certified`]).
 pub fn scan(
     t: &Delaunay,
     f: &dyn Implicit,
@@ -297,91 +312,156 @@ pub fn scan(
     ends: Ends3,
     budget: SegmentBudget,
 ) -> Scan {
+    match ends {
+        Ends3::Float => scan_ends(t, f, domain, SegmentEnds::Float(cc), budget),
+        Ends3::Certified => {
+            let icc = certified_circumcentres(t);
+            scan_certified(t, f, domain, &icc, budget)
+        }
+    }
+}
+
+/// The `Certified` scan with the interval circumcentres `icc` given (by cell id, as
+/// [`certified_circumcentres`] returns them).
+pub fn scan_certified(
+    t: &Delaunay,
+    f: &dyn Implicit,
+    domain: &Aabb,
+    icc: &[Option<IBox>],
+    budget: SegmentBudget,
+) -> Scan {
+    scan_ends(t, f, domain, SegmentEnds::Certified(icc), budget)
+}
+
+enum SegmentEnds<'a> {
+    Float(&'a [[f64; 3]]),
+    Certified(&'a [Option<IBox>]),
+}
+
+/// What one facet's dual segment gave.
+enum Outcome {
+    /// A far-corner facet (restricted never, by [`far_lemma`], when it holds).
+    Far,
+    /// A cell's circumcentre could not be enclosed: the midpoint of the float segment.
+    Unenclosed([f64; 3]),
+    Tested(DualTest),
+}
+
+/// Segments per batch of the one-enclosure pre-test (and per parallel task).
+const CHUNK: usize = 256;
+
+/// The hull of two boxes: it contains the segment between any of their points.
+fn join(a: &IBox, b: &IBox) -> IBox {
+    std::array::from_fn(|k| a[k].convex_hull(b[k]))
+}
+
+/// The scan proper. The facets are cut into chunks tested in parallel; in each chunk
+/// one batched interval enclosure of f over the hull of each segment's end boxes
+/// settles the segments it proves free of S (0 ∉ □f on a box containing the whole
+/// segment: no crossing, nothing undecided); the others get full root isolation. The
+/// outcomes are folded in the kernel's facet order, so the scan is the same whatever
+/// the number of threads.
+fn scan_ends(
+    t: &Delaunay,
+    f: &dyn Implicit,
+    domain: &Aabb,
+    ends: SegmentEnds,
+    budget: SegmentBudget,
+) -> Scan {
+    use rayon::prelude::*;
     let dbox = domain.intervals();
     let lemma = far_lemma(t, domain);
     let mut s = Scan {
         far_lemma: lemma,
         ..Default::default()
     };
-    let far = |v: VertexId| t.is_far(v);
-    let mut certified_cc: Vec<Option<Option<IBox>>> = if ends == Ends3::Certified {
-        vec![None; t.cell_capacity()]
-    } else {
-        Vec::new()
-    };
-    let mut cert = |c: CellId| -> Option<IBox> {
-        let slot = &mut certified_cc[c as usize];
-        if slot.is_none() {
-            let p = t.cell_vertices(c).map(|v| t.point(v));
-            *slot = Some(circumcentre_interval(p));
-        }
-        slot.unwrap()
-    };
-    for (c, i, d, _) in t.facets(false) {
+    let all: Vec<(CellId, usize, CellId)> = t.facets(false).map(|(c, i, d, _)| (c, i, d)).collect();
+    let test = |&(c, i, d): &(CellId, usize, CellId)| -> Option<(IBox, IBox)> {
         let fv = facet_vertices(t, c, i, true);
-        if fv.iter().any(|&v| far(v)) {
-            s.far_facets += 1;
-            if !lemma {
-                s.undecided.push(UndecidedFacet {
-                    v: fv,
-                    cell: c,
-                    facet: i,
-                    points: Vec::new(),
-                    reason: "far-corner facet: a vertex lies outside the domain",
-                });
-            }
-            continue;
+        if fv.iter().any(|&v| t.is_far(v)) {
+            return None;
         }
-        s.segments += 1;
-        let v0 = t.point(fv[0]);
-        let test = match ends {
-            Ends3::Float => test_segment(f, cc[c as usize], cc[d as usize], v0, &dbox, budget),
-            Ends3::Certified => match (cert(c), cert(d)) {
-                (Some(a), Some(b)) => {
-                    let r = isolate_segment(f, &a, &b, Some(&dbox), budget);
-                    let am = a.map(|x| x.mid());
-                    let bm = b.map(|x| x.mid());
-                    DualTest {
-                        crossings: r
-                            .roots
-                            .iter()
-                            .map(|root| {
-                                let (p, tp) = segment_root_point(f, am, bm, root, 1e-12);
-                                let narrow = narrow(f, &a, &b, root, tp);
-                                FacetCrossing {
-                                    point: p,
-                                    radius: dist(p, v0),
-                                    radius_sup: radius_sup(&a, &b, &narrow, v0),
-                                    rising: root.rising,
-                                    piece: [root.t0, root.t1],
-                                }
-                            })
-                            .collect(),
-                        undecided: r
-                            .undecided
-                            .iter()
-                            .map(|u| crate::kernel::geom::lerp(am, bm, 0.5 * (u[0] + u[1])))
-                            .collect(),
-                        pieces: r.pieces,
+        match ends {
+            SegmentEnds::Float(cc) => Some((point_box(cc[c as usize]), point_box(cc[d as usize]))),
+            SegmentEnds::Certified(icc) => Some((icc[c as usize]?, icc[d as usize]?)),
+        }
+    };
+    let outcomes: Vec<Outcome> = all
+        .par_chunks(CHUNK)
+        .flat_map_iter(|chunk| {
+            let segs: Vec<Option<(IBox, IBox)>> = chunk.iter().map(test).collect();
+            let hulls: Vec<IBox> = segs.iter().flatten().map(|(a, b)| join(a, b)).collect();
+            let mut enc = vec![Interval::EMPTY; hulls.len()];
+            f.eval_interval_batch(&hulls, &mut enc);
+            let mut k = 0;
+            chunk
+                .iter()
+                .zip(segs)
+                .map(|(&(c, i, d), seg)| {
+                    let fv = facet_vertices(t, c, i, true);
+                    if fv.iter().any(|&v| t.is_far(v)) {
+                        return Outcome::Far;
                     }
-                }
-                _ => {
-                    let m = crate::kernel::geom::lerp(
-                        circumcentre(t.cell_vertices(c).map(|v| t.point(v))),
-                        circumcentre(t.cell_vertices(d).map(|v| t.point(v))),
-                        0.5,
-                    );
+                    let Some((a, b)) = seg else {
+                        let m = crate::kernel::geom::lerp(
+                            circumcentre(t.cell_vertices(c).map(|v| t.point(v))),
+                            circumcentre(t.cell_vertices(d).map(|v| t.point(v))),
+                            0.5,
+                        );
+                        return Outcome::Unenclosed(m);
+                    };
+                    let e = enc[k];
+                    k += 1;
+                    if !e.is_empty() && excludes_zero(e) {
+                        return Outcome::Tested(DualTest {
+                            crossings: Vec::new(),
+                            undecided: Vec::new(),
+                            pieces: 1,
+                        });
+                    }
+                    let v0 = t.point(fv[0]);
+                    Outcome::Tested(match ends {
+                        SegmentEnds::Float(cc) => {
+                            test_segment(f, cc[c as usize], cc[d as usize], v0, &dbox, budget)
+                        }
+                        SegmentEnds::Certified(_) => {
+                            certified_segment(f, &a, &b, v0, &dbox, budget)
+                        }
+                    })
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    for (&(c, i, _), outcome) in all.iter().zip(outcomes) {
+        let fv = facet_vertices(t, c, i, true);
+        let test = match outcome {
+            Outcome::Far => {
+                s.far_facets += 1;
+                if !lemma {
                     s.undecided.push(UndecidedFacet {
                         v: fv,
                         cell: c,
                         facet: i,
-                        points: vec![m],
-                        reason: "circumcentre not enclosed (a sliver cell)",
+                        points: Vec::new(),
+                        reason: "far-corner facet: a vertex lies outside the domain",
                     });
-                    continue;
                 }
-            },
+                continue;
+            }
+            Outcome::Unenclosed(m) => {
+                s.segments += 1;
+                s.undecided.push(UndecidedFacet {
+                    v: fv,
+                    cell: c,
+                    facet: i,
+                    points: vec![m],
+                    reason: "circumcentre not enclosed (a sliver cell)",
+                });
+                continue;
+            }
+            Outcome::Tested(x) => x,
         };
+        s.segments += 1;
         s.pieces += test.pieces as u64;
         if !test.undecided.is_empty() {
             s.undecided.push(UndecidedFacet {
@@ -406,4 +486,43 @@ pub fn scan(
         }
     }
     s
+}
+
+/// Every crossing of S with the segment between any points of the boxes `a` and `b`
+/// (interval circumcentres), by certified root isolation; each crossing's float point
+/// on the segment of the boxes' midpoints, its radius bound over the certified piece.
+fn certified_segment(
+    f: &dyn Implicit,
+    a: &IBox,
+    b: &IBox,
+    v0: [f64; 3],
+    dbox: &IBox,
+    budget: SegmentBudget,
+) -> DualTest {
+    let r = isolate_segment(f, a, b, Some(dbox), budget);
+    let am = a.map(|x| x.mid());
+    let bm = b.map(|x| x.mid());
+    DualTest {
+        crossings: r
+            .roots
+            .iter()
+            .map(|root| {
+                let (p, tp) = segment_root_point(f, am, bm, root, 1e-12);
+                let narrow = narrow(f, a, b, root, tp);
+                FacetCrossing {
+                    point: p,
+                    radius: dist(p, v0),
+                    radius_sup: radius_sup(a, b, &narrow, v0),
+                    rising: root.rising,
+                    piece: [root.t0, root.t1],
+                }
+            })
+            .collect(),
+        undecided: r
+            .undecided
+            .iter()
+            .map(|u| crate::kernel::geom::lerp(am, bm, 0.5 * (u[0] + u[1])))
+            .collect(),
+        pieces: r.pieces,
+    }
 }

@@ -9,37 +9,56 @@
 //! them, proven by interval evaluation of the affine function, holds no point of the
 //! region and is dropped. Covering more than the region is harmless: every test is
 //! then stronger than needed.
+use crate::implicit::directed::Iv;
 use crate::implicit::ops::enclose;
 use crate::implicit::{IBox, Implicit, Regularity};
 use inari::Interval;
 
-/// {x : a·x − b ≤ 0}, with interval coefficients enclosing the exact ones.
+/// {x : a·x − b ≤ 0}, with interval coefficients enclosing the exact ones (held in the
+/// evaluator's fast interval type [`Iv`], whose bounds are inari's, bit for bit).
 #[derive(Clone, Copy, Debug)]
 pub struct HalfSpace {
-    pub a: [Interval; 3],
-    pub b: Interval,
+    pub a: [Iv; 3],
+    pub b: Iv,
 }
 
 pub(crate) fn pt(x: f64) -> Interval {
     Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE)
 }
 
+/// [`pt`] as an [`Iv`] (the fast interval type: inari's bounds, bit for bit).
+fn ipt(x: f64) -> Iv {
+    Iv::from_interval(pt(x))
+}
+
+fn ivs(x: &[Interval; 3]) -> [Iv; 3] {
+    x.map(Iv::from_interval)
+}
+
 impl HalfSpace {
     /// The points at least as close to `p` as to `r`: 2 x·(r − p) − (|r|² − |p|²) ≤ 0,
     /// every coefficient enclosed by outward-rounded interval arithmetic.
     pub fn closer(p: [f64; 3], r: [f64; 3]) -> Self {
-        let (pi, ri) = (p.map(pt), r.map(pt));
-        let two = pt(2.0);
-        let a = [0, 1, 2].map(|k| two * (ri[k] - pi[k]));
-        let n2 = |v: [Interval; 3]| v[0].sqr() + v[1].sqr() + v[2].sqr();
+        let (pi, ri) = (p.map(ipt), r.map(ipt));
+        let two = Iv::point(2.0);
+        let n2 = |v: [Iv; 3]| v[0].sqr() + v[1].sqr() + v[2].sqr();
         HalfSpace {
-            a,
+            a: [0, 1, 2].map(|k| two * (ri[k] - pi[k])),
             b: n2(ri) - n2(pi),
         }
     }
-    /// An enclosure of a·x − b over the box.
-    pub fn value(&self, x: &IBox) -> Interval {
-        self.a[0] * x[0] + self.a[1] * x[1] + self.a[2] * x[2] - self.b
+    /// An enclosure of a·x − b over the box (the box as [`Iv`]s, see [`Region::place`]).
+    pub fn value(&self, x: &[Iv; 3]) -> Iv {
+        // A point coefficient (the common case: 2 (r − p) is exact) takes two products.
+        let term = |k: usize| {
+            let a = self.a[k];
+            if a.lo == a.hi {
+                x[k].mul_point(a.lo)
+            } else {
+                a * x[k]
+            }
+        };
+        term(0) + term(1) + term(2) - self.b
     }
 }
 
@@ -61,29 +80,61 @@ pub struct Region<'a> {
     pub plane: Option<HalfSpace>,
 }
 
+/// The half-spaces of a [`Region`] a box still has to be placed against: bit i stands
+/// for half-space i (< 64); those from 64 on are always checked.
+pub type Pending = u64;
+
+/// Every half-space pending.
+pub const ALL: Pending = u64::MAX;
+
 impl Region<'_> {
     pub fn place(&self, x: &IBox) -> Place {
+        self.place_pending(x, ALL).0
+    }
+
+    /// [`Region::place`] against the `pending` half-spaces only, with those the box is
+    /// proven strictly inside of cleared in the returned set. A half-space that holds
+    /// strictly on a box holds on each of its sub-boxes, so a sub-box is placed against
+    /// its parent's returned set: the result is the full `place`, with fewer
+    /// evaluations.
+    pub fn place_pending(&self, x: &IBox, pending: Pending) -> (Place, Pending) {
+        let x = x.map(Iv::from_interval);
         if let Some(h) = &self.plane {
-            let v = h.value(x);
-            if v.inf() > 0.0 || v.sup() < 0.0 {
-                return Place::Outside;
+            let v = h.value(&x);
+            if v.lo > 0.0 || v.hi < 0.0 {
+                return (Place::Outside, pending);
             }
         }
-        let mut inside = self.plane.is_none();
-        for h in self.halfspaces {
-            let v = h.value(x);
-            if v.inf() > 0.0 {
-                return Place::Outside;
+        let mut left = pending;
+        let mut beyond_inside = true; // half-spaces 64 and on
+        for (i, h) in self.halfspaces.iter().enumerate() {
+            if i < 64 && left & (1 << i) == 0 {
+                continue;
             }
-            if v.sup() >= 0.0 {
-                inside = false;
+            let v = h.value(&x);
+            // NaN bounds (an overflow) fail both comparisons: never Outside, never
+            // proven inside.
+            if v.lo > 0.0 {
+                return (Place::Outside, left);
+            }
+            let strict = v.hi < 0.0;
+            if i < 64 {
+                if strict {
+                    left &= !(1 << i);
+                }
+            } else {
+                beyond_inside &= strict;
             }
         }
-        if inside {
+        let n = self.halfspaces.len().min(64);
+        let low = if n == 64 { u64::MAX } else { (1u64 << n) - 1 };
+        let inside = self.plane.is_none() && beyond_inside && left & low == 0;
+        let place = if inside {
             Place::Inside
         } else {
             Place::Straddles
-        }
+        };
+        (place, left)
     }
 }
 
@@ -137,10 +188,10 @@ pub fn cover(
 ) -> Cover {
     let w0 = start[widest(&start)].wid();
     let min_w = (w0 * budget.min_rel_width).max(f64::MIN_POSITIVE);
-    let mut stack = vec![start];
+    let mut stack = vec![(start, ALL)];
     let mut boxes = 0u32;
-    while let Some(x) = stack.pop() {
-        let place = region.place(&x);
+    while let Some((x, pending)) = stack.pop() {
+        let (place, pending) = region.place_pending(&x, pending);
         if place == Place::Outside {
             continue;
         }
@@ -160,8 +211,8 @@ pub fn cover(
         let (mut lo, mut hi) = (x, x);
         lo[k] = Interval::try_from((x[k].inf(), m)).unwrap_or(x[k]);
         hi[k] = Interval::try_from((m, x[k].sup())).unwrap_or(x[k]);
-        stack.push(hi);
-        stack.push(lo);
+        stack.push((hi, pending));
+        stack.push((lo, pending));
     }
     Cover {
         ok: true,
@@ -170,11 +221,11 @@ pub fn cover(
     }
 }
 
-fn idot(a: &[Interval; 3], b: &[Interval; 3]) -> Interval {
+fn idot(a: &[Iv; 3], b: &[Iv; 3]) -> Iv {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-fn icross(a: &[Interval; 3], b: &[Interval; 3]) -> [Interval; 3] {
+fn icross(a: &[Iv; 3], b: &[Iv; 3]) -> [Iv; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -196,7 +247,9 @@ pub fn no_tangency(f: &dyn Implicit, x: &IBox, d: &[Interval; 3], smooth: bool) 
     if excl(fv) {
         return Verdict::Accept;
     }
-    if excl(idot(&g, d)) && (smooth || f.regularity(x) == Regularity::Smooth) {
+    if excl(idot(&ivs(&g), &ivs(d)).to_interval())
+        && (smooth || f.regularity(x) == Regularity::Smooth)
+    {
         return Verdict::Accept;
     }
     Verdict::Split
@@ -221,12 +274,12 @@ pub fn no_silhouette(
         return Verdict::Split;
     }
     let h = f.hessian_interval(x);
-    let hm = |i: usize, j: usize| h.h[crate::implicit::number::hidx(i, j)];
-    let hd: [Interval; 3] =
-        std::array::from_fn(|i| hm(i, 0) * d[0] + hm(i, 1) * d[1] + hm(i, 2) * d[2]);
+    let hm = |i: usize, j: usize| Iv::from_interval(h.h[crate::implicit::number::hidx(i, j)]);
+    let d = ivs(d);
+    let hd: [Iv; 3] = std::array::from_fn(|i| hm(i, 0) * d[0] + hm(i, 1) * d[1] + hm(i, 2) * d[2]);
     // det(Hd, d', g) = Hd · (d' × g)
-    let det = idot(&hd, &icross(d2, &h.g));
-    if excl(det) {
+    let det = idot(&hd, &icross(&ivs(d2), &ivs(&h.g)));
+    if excl(det.to_interval()) {
         Verdict::Accept
     } else {
         Verdict::Split

@@ -45,7 +45,7 @@
 //! for the perturbed point set whose Delaunay triangulation the kernel built.
 pub mod cover;
 
-use super::restricted::{self, Ends3, Scan};
+use super::restricted::{self, Scan};
 use crate::implicit::critical::{boundary_clear, Bx};
 use crate::implicit::ops::{enclose, SegmentBudget};
 use crate::implicit::{IBox, Implicit};
@@ -151,9 +151,34 @@ pub struct Tbp {
 /// Voronoi facets and cells already proven, keyed by their exact combinatorics (the
 /// sites and the vertex sets of the dual cells, which fix the face and its vertex
 /// enclosures): a refinement driver re-checks only the faces its insertions changed.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct TbpCache {
     proven: std::collections::HashSet<Vec<u32>>,
+    /// `false`: a one-off check ([`check`]) that neither reads nor fills the cache, so
+    /// the faces' keys are not built.
+    keep: bool,
+}
+
+impl Default for TbpCache {
+    fn default() -> Self {
+        TbpCache {
+            proven: Default::default(),
+            keep: true,
+        }
+    }
+}
+
+impl TbpCache {
+    fn key(&self, t: &Delaunay, sites: &[VertexId], cells: &[CellId]) -> Vec<u32> {
+        if self.keep {
+            face_key(t, sites, cells)
+        } else {
+            Vec::new()
+        }
+    }
+    fn proven(&self, k: &Vec<u32>) -> bool {
+        self.keep && self.proven.contains(k)
+    }
 }
 
 fn face_key(t: &Delaunay, sites: &[VertexId], cells: &[CellId]) -> Vec<u32> {
@@ -281,19 +306,20 @@ struct FaceResult {
 
 /// Fold the checked faces into the failures and the set of proven faces; returns the
 /// boxes they used.
-fn record<K: Eq + std::hash::Hash>(
-    results: Vec<(K, FaceResult)>,
+fn record(
+    results: Vec<(Vec<u32>, FaceResult)>,
     failures: &mut Vec<Failure>,
-    proven: &mut std::collections::HashSet<K>,
+    cache: &mut TbpCache,
 ) -> u64 {
     let mut boxes = 0;
     for (k, x) in results {
         boxes += x.boxes;
         match x.failure {
             Some(x) => failures.push(x),
-            None => {
-                proven.insert(k);
+            None if cache.keep => {
+                cache.proven.insert(k);
             }
+            None => {}
         }
     }
     boxes
@@ -310,33 +336,64 @@ enum Start {
     Unenclosed,
 }
 
-fn start_box(f: &dyn Implicit, cc: &[Option<IBox>], cells: &[CellId], dbox: &IBox) -> Start {
-    let Some(vb) = vertex_boxes(cc, cells) else {
-        return Start::Unenclosed;
-    };
-    let Some(start) = clip(&hull(&vb), dbox) else {
-        return Start::Settled(FaceResult {
+/// Where the searches over many Voronoi faces start (each face given by its dual
+/// cells). One batched natural enclosure of f over each clipped start box settles the
+/// faces far from S; on the others the tighter mean-value enclosure ([`enclose`]) is
+/// tried before the search. Both are enclosures: either proving 0 ∉ □f settles a face.
+fn start_boxes(
+    f: &dyn Implicit,
+    cc: &[Option<IBox>],
+    faces: &[&[CellId]],
+    dbox: &IBox,
+) -> Vec<Start> {
+    let settled = |boxes| {
+        Start::Settled(FaceResult {
             failure: None,
-            boxes: 0,
-        });
+            boxes,
+        })
     };
-    if cover::excl(enclose(f, &start).0) {
-        return Start::Settled(FaceResult {
-            failure: None,
-            boxes: 1,
-        });
+    let mut starts: Vec<Start> = faces
+        .iter()
+        .map(|cells| match vertex_boxes(cc, cells) {
+            None => Start::Unenclosed,
+            Some(vb) => match clip(&hull(&vb), dbox) {
+                None => settled(0),
+                Some(b) => Start::Search(b),
+            },
+        })
+        .collect();
+    let search: Vec<IBox> = starts
+        .iter()
+        .filter_map(|x| match x {
+            Start::Search(b) => Some(*b),
+            _ => None,
+        })
+        .collect();
+    let mut natural = vec![Interval::EMPTY; search.len()];
+    f.eval_interval_batch(&search, &mut natural);
+    let mut k = 0;
+    for x in starts.iter_mut() {
+        if let Start::Search(b) = x {
+            let n = natural[k];
+            k += 1;
+            if cover::excl(n) || cover::excl(enclose(f, b).0) {
+                *x = settled(1);
+            }
+        }
     }
-    Start::Search(start)
+    starts
 }
+
+/// Faces per batch of [`start_boxes`] (and per parallel task).
+const CHUNK: usize = 64;
 
 #[allow(clippy::too_many_arguments)]
 fn check_facet(
     t: &Delaunay,
     f: &dyn Implicit,
-    dbox: &IBox,
-    cc: &[Option<IBox>],
     (p, q): (VertexId, VertexId),
     ring: &[CellId],
+    start: Start,
     crossings: &[[f64; 3]],
     o: &TbpOptions,
 ) -> FaceResult {
@@ -351,7 +408,7 @@ fn check_facet(
         boxes,
     };
     let (pp, qp) = (t.point(p), t.point(q));
-    let start = match start_box(f, cc, ring, dbox) {
+    let start = match start {
         Start::Search(b) => b,
         Start::Settled(r) => return r,
         Start::Unenclosed => {
@@ -417,10 +474,9 @@ fn check_facet(
 fn check_cell(
     t: &Delaunay,
     f: &dyn Implicit,
-    dbox: &IBox,
-    cc: &[Option<IBox>],
     p: VertexId,
     cells: &[CellId],
+    start: Start,
     o: &TbpOptions,
 ) -> FaceResult {
     let pp = t.point(p);
@@ -434,7 +490,7 @@ fn check_cell(
         }),
         boxes,
     };
-    let start = match start_box(f, cc, cells, dbox) {
+    let start = match start {
         Start::Search(b) => b,
         Start::Settled(r) => return r,
         Start::Unenclosed => {
@@ -484,7 +540,11 @@ fn check_cell(
 
 /// Run the checks on the kernel's triangulation `t` (see the module documentation).
 pub fn check(t: &Delaunay, f: &dyn Implicit, domain: &Aabb, o: &TbpOptions) -> Tbp {
-    check_cached(t, f, domain, o, &mut TbpCache::default())
+    let mut none = TbpCache {
+        keep: false,
+        ..Default::default()
+    };
+    check_cached(t, f, domain, o, &mut none)
 }
 
 /// [`check`], skipping the Voronoi facets and cells `cache` holds as proven and adding
@@ -540,7 +600,9 @@ pub fn check_cached(
     }
     r.seconds[0] = lap();
     // (0)+(1): every dual segment.
-    let rdt = restricted::scan(t, f, domain, &[], Ends3::Certified, o.segment);
+    // The interval circumcentres, shared by (1) and the covers of (3) and (4).
+    let cc = restricted::certified_circumcentres(t);
+    let rdt = restricted::scan_certified(t, f, domain, &cc, o.segment);
     r.far_lemma = rdt.far_lemma;
     if !rdt.far_lemma {
         setup(
@@ -642,15 +704,6 @@ pub fn check_cached(
         return finish(r, rdt, failures);
     }
     // (3) and (4): covers with interval circumcentres as the faces' vertices.
-    let cap = t.cell_capacity();
-    let cc: Vec<Option<IBox>> = (0..cap as u32)
-        .into_par_iter()
-        .map(|c| {
-            t.is_live(c)
-                .then(|| restricted::circumcentre_interval(t.cell_vertices(c).map(|v| t.point(v))))
-                .flatten()
-        })
-        .collect();
     let mut crossings: HashMap<(VertexId, VertexId), Vec<[f64; 3]>> = HashMap::new();
     for fct in &rdt.facets {
         for e in 0..3 {
@@ -662,15 +715,25 @@ pub fn check_cached(
     let none = Vec::new();
     let facets: Vec<(Vec<u32>, FaceResult)> = adj
         .edges
-        .par_iter()
-        .filter_map(|(e, ring)| {
-            let k = face_key(t, &[e.0, e.1], ring);
-            let xs = crossings.get(e).unwrap_or(&none);
-            (!cache.proven.contains(&k))
-                .then(|| (k, check_facet(t, f, &dbox, &cc, *e, ring, xs, o)))
+        .par_chunks(CHUNK)
+        .flat_map_iter(|chunk| {
+            let todo: Vec<_> = chunk
+                .iter()
+                .map(|(e, ring)| (cache.key(t, &[e.0, e.1], ring), e, ring))
+                .filter(|x| !cache.proven(&x.0))
+                .collect();
+            let rings: Vec<&[CellId]> = todo.iter().map(|x| x.2.as_slice()).collect();
+            let starts = start_boxes(f, &cc, &rings, &dbox);
+            todo.into_iter()
+                .zip(starts)
+                .map(|((k, e, ring), start)| {
+                    let xs = crossings.get(e).unwrap_or(&none);
+                    (k, check_facet(t, f, *e, ring, start, xs, o))
+                })
+                .collect::<Vec<_>>()
         })
         .collect();
-    r.boxes += record(facets, &mut failures, &mut cache.proven);
+    r.boxes += record(facets, &mut failures, cache);
     r.seconds[3] = lap();
     if stop(&failures) {
         r.skipped = vec![Test::Cell];
@@ -680,14 +743,27 @@ pub fn check_cached(
         .filter(|&v| t.is_inserted(v))
         .collect();
     let cells: Vec<(Vec<u32>, FaceResult)> = verts
-        .par_iter()
-        .filter_map(|&p| {
-            let star = &adj.cells_of[p as usize];
-            let k = face_key(t, &[p], star);
-            (!cache.proven.contains(&k)).then(|| (k, check_cell(t, f, &dbox, &cc, p, star, o)))
+        .par_chunks(CHUNK)
+        .flat_map_iter(|chunk| {
+            let todo: Vec<_> = chunk
+                .iter()
+                .map(|&p| (cache.key(t, &[p], &adj.cells_of[p as usize]), p))
+                .filter(|x| !cache.proven(&x.0))
+                .collect();
+            let stars: Vec<&[CellId]> = todo
+                .iter()
+                .map(|x| adj.cells_of[x.1 as usize].as_slice())
+                .collect();
+            let starts = start_boxes(f, &cc, &stars, &dbox);
+            todo.into_iter()
+                .zip(starts)
+                .map(|((k, p), start)| {
+                    (k, check_cell(t, f, p, &adj.cells_of[p as usize], start, o))
+                })
+                .collect::<Vec<_>>()
         })
         .collect();
-    r.boxes += record(cells, &mut failures, &mut cache.proven);
+    r.boxes += record(cells, &mut failures, cache);
     r.seconds[4] = lap();
     finish(r, rdt, failures)
 }
