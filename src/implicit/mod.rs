@@ -253,22 +253,17 @@ impl Implicit for Formula {
             g: d.g.map(Iv::to_interval),
         }
     }
+    // Hessians keep the thread-local workspace and `Tape::eval`: for their large
+    // registers (80 and 160 bytes) `Tape::eval_in` on stack registers is slower
+    // (issue 20, genus 2, CPU clock, one run: 2.40 M/s on 64 or 48 stack registers,
+    // 2.68 M/s here).
     fn hessian(&self, p: [f64; 3]) -> Hyper<f64> {
         let v = [0, 1, 2].map(|k| Hyper::var(p[k], k));
-        if self.tape.len() <= STACK_REGS {
-            let mut regs = [MaybeUninit::<Hyper<f64>>::uninit(); STACK_REGS];
-            return self.tape.eval_in(&v, &mut regs);
-        }
         S_HF.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
     }
     fn hessian_interval(&self, b: &IBox) -> Hyper<Interval> {
         let v = [0, 1, 2].map(|k| Hyper::var(Iv::from_interval(b[k]), k));
-        let h = if self.tape.len() <= STACK_REGS {
-            let mut regs = [MaybeUninit::<Hyper<Iv>>::uninit(); STACK_REGS];
-            self.tape.eval_in(&v, &mut regs)
-        } else {
-            S_HI.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
-        };
+        let h = S_HI.with(|s| self.tape.eval(&v, &mut s.borrow_mut()));
         Hyper {
             v: h.v.to_interval(),
             g: h.g.map(Iv::to_interval),

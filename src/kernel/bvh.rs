@@ -78,6 +78,302 @@ fn grow(min: &mut [f64; 3], max: &mut [f64; 3], b: &Aabb) {
     }
 }
 
+/// Ranges at least this long are split and built in parallel (rayon); their bounds
+/// and bins are accumulated in parallel too. Shorter ones are built serially. The tree
+/// is the same either way (the split of a range depends on its primitives only, and
+/// min, max and counts are exact reductions), and so is its layout (below).
+const PAR_RANGE: usize = 1 << 14;
+
+/// Primitives per parallel task when accumulating the bounds and bins of a range.
+const PAR_CHUNK: usize = 1 << 12;
+
+/// A primitive during the build: its box and index. The build permutes these records
+/// themselves (not indices into the boxes), so every pass over a range reads memory in
+/// order.
+#[derive(Clone, Copy)]
+struct Prim {
+    b: Aabb,
+    id: u32,
+}
+
+impl Prim {
+    /// Coordinate `k` of the box centre ([`Aabb::center`]).
+    #[inline]
+    fn c(&self, k: usize) -> f64 {
+        0.5 * (self.b.min[k] + self.b.max[k])
+    }
+}
+
+/// Bounds of a range: the union of the primitives' boxes and the box of their centroids.
+#[derive(Clone, Copy)]
+struct Bounds {
+    min: [f64; 3],
+    max: [f64; 3],
+    cmin: [f64; 3],
+    cmax: [f64; 3],
+}
+
+impl Bounds {
+    const EMPTY: Bounds = Bounds {
+        min: [f64::INFINITY; 3],
+        max: [f64::NEG_INFINITY; 3],
+        cmin: [f64::INFINITY; 3],
+        cmax: [f64::NEG_INFINITY; 3],
+    };
+    fn of(items: &[Prim]) -> Bounds {
+        let mut acc = Bounds::EMPTY;
+        for p in items {
+            grow(&mut acc.min, &mut acc.max, &p.b);
+            for k in 0..3 {
+                acc.cmin[k] = acc.cmin[k].min(p.c(k));
+                acc.cmax[k] = acc.cmax[k].max(p.c(k));
+            }
+        }
+        acc
+    }
+    fn join(mut self, o: Bounds) -> Bounds {
+        grow(
+            &mut self.min,
+            &mut self.max,
+            &Aabb {
+                min: o.min,
+                max: o.max,
+            },
+        );
+        grow(
+            &mut self.cmin,
+            &mut self.cmax,
+            &Aabb {
+                min: o.cmin,
+                max: o.cmax,
+            },
+        );
+        self
+    }
+}
+
+/// The SAH bins of a range: count and box per bin.
+#[derive(Clone, Copy)]
+struct Bins {
+    count: [usize; BINS],
+    min: [[f64; 3]; BINS],
+    max: [[f64; 3]; BINS],
+}
+
+impl Bins {
+    const EMPTY: Bins = Bins {
+        count: [0; BINS],
+        min: [[f64::INFINITY; 3]; BINS],
+        max: [[f64::NEG_INFINITY; 3]; BINS],
+    };
+    fn of(items: &[Prim], bin: &impl Fn(&Prim) -> usize) -> Bins {
+        let mut acc = Bins::EMPTY;
+        for p in items {
+            let b = bin(p);
+            acc.count[b] += 1;
+            grow(&mut acc.min[b], &mut acc.max[b], &p.b);
+        }
+        acc
+    }
+    fn join(mut self, o: Bins) -> Bins {
+        for b in 0..BINS {
+            self.count[b] += o.count[b];
+            grow(
+                &mut self.min[b],
+                &mut self.max[b],
+                &Aabb {
+                    min: o.min[b],
+                    max: o.max[b],
+                },
+            );
+        }
+        self
+    }
+}
+
+/// `of(items)`, over chunks in parallel for a long range (exact reductions: the same
+/// result).
+fn accumulate<A: Send>(
+    items: &[Prim],
+    of: impl Fn(&[Prim]) -> A + Sync,
+    join: impl Fn(A, A) -> A + Sync,
+) -> A {
+    if items.len() >= PAR_RANGE {
+        use rayon::prelude::*;
+        items
+            .par_chunks(PAR_CHUNK)
+            .map(&of)
+            .reduce_with(&join)
+            .expect("a long range")
+    } else {
+        of(items)
+    }
+}
+
+/// The box of the range `items` and where to split it (`None`: a leaf), reordering
+/// `items` so the first part comes first.
+fn split(items: &mut [Prim], depth: usize) -> ([f64; 3], [f64; 3], Option<usize>) {
+    let Bounds {
+        min,
+        max,
+        cmin,
+        cmax,
+    } = accumulate(items, Bounds::of, Bounds::join);
+    let count = items.len();
+    if count <= LEAF_SIZE {
+        return (min, max, None);
+    }
+    let ext = geom::sub(cmax, cmin);
+    let axis = if ext[0] >= ext[1] && ext[0] >= ext[2] {
+        0
+    } else if ext[1] >= ext[2] {
+        1
+    } else {
+        2
+    };
+    if ext[axis] <= 0.0 || depth >= SAH_DEPTH {
+        // All centroids coincide (or the tree is deep): halve the range.
+        let m = count / 2;
+        if ext[axis] > 0.0 {
+            items.select_nth_unstable_by(m, |a, b| a.c(axis).total_cmp(&b.c(axis)));
+        }
+        return (min, max, Some(m));
+    }
+    let scale = BINS as f64 / ext[axis];
+    let bin = |p: &Prim| (((p.c(axis) - cmin[axis]) * scale) as usize).min(BINS - 1);
+    let Bins {
+        count: bcount,
+        min: bmin,
+        max: bmax,
+    } = accumulate(items, |c| Bins::of(c, &bin), Bins::join);
+    // Sweep from the right for suffix areas, then from the left.
+    let mut right_cost = [0.0; BINS];
+    let (mut rmin, mut rmax, mut rc) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
+    for b in (1..BINS).rev() {
+        rc += bcount[b];
+        for k in 0..3 {
+            rmin[k] = rmin[k].min(bmin[b][k]);
+            rmax[k] = rmax[k].max(bmax[b][k]);
+        }
+        right_cost[b] = if rc > 0 {
+            rc as f64 * half_area(rmin, rmax)
+        } else {
+            0.0
+        };
+    }
+    let (mut lmin, mut lmax, mut lc) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
+    let mut best = (f64::INFINITY, 0usize);
+    for b in 0..BINS - 1 {
+        lc += bcount[b];
+        for k in 0..3 {
+            lmin[k] = lmin[k].min(bmin[b][k]);
+            lmax[k] = lmax[k].max(bmax[b][k]);
+        }
+        if lc == 0 || lc == count {
+            continue;
+        }
+        let cost = lc as f64 * half_area(lmin, lmax) + right_cost[b + 1];
+        if cost < best.0 {
+            best = (cost, b);
+        }
+    }
+    let leaf_cost = count as f64 * half_area(min, max);
+    // A traversal step costs about one primitive test.
+    if count <= 2 * LEAF_SIZE && best.0 + half_area(min, max) >= leaf_cost {
+        return (min, max, None);
+    }
+    // Partition the range so bins <= best.1 come first.
+    let mut i = 0;
+    let mut j = count;
+    while i < j {
+        if bin(&items[i]) <= best.1 {
+            i += 1;
+        } else {
+            j -= 1;
+            items.swap(i, j);
+        }
+    }
+    (min, max, Some(i))
+}
+
+/// The subtree over `items` (slots `base..base + items.len()` of the whole order),
+/// root first, children of a node adjacent, child indices local to the returned
+/// vector; in the layout of a depth-first build: [root, left root, right root, the
+/// rest of the left subtree, the rest of the right subtree].
+fn subtree(items: &mut [Prim], base: usize, depth: usize) -> Vec<Node> {
+    if items.len() < PAR_RANGE {
+        return subtree_serial(items, base, depth);
+    }
+    let (min, max, split) = split(items, depth);
+    let Some(mid) = split else {
+        return vec![Node {
+            min,
+            max,
+            start: base as u32,
+            count: items.len() as u32,
+        }];
+    };
+    let (lo, hi) = items.split_at_mut(mid);
+    let (l, r) = rayon::join(
+        || subtree(lo, base, depth + 1),
+        || subtree(hi, base + mid, depth + 1),
+    );
+    // Local index i of the left subtree moves to 1 (its root) or i + 2, of the right
+    // one to 2 (its root) or i + l.len() + 1: child pointers shift by 2 and l.len() + 1.
+    let moved = |n: &Node, shift: usize| {
+        let mut n = *n;
+        if !n.is_leaf() {
+            n.start += shift as u32;
+        }
+        n
+    };
+    let (lshift, rshift) = (2, l.len() + 1);
+    let mut nodes = Vec::with_capacity(1 + l.len() + r.len());
+    nodes.push(Node {
+        min,
+        max,
+        start: 1,
+        count: 0,
+    });
+    nodes.push(moved(&l[0], lshift));
+    nodes.push(moved(&r[0], rshift));
+    nodes.extend(l[1..].iter().map(|n| moved(n, lshift)));
+    nodes.extend(r[1..].iter().map(|n| moved(n, rshift)));
+    nodes
+}
+
+/// [`subtree`] serially, with an explicit stack (no recursion on deep trees).
+fn subtree_serial(items: &mut [Prim], base: usize, depth0: usize) -> Vec<Node> {
+    let blank = Node {
+        min: [0.0; 3],
+        max: [0.0; 3],
+        start: 0,
+        count: 0,
+    };
+    let mut nodes = Vec::with_capacity(2 * items.len() / LEAF_SIZE + 1);
+    nodes.push(blank);
+    // (node, start, end, depth)
+    let mut work = vec![(0usize, 0usize, items.len(), depth0)];
+    while let Some((ni, s, e, depth)) = work.pop() {
+        let (min, max, split) = split(&mut items[s..e], depth);
+        nodes[ni].min = min;
+        nodes[ni].max = max;
+        let Some(m) = split else {
+            nodes[ni].start = (base + s) as u32;
+            nodes[ni].count = (e - s) as u32;
+            continue;
+        };
+        let c = nodes.len();
+        nodes.push(blank);
+        nodes.push(blank);
+        nodes[ni].start = c as u32;
+        nodes[ni].count = 0;
+        work.push((c + 1, s + m, e, depth + 1));
+        work.push((c, s, s + m, depth + 1));
+    }
+    nodes
+}
+
 impl Bvh {
     /// Build over one box per primitive. Errors on a non-finite box.
     pub fn build(boxes: &[Aabb]) -> Result<Self> {
@@ -90,139 +386,17 @@ impl Bvh {
         {
             return Err(Error::NotFinite(format!("bounding box of primitive {i}")));
         }
-        let n = boxes.len();
-        let mut order: Vec<u32> = (0..n as u32).collect();
-        let mut nodes = Vec::with_capacity(if n == 0 { 0 } else { 2 * n / LEAF_SIZE + 1 });
-        if n == 0 {
-            return Ok(Bvh { nodes, order });
+        if boxes.is_empty() {
+            return Ok(Bvh::default());
         }
-        let cent: Vec<[f64; 3]> = boxes.iter().map(|b| b.center()).collect();
-        nodes.push(Node {
-            min: [0.0; 3],
-            max: [0.0; 3],
-            start: 0,
-            count: 0,
-        });
-        // (node, start, end, depth): explicit stack, no recursion on deep trees.
-        let mut work = vec![(0usize, 0usize, n, 0usize)];
-        while let Some((ni, s, e, depth)) = work.pop() {
-            let mut min = [f64::INFINITY; 3];
-            let mut max = [f64::NEG_INFINITY; 3];
-            let mut cmin = [f64::INFINITY; 3];
-            let mut cmax = [f64::NEG_INFINITY; 3];
-            for &i in &order[s..e] {
-                grow(&mut min, &mut max, &boxes[i as usize]);
-                let c = cent[i as usize];
-                for k in 0..3 {
-                    cmin[k] = cmin[k].min(c[k]);
-                    cmax[k] = cmax[k].max(c[k]);
-                }
-            }
-            nodes[ni].min = min;
-            nodes[ni].max = max;
-            let count = e - s;
-            let leaf = |nodes: &mut Vec<Node>| {
-                nodes[ni].start = s as u32;
-                nodes[ni].count = count as u32;
-            };
-            if count <= LEAF_SIZE {
-                leaf(&mut nodes);
-                continue;
-            }
-            let ext = geom::sub(cmax, cmin);
-            let axis = if ext[0] >= ext[1] && ext[0] >= ext[2] {
-                0
-            } else if ext[1] >= ext[2] {
-                1
-            } else {
-                2
-            };
-            let mid = if ext[axis] <= 0.0 || depth >= SAH_DEPTH {
-                // All centroids coincide (or the tree is deep): halve the range.
-                if ext[axis] > 0.0 {
-                    let m = (s + e) / 2;
-                    order[s..e].select_nth_unstable_by(m - s, |&a, &b| {
-                        cent[a as usize][axis].total_cmp(&cent[b as usize][axis])
-                    });
-                }
-                (s + e) / 2
-            } else {
-                let scale = BINS as f64 / ext[axis];
-                let bin = |i: u32| {
-                    (((cent[i as usize][axis] - cmin[axis]) * scale) as usize).min(BINS - 1)
-                };
-                let mut bcount = [0usize; BINS];
-                let mut bmin = [[f64::INFINITY; 3]; BINS];
-                let mut bmax = [[f64::NEG_INFINITY; 3]; BINS];
-                for &i in &order[s..e] {
-                    let b = bin(i);
-                    bcount[b] += 1;
-                    grow(&mut bmin[b], &mut bmax[b], &boxes[i as usize]);
-                }
-                // Sweep from the right for suffix areas, then from the left.
-                let mut right_cost = [0.0; BINS];
-                let (mut rmin, mut rmax, mut rc) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
-                for b in (1..BINS).rev() {
-                    rc += bcount[b];
-                    for k in 0..3 {
-                        rmin[k] = rmin[k].min(bmin[b][k]);
-                        rmax[k] = rmax[k].max(bmax[b][k]);
-                    }
-                    right_cost[b] = if rc > 0 {
-                        rc as f64 * half_area(rmin, rmax)
-                    } else {
-                        0.0
-                    };
-                }
-                let (mut lmin, mut lmax, mut lc) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0);
-                let mut best = (f64::INFINITY, 0usize);
-                for b in 0..BINS - 1 {
-                    lc += bcount[b];
-                    for k in 0..3 {
-                        lmin[k] = lmin[k].min(bmin[b][k]);
-                        lmax[k] = lmax[k].max(bmax[b][k]);
-                    }
-                    if lc == 0 || lc == count {
-                        continue;
-                    }
-                    let cost = lc as f64 * half_area(lmin, lmax) + right_cost[b + 1];
-                    if cost < best.0 {
-                        best = (cost, b);
-                    }
-                }
-                let leaf_cost = count as f64 * half_area(min, max);
-                // A traversal step costs about one primitive test.
-                if count <= 2 * LEAF_SIZE && best.0 + half_area(min, max) >= leaf_cost {
-                    leaf(&mut nodes);
-                    continue;
-                }
-                // Partition order[s..e] so bins <= best.1 come first.
-                let mut i = s;
-                let mut j = e;
-                while i < j {
-                    if bin(order[i]) <= best.1 {
-                        i += 1;
-                    } else {
-                        j -= 1;
-                        order.swap(i, j);
-                    }
-                }
-                i
-            };
-            let c = nodes.len();
-            let blank = Node {
-                min: [0.0; 3],
-                max: [0.0; 3],
-                start: 0,
-                count: 0,
-            };
-            nodes.push(blank);
-            nodes.push(blank);
-            nodes[ni].start = c as u32;
-            nodes[ni].count = 0;
-            work.push((c + 1, mid, e, depth + 1));
-            work.push((c, s, mid, depth + 1));
-        }
+        use rayon::prelude::*;
+        let mut items: Vec<Prim> = boxes
+            .par_iter()
+            .enumerate()
+            .map(|(i, &b)| Prim { b, id: i as u32 })
+            .collect();
+        let nodes = subtree(&mut items, 0, 0);
+        let order = items.par_iter().map(|p| p.id).collect();
         Ok(Bvh { nodes, order })
     }
 
@@ -515,7 +689,8 @@ fn check_indices(n: usize, what: &str, idx: impl Iterator<Item = (usize, u32)>) 
 pub struct TriBvh {
     pub bvh: Bvh,
     tris: Vec<[[f64; 3]; 3]>,
-    dipoles: Vec<Dipole>,
+    /// Built on the first winding-number query (closest-point queries never need it).
+    dipoles: std::sync::OnceLock<Vec<Dipole>>,
 }
 
 /// Far-field data of a BVH node for the fast winding number (Barill, Dickson, Schmidt,
@@ -563,7 +738,9 @@ impl TriBvh {
                 .enumerate()
                 .flat_map(|(i, t)| t.iter().map(move |&v| (i, v))),
         )?;
+        use rayon::prelude::*;
         let boxes: Vec<Aabb> = (0..mesh.triangles.len())
+            .into_par_iter()
             .map(|t| {
                 let c = mesh.corners(t);
                 Aabb::of_points(&c).expect("three corners")
@@ -572,11 +749,14 @@ impl TriBvh {
         let bvh = Bvh::build(&boxes)?;
         let tris: Vec<[[f64; 3]; 3]> = bvh
             .order
-            .iter()
+            .par_iter()
             .map(|&t| mesh.corners(t as usize))
             .collect();
-        let dipoles = dipoles(&bvh, &tris);
-        Ok(TriBvh { bvh, tris, dipoles })
+        Ok(TriBvh {
+            bvh,
+            tris,
+            dipoles: std::sync::OnceLock::new(),
+        })
     }
 
     /// The corners of the triangles in leaf order (`bvh.order[slot]` is the mesh index).
@@ -597,6 +777,7 @@ impl TriBvh {
         if nodes.is_empty() {
             return 0.0;
         }
+        let dipoles = self.dipoles.get_or_init(|| dipoles(&self.bvh, &self.tris));
         let mut sum = 0.0;
         let mut stack = [0u32; STACK];
         let mut sp = 1;
@@ -604,7 +785,7 @@ impl TriBvh {
         while sp > 0 {
             sp -= 1;
             let ni = stack[sp] as usize;
-            let d = &self.dipoles[ni];
+            let d = &dipoles[ni];
             let v = sub(d.center, p);
             let r2 = dot(v, v);
             if r2 > b2 * d.radius * d.radius {

@@ -2,6 +2,7 @@
 //! orientation predicates ([`predicates`]), and the bounding-volume hierarchy for
 //! closest points and winding numbers ([`bvh`]).
 pub mod bvh;
+pub mod cellgrid;
 pub mod delaunay;
 pub mod geom;
 pub mod predicates;

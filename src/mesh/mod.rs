@@ -4,6 +4,9 @@
 //! signed volume.
 use serde::{Deserialize, Serialize};
 
+pub mod buckets;
+pub use buckets::Buckets;
+
 /// A triangle surface mesh.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct TriMesh {
@@ -14,6 +17,10 @@ pub struct TriMesh {
 /// The faces of a tetrahedron: face `k` is opposite corner `k`, ordered so that it
 /// points outward for a positively oriented tetrahedron.
 pub const TET_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+
+/// A face in [`TetMesh::face_buckets`]: its two larger vertices, and the face as its
+/// tetrahedron orients it.
+pub type FaceItem = ((u32, u32), [u32; 3]);
 
 /// A tetrahedral volume mesh.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -69,28 +76,38 @@ impl TetMesh {
     pub fn corners(&self, t: usize) -> [[f64; 3]; 4] {
         self.tets[t].map(|i| self.vertices[i as usize])
     }
+    /// Every face of every tetrahedron (of the non-degenerate ones, without a repeated
+    /// vertex, when `skip_degenerate`), grouped by vertex set in linear time: bucket
+    /// `lo` holds `((mid, hi), face)` for each face with sorted vertices `lo <= mid <=
+    /// hi`, `face` as its tetrahedron orients it ([`TET_FACES`]), sorted; one run per
+    /// vertex set ([`Buckets::runs`] by `.0`).
+    pub fn face_buckets(&self, skip_degenerate: bool) -> Buckets<FaceItem> {
+        let mut b = Buckets::build(self.vertices.len(), |emit| {
+            for t in &self.tets {
+                if skip_degenerate && (0..4).any(|i| (i + 1..4).any(|j| t[i] == t[j])) {
+                    continue;
+                }
+                for f in TET_FACES {
+                    let tri = f.map(|k| t[k]);
+                    let mut key = tri;
+                    key.sort_unstable();
+                    emit(key[0], ((key[1], key[2]), tri));
+                }
+            }
+        });
+        b.sort_each_by_key(|&x| x);
+        b
+    }
     /// The boundary faces: faces in exactly one tetrahedron, oriented outward, in this
     /// mesh's vertex numbering, sorted.
     pub fn boundary_faces(&self) -> Vec<[u32; 3]> {
-        use std::collections::HashMap;
-        let mut count: HashMap<[u32; 3], (u32, [u32; 3])> = HashMap::new();
-        for t in &self.tets {
-            for f in TET_FACES {
-                let tri = f.map(|k| t[k]);
-                let mut key = tri;
-                key.sort_unstable();
-                count
-                    .entry(key)
-                    .and_modify(|e| e.0 += 1)
-                    .or_insert((1, tri));
-            }
-        }
-        let mut tris: Vec<[u32; 3]> = count
-            .into_values()
-            .filter(|(c, _)| *c == 1)
-            .map(|(_, t)| t)
+        use rayon::prelude::*;
+        let b = self.face_buckets(false);
+        let mut tris: Vec<[u32; 3]> = (0..b.len())
+            .into_par_iter()
+            .flat_map_iter(|v| b.runs(v, |x| x.0).filter(|r| r.len() == 1).map(|r| r[0].1))
             .collect();
-        tris.sort_unstable();
+        tris.par_sort_unstable();
         tris
     }
     /// The boundary surface: [`TetMesh::boundary_faces`], with the vertices no face

@@ -14,7 +14,8 @@
 //! Each field says what it measures.
 use crate::error::{Error, Result};
 use crate::implicit::Implicit;
-use crate::kernel::bvh::{SegBvh, TriBvh};
+use crate::kernel::bvh::SegBvh;
+use crate::kernel::cellgrid::TriGrid;
 use crate::kernel::geom::{self, Aabb};
 use crate::mesh::{Curve2, TriMesh};
 use rayon::prelude::*;
@@ -95,7 +96,7 @@ pub struct Fidelity {
     pub hausdorff_mesh_to_surface: f64,
     pub mean_mesh_to_surface: f64,
     /// Surface → mesh: max over surface points (grid seeds projected by Newton) of the
-    /// exact distance to the mesh (BVH closest point).
+    /// exact distance to the mesh (closest point, `kernel::cellgrid`).
     pub hausdorff_surface_to_mesh: f64,
     pub mean_surface_to_mesh: f64,
     /// The larger of the two directions.
@@ -582,7 +583,9 @@ pub fn surface_fidelity(
             0.5 * geom::norm(geom::cross(geom::sub(b, a), geom::sub(c, a)))
         })
         .collect();
-    let bvh = TriBvh::new(mesh)?;
+    // A uniform grid, not a BVH: a linear build for the few thousand surface points
+    // (the same exact distances, see `kernel::cellgrid`).
+    let grid = TriGrid::new(mesh)?;
     let sample = |t: usize, i: usize| {
         let [a, b, c] = mesh.corners(t);
         let (r1, r2) = r2(i);
@@ -590,7 +593,7 @@ pub fn surface_fidelity(
         let (wa, wb, wc) = (1.0 - s, s * (1.0 - r2), s * r2);
         [0, 1, 2].map(|k| wa * a[k] + wb * b[k] + wc * c[k])
     };
-    let closest = |p: [f64; 3]| bvh.closest(p).map(|c| c.dist2.sqrt());
+    let closest = |p: [f64; 3]| grid.closest_dist2(p).map(f64::sqrt);
     let normal = |t: usize| {
         let [a, b, c] = mesh.corners(t);
         let n = geom::cross(geom::sub(b, a), geom::sub(c, a));

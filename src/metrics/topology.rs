@@ -19,12 +19,12 @@
 use super::{check_curve, check_tetmesh, check_trimesh};
 use crate::catalog::Topology;
 use crate::error::Result;
-use crate::mesh::{Curve2, TetMesh, TriMesh, TET_FACES};
+use crate::mesh::{Buckets, Curve2, TetMesh, TriMesh};
 use rayon::prelude::*;
 use serde::Serialize;
 
 /// Union-find with path halving and union by size.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct UnionFind {
     parent: Vec<u32>,
     size: Vec<u32>,
@@ -36,6 +36,13 @@ impl UnionFind {
             parent: (0..n as u32).collect(),
             size: vec![1; n],
         }
+    }
+    /// Start again with `n` singletons, reusing the storage.
+    pub fn reset(&mut self, n: usize) {
+        self.parent.clear();
+        self.parent.extend(0..n as u32);
+        self.size.clear();
+        self.size.resize(n, 1);
     }
     pub fn find(&mut self, mut x: u32) -> u32 {
         while self.parent[x as usize] != x {
@@ -111,30 +118,84 @@ pub struct TopologyReport {
     pub component_list: Vec<ComponentReport>,
 }
 
+/// Reusable buffers of [`link_is_disk_or_sphere`] (one per rayon task, no allocation
+/// per vertex).
+#[derive(Default)]
+struct LinkScratch {
+    ends: Vec<(u32, u32)>,
+    ids: Vec<u32>,
+    deg: Vec<u8>,
+    uf: UnionFind,
+}
+
 /// Check the link of a vertex: its faces' opposite edges must form one path or cycle.
-fn link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]]) -> bool {
-    let mut ends: Vec<(u32, u32)> = Vec::with_capacity(faces.len());
+fn link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]], s: &mut LinkScratch) -> bool {
+    s.ends.clear();
     for &f in faces {
         let t = tris[f as usize];
         let k = t.iter().position(|&x| x == v).unwrap_or(0);
-        ends.push((t[(k + 1) % 3], t[(k + 2) % 3]));
+        s.ends.push((t[(k + 1) % 3], t[(k + 2) % 3]));
     }
-    let mut ids: Vec<u32> = ends.iter().flat_map(|&(a, b)| [a, b]).collect();
-    ids.sort_unstable();
-    ids.dedup();
+    s.ids.clear();
+    s.ids.extend(s.ends.iter().flat_map(|&(a, b)| [a, b]));
+    s.ids.sort_unstable();
+    s.ids.dedup();
+    let ids = &s.ids;
     let id = |x: u32| ids.binary_search(&x).unwrap_or(0) as u32;
-    let mut deg = vec![0u8; ids.len()];
-    let mut uf = UnionFind::new(ids.len());
+    s.deg.clear();
+    s.deg.resize(ids.len(), 0);
+    s.uf.reset(ids.len());
     let mut sets = ids.len();
-    for &(a, b) in &ends {
+    for &(a, b) in &s.ends {
         let (a, b) = (id(a), id(b));
-        deg[a as usize] = deg[a as usize].saturating_add(1);
-        deg[b as usize] = deg[b as usize].saturating_add(1);
-        if uf.union(a, b) {
+        s.deg[a as usize] = s.deg[a as usize].saturating_add(1);
+        s.deg[b as usize] = s.deg[b as usize].saturating_add(1);
+        if s.uf.union(a, b) {
             sets -= 1;
         }
     }
-    sets == 1 && deg.iter().all(|&d| d <= 2)
+    sets == 1 && s.deg.iter().all(|&d| d <= 2)
+}
+
+/// A half-edge in [`edge_buckets`]: the edge's larger vertex, the face, and whether
+/// the face traverses the edge from the smaller vertex to the larger.
+pub(crate) type HalfEdge = (u32, u32, bool);
+
+/// The edges of the non-degenerate faces with the faces on them, in linear time:
+/// bucket `lo` holds a [`HalfEdge`] `(hi, face, lo -> hi)` for every face edge
+/// {lo < hi}, sorted by `(hi, face)`, so each undirected edge is one run
+/// ([`Buckets::runs`] by `.0`) with its faces ascending.
+pub(crate) fn edge_buckets(nv: usize, tris: &[[u32; 3]], degenerate: &[bool]) -> Buckets<HalfEdge> {
+    let mut b = Buckets::build(nv, |emit| {
+        for (f, t) in tris.iter().enumerate() {
+            if degenerate[f] {
+                continue;
+            }
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                emit(a.min(b), (a.max(b), f as u32, a < b));
+            }
+        }
+    });
+    b.sort_each_by_key(|&(hi, f, _)| (hi, f));
+    b
+}
+
+/// Faces with the same vertex set as an earlier face (either orientation), counted in
+/// linear time (bucketed by the smallest vertex).
+fn duplicate_faces(nv: usize, tris: &[[u32; 3]]) -> usize {
+    let mut b = Buckets::build(nv, |emit| {
+        for t in tris {
+            let mut k = *t;
+            k.sort_unstable();
+            emit(k[0], (k[1], k[2]));
+        }
+    });
+    b.sort_each_by_key(|&k| k);
+    (0..nv)
+        .into_par_iter()
+        .map(|v| b.runs(v, |&k| k).map(|r| r.len() - 1).sum::<usize>())
+        .sum()
 }
 
 impl TopologyReport {
@@ -177,19 +238,8 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
     }
     let comp = |v: u32| comp_of_root[root[v as usize] as usize] as usize;
 
-    // Edges: sort (key, face, direction) so each undirected edge is one run.
-    let mut half: Vec<(u64, u32, bool)> = Vec::with_capacity(3 * nf);
-    for (f, t) in tris.iter().enumerate() {
-        if degenerate[f] {
-            continue;
-        }
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-            half.push((((lo as u64) << 32) | hi as u64, f as u32, a < b));
-        }
-    }
-    half.par_sort_unstable();
+    // Edges: the half-edges grouped by undirected edge (linear time, no global sort).
+    let eb = edge_buckets(nv, tris, &degenerate);
 
     let mut c_edges = vec![0usize; ncomp];
     let mut c_faces = vec![0usize; ncomp];
@@ -203,37 +253,32 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
     let mut inconsistent_edges = 0usize;
     // Face adjacency over manifold edges: (f, g, same direction).
     let mut adj_pairs: Vec<(u32, u32, bool)> = Vec::new();
-    let mut i = 0;
-    while i < half.len() {
-        let mut j = i + 1;
-        while j < half.len() && half[j].0 == half[i].0 {
-            j += 1;
-        }
-        let key = half[i].0;
-        let (lo, hi) = ((key >> 32) as u32, key as u32);
-        let c = comp(lo);
-        edges += 1;
-        c_edges[c] += 1;
-        match j - i {
-            1 => {
-                boundary.push((lo, hi));
-                c_bedges[c] += 1;
-            }
-            2 => {
-                let same = half[i].2 == half[i + 1].2;
-                if same {
-                    inconsistent_edges += 1;
+    for lo in 0..nv {
+        for run in eb.runs(lo, |e| e.0) {
+            let (lo, hi) = (lo as u32, run[0].0);
+            let c = comp(lo);
+            edges += 1;
+            c_edges[c] += 1;
+            match run.len() {
+                1 => {
+                    boundary.push((lo, hi));
+                    c_bedges[c] += 1;
                 }
-                adj_pairs.push((half[i].1, half[i + 1].1, same));
-            }
-            _ => {
-                non_manifold_edges += 1;
-                c_bad[c] = true;
+                2 => {
+                    let same = run[0].2 == run[1].2;
+                    if same {
+                        inconsistent_edges += 1;
+                    }
+                    adj_pairs.push((run[0].1, run[1].1, same));
+                }
+                _ => {
+                    non_manifold_edges += 1;
+                    c_bad[c] = true;
+                }
             }
         }
-        i = j;
     }
-    drop(half);
+    drop(eb);
     for (f, t) in tris.iter().enumerate() {
         let c = comp(t[0]);
         if degenerate[f] {
@@ -289,32 +334,20 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
     }
 
     // Non-manifold vertices, from each vertex's link.
-    let mut vstart = vec![0u32; nv + 1];
-    for (f, t) in tris.iter().enumerate() {
-        if !degenerate[f] {
-            for &v in t {
-                vstart[v as usize + 1] += 1;
+    let vfaces = Buckets::build(nv, |emit| {
+        for (f, t) in tris.iter().enumerate() {
+            if !degenerate[f] {
+                for &v in t {
+                    emit(v, f as u32);
+                }
             }
         }
-    }
-    for k in 0..nv {
-        vstart[k + 1] += vstart[k];
-    }
-    let mut vfill = vstart.clone();
-    let mut vfaces = vec![0u32; vstart[nv] as usize];
-    for (f, t) in tris.iter().enumerate() {
-        if !degenerate[f] {
-            for &v in t {
-                vfaces[vfill[v as usize] as usize] = f as u32;
-                vfill[v as usize] += 1;
-            }
-        }
-    }
+    });
     let bad_vertex: Vec<bool> = (0..nv)
         .into_par_iter()
-        .map(|v| {
-            let fs = &vfaces[vstart[v] as usize..vstart[v + 1] as usize];
-            !fs.is_empty() && !link_is_disk_or_sphere(v as u32, fs, tris)
+        .map_init(LinkScratch::default, |s, v| {
+            let fs = vfaces.bucket(v);
+            !fs.is_empty() && !link_is_disk_or_sphere(v as u32, fs, tris, s)
         })
         .collect();
     let mut non_manifold_vertices = 0;
@@ -344,17 +377,7 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         }
     }
 
-    // Duplicate faces (same vertex set).
-    let mut keys: Vec<[u32; 3]> = tris
-        .iter()
-        .map(|t| {
-            let mut k = *t;
-            k.sort_unstable();
-            k
-        })
-        .collect();
-    keys.par_sort_unstable();
-    let duplicate_faces = keys.windows(2).filter(|w| w[0] == w[1]).count();
+    let duplicate_faces = duplicate_faces(nv, tris);
 
     let mut component_list: Vec<ComponentReport> = (0..ncomp)
         .map(|c| {
@@ -519,7 +542,6 @@ pub fn analyze_tets(mesh: &TetMesh) -> Result<TetTopology> {
     let nv = mesh.vertices.len();
     let mut used = vec![false; nv];
     let mut uf = UnionFind::new(nv);
-    let mut faces: Vec<([u32; 3], [u32; 3])> = Vec::with_capacity(4 * mesh.tets.len());
     let mut degenerate_tets = 0;
     for t in &mesh.tets {
         for &v in t {
@@ -530,46 +552,32 @@ pub fn analyze_tets(mesh: &TetMesh) -> Result<TetTopology> {
         uf.union(t[0], t[3]);
         if (0..4).any(|i| (i + 1..4).any(|j| t[i] == t[j])) {
             degenerate_tets += 1;
-            continue;
-        }
-        for f in TET_FACES {
-            let tri = f.map(|k| t[k]);
-            let mut key = tri;
-            key.sort_unstable();
-            faces.push((key, tri));
         }
     }
-    faces.par_sort_unstable();
+    // Faces grouped by vertex set (linear time); boundary faces in vertex-set order.
+    let faces = mesh.face_buckets(true);
     let (mut boundary_faces, mut interior_faces, mut nonconforming_faces) = (0, 0, 0);
     let mut btris = Vec::new();
-    let mut i = 0;
-    while i < faces.len() {
-        let mut j = i + 1;
-        while j < faces.len() && faces[j].0 == faces[i].0 {
-            j += 1;
-        }
-        match j - i {
-            1 => {
-                boundary_faces += 1;
-                btris.push(faces[i].1);
+    for v in 0..faces.len() {
+        for run in faces.runs(v, |x| x.0) {
+            match run.len() {
+                1 => {
+                    boundary_faces += 1;
+                    btris.push(run[0].1);
+                }
+                2 => interior_faces += 1,
+                _ => nonconforming_faces += 1,
             }
-            2 => interior_faces += 1,
-            _ => nonconforming_faces += 1,
         }
-        i = j;
     }
+    drop(faces);
     let mut surf = TriMesh::new(mesh.vertices.clone(), btris);
     surf.compact();
     let boundary = analyze(&surf)?;
-    let components = {
-        let mut roots: Vec<u32> = (0..nv as u32)
-            .filter(|&v| used[v as usize])
-            .map(|v| uf.find(v))
-            .collect();
-        roots.sort_unstable();
-        roots.dedup();
-        roots.len()
-    };
+    // A set of used vertices has a used root (unions join tetrahedron corners only).
+    let components = (0..nv as u32)
+        .filter(|&v| used[v as usize] && uf.find(v) == v)
+        .count();
     let vertices = used.iter().filter(|&&u| u).count();
     Ok(TetTopology {
         vertices,
@@ -786,4 +794,105 @@ pub fn tet_verdict(report: &TetTopology, expected: &Topology) -> Verdict {
         v.reason += &extra.join("; ");
     }
     v
+}
+
+#[cfg(test)]
+mod tests {
+    //! The linear-time incidences (buckets by the smallest vertex) against the global
+    //! sorts they replaced (issue 20), on random triangle and tetrahedron soups with
+    //! repeated, degenerate and non-manifold elements.
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Edges as the former `analyze` found them: a global sort of (edge, face, direction).
+    fn edges_by_sort(tris: &[[u32; 3]], degenerate: &[bool]) -> Vec<(u32, u32, Vec<(u32, bool)>)> {
+        let mut half: Vec<(u64, u32, bool)> = Vec::new();
+        for (f, t) in tris.iter().enumerate() {
+            if degenerate[f] {
+                continue;
+            }
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+                half.push((((lo as u64) << 32) | hi as u64, f as u32, a < b));
+            }
+        }
+        half.sort_unstable();
+        half.chunk_by(|x, y| x.0 == y.0)
+            .map(|r| {
+                let k = r[0].0;
+                let faces = r.iter().map(|h| (h.1, h.2)).collect();
+                ((k >> 32) as u32, k as u32, faces)
+            })
+            .collect()
+    }
+
+    fn edges_by_buckets(
+        nv: usize,
+        tris: &[[u32; 3]],
+        degenerate: &[bool],
+    ) -> Vec<(u32, u32, Vec<(u32, bool)>)> {
+        let eb = edge_buckets(nv, tris, degenerate);
+        (0..nv)
+            .flat_map(|lo| {
+                eb.runs(lo, |e| e.0)
+                    .map(|r| (lo as u32, r[0].0, r.iter().map(|h| (h.1, h.2)).collect()))
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    }
+
+    /// Tetrahedron faces as the former `analyze_tets` grouped them.
+    fn tet_faces_by_sort(tets: &[[u32; 4]]) -> Vec<Vec<([u32; 3], [u32; 3])>> {
+        let mut faces = Vec::new();
+        for t in tets {
+            if (0..4).any(|i| (i + 1..4).any(|j| t[i] == t[j])) {
+                continue;
+            }
+            for f in crate::mesh::TET_FACES {
+                let tri = f.map(|k| t[k]);
+                let mut key = tri;
+                key.sort_unstable();
+                faces.push((key, tri));
+            }
+        }
+        faces.sort_unstable();
+        faces
+            .chunk_by(|x, y| x.0 == y.0)
+            .map(|r| r.to_vec())
+            .collect()
+    }
+
+    fn soup<const K: usize>(nv: u32, n: usize) -> impl Strategy<Value = Vec<[u32; K]>> {
+        proptest::collection::vec(proptest::array::uniform(0..nv), 0..n)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        #[test]
+        fn edge_incidence_equals_sorted(tris in soup::<3>(10, 40)) {
+            let degenerate: Vec<bool> = tris
+                .iter()
+                .map(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
+                .collect();
+            prop_assert_eq!(edges_by_buckets(10, &tris, &degenerate), edges_by_sort(&tris, &degenerate));
+            let mut keys: Vec<[u32; 3]> = tris.iter().map(|t| { let mut k = *t; k.sort_unstable(); k }).collect();
+            keys.sort_unstable();
+            prop_assert_eq!(duplicate_faces(10, &tris), keys.windows(2).filter(|w| w[0] == w[1]).count());
+        }
+
+        #[test]
+        fn tet_faces_equal_sorted(tets in soup::<4>(8, 30)) {
+            let m = TetMesh { vertices: vec![[0.0; 3]; 8], tets };
+            let b = m.face_buckets(true);
+            let got: Vec<Vec<([u32; 3], [u32; 3])>> = (0..8)
+                .flat_map(|v| {
+                    b.runs(v, |x| x.0)
+                        .map(|r| r.iter().map(|&((mid, hi), tri)| ([v as u32, mid, hi], tri)).collect())
+                        .collect::<Vec<_>>()
+                })
+                .collect();
+            prop_assert_eq!(got, tet_faces_by_sort(&m.tets));
+        }
+    }
 }

@@ -47,7 +47,7 @@ pub use warp::Order;
 use crate::error::{Error, Result};
 use crate::implicit::Implicit;
 use crate::kernel::geom::Aabb;
-use crate::mesh::{TetMesh, TriMesh};
+use crate::mesh::{Buckets, FaceItem, TetMesh, TriMesh};
 use crate::mesher::options::{Crossing, MesherOptions};
 use crate::mesher::{Certificate, Claim, Mesh, MeshOutput, Mesher, Progress};
 
@@ -545,20 +545,31 @@ impl Stuffing {
 /// triangles, where the solid pinches along an edge: possible when the lattice does not
 /// resolve the surface, §4.2), or a description of the first defect.
 pub fn check_conforming(m: &TetMesh, boundary: &TriMesh) -> std::result::Result<usize, String> {
-    use std::collections::HashMap;
-    const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
-    let mut count: HashMap<[u32; 3], u32> = HashMap::with_capacity(m.tets.len() * 2);
-    for t in &m.tets {
-        for fc in FACES {
-            let mut k = fc.map(|i| t[i]);
-            k.sort_unstable();
-            *count.entry(k).or_default() += 1;
+    check_conforming_faces(&m.face_buckets(false), boundary)
+}
+
+/// [`check_conforming`] on the faces of the mesh grouped by [`TetMesh::face_buckets`]
+/// (linear time: no hash map, no global sort; the same verdicts).
+pub fn check_conforming_faces(
+    faces: &Buckets<FaceItem>,
+    boundary: &TriMesh,
+) -> std::result::Result<usize, String> {
+    let mut n_boundary = 0;
+    for v in 0..faces.len() {
+        for run in faces.runs(v, |x| x.0) {
+            match run.len() {
+                1 => n_boundary += 1,
+                2 => {}
+                c => {
+                    let (mid, hi) = run[0].0;
+                    return Err(format!(
+                        "triangle {:?} is in {c} tetrahedra",
+                        [v as u32, mid, hi]
+                    ));
+                }
+            }
         }
     }
-    if let Some((f, c)) = count.iter().find(|(_, &c)| c > 2) {
-        return Err(format!("triangle {f:?} is in {c} tetrahedra"));
-    }
-    let n_boundary = count.values().filter(|&&c| c == 1).count();
     if n_boundary != boundary.triangles.len() {
         return Err(format!(
             "{} triangles in one tetrahedron but {} boundary triangles",
@@ -566,24 +577,30 @@ pub fn check_conforming(m: &TetMesh, boundary: &TriMesh) -> std::result::Result<
             boundary.triangles.len()
         ));
     }
-    let mut und: HashMap<(u32, u32), (u32, i32)> = HashMap::new();
-    for t in &boundary.triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            let e = und.entry((a.min(b), a.max(b))).or_default();
-            e.0 += 1;
-            e.1 += if a < b { 1 } else { -1 };
+    // Boundary edges by smaller vertex: (larger vertex, +1 when traversed upwards).
+    let mut und = Buckets::build(boundary.vertices.len(), |emit| {
+        for t in &boundary.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                emit(a.min(b), (a.max(b), if a < b { 1i32 } else { -1 }));
+            }
         }
-    }
+    });
+    und.sort_each_by_key(|&x| x);
     let mut nonmanifold = 0;
-    for (e, (n, s)) in und {
-        if s != 0 {
-            return Err(format!(
-                "boundary edge {e:?} is in {n} triangles with unbalanced orientation ({s})"
-            ));
-        }
-        if n != 2 {
-            nonmanifold += 1;
+    for v in 0..und.len() {
+        for run in und.runs(v, |x| x.0) {
+            let s: i32 = run.iter().map(|x| x.1).sum();
+            if s != 0 {
+                return Err(format!(
+                    "boundary edge {:?} is in {} triangles with unbalanced orientation ({s})",
+                    (v as u32, run[0].0),
+                    run.len()
+                ));
+            }
+            if run.len() != 2 {
+                nonmanifold += 1;
+            }
         }
     }
     Ok(nonmanifold)

@@ -3,6 +3,7 @@
 //! (boundary) triangles, and inverted-tetrahedron counts (exact `orient3d`).
 use crate::kernel::geom::{angle_deg, cross, dot, norm, sub};
 use crate::mesh::{TetMesh, TriMesh};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// The six dihedral angles of a tetrahedron, in degrees.
@@ -50,8 +51,11 @@ pub struct AngleSummary {
 /// Signed volume sign by the exact `orient3d` predicate: > 0 for positive tets.
 pub use crate::kernel::predicates::tet_orientation as orientation;
 
+/// Every angle and orientation of the mesh, tetrahedra and boundary triangles in
+/// parallel (min, max and counts are exact reductions: the result does not depend on
+/// the split).
 pub fn summarize(tets: &TetMesh, boundary: &TriMesh) -> AngleSummary {
-    let mut s = AngleSummary {
+    let empty = AngleSummary {
         tetrahedra: tets.tets.len(),
         min_dihedral_deg: f64::INFINITY,
         max_dihedral_deg: f64::NEG_INFINITY,
@@ -61,28 +65,52 @@ pub fn summarize(tets: &TetMesh, boundary: &TriMesh) -> AngleSummary {
         max_exposed_deg: f64::NEG_INFINITY,
         inverted: 0,
     };
-    for t in 0..tets.tets.len() {
-        let p = tets.corners(t);
-        for a in dihedrals(p) {
-            s.min_dihedral_deg = s.min_dihedral_deg.min(a);
-            s.max_dihedral_deg = s.max_dihedral_deg.max(a);
-        }
-        for a in plane_angles(p) {
-            s.min_plane_deg = s.min_plane_deg.min(a);
-            s.max_plane_deg = s.max_plane_deg.max(a);
-        }
-        if orientation(p) <= 0.0 {
-            s.inverted += 1;
-        }
-    }
-    for t in 0..boundary.triangles.len() {
-        let [a, b, c] = boundary.corners(t);
-        for x in [angle_deg(c, a, b), angle_deg(a, b, c), angle_deg(b, c, a)] {
-            s.min_exposed_deg = s.min_exposed_deg.min(x);
-            s.max_exposed_deg = s.max_exposed_deg.max(x);
-        }
-    }
-    s
+    let join = |mut s: AngleSummary, o: AngleSummary| {
+        s.min_dihedral_deg = s.min_dihedral_deg.min(o.min_dihedral_deg);
+        s.max_dihedral_deg = s.max_dihedral_deg.max(o.max_dihedral_deg);
+        s.min_plane_deg = s.min_plane_deg.min(o.min_plane_deg);
+        s.max_plane_deg = s.max_plane_deg.max(o.max_plane_deg);
+        s.min_exposed_deg = s.min_exposed_deg.min(o.min_exposed_deg);
+        s.max_exposed_deg = s.max_exposed_deg.max(o.max_exposed_deg);
+        s.inverted += o.inverted;
+        s
+    };
+    let t = (0..tets.tets.len())
+        .into_par_iter()
+        .fold(
+            || empty,
+            |mut s, t| {
+                let p = tets.corners(t);
+                for a in dihedrals(p) {
+                    s.min_dihedral_deg = s.min_dihedral_deg.min(a);
+                    s.max_dihedral_deg = s.max_dihedral_deg.max(a);
+                }
+                for a in plane_angles(p) {
+                    s.min_plane_deg = s.min_plane_deg.min(a);
+                    s.max_plane_deg = s.max_plane_deg.max(a);
+                }
+                if orientation(p) <= 0.0 {
+                    s.inverted += 1;
+                }
+                s
+            },
+        )
+        .reduce(|| empty, join);
+    let b = (0..boundary.triangles.len())
+        .into_par_iter()
+        .fold(
+            || empty,
+            |mut s, t| {
+                let [a, b, c] = boundary.corners(t);
+                for x in [angle_deg(c, a, b), angle_deg(a, b, c), angle_deg(b, c, a)] {
+                    s.min_exposed_deg = s.min_exposed_deg.min(x);
+                    s.max_exposed_deg = s.max_exposed_deg.max(x);
+                }
+                s
+            },
+        )
+        .reduce(|| empty, join);
+    join(t, b)
 }
 
 /// All dihedral angles (for histograms).
