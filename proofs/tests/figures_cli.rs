@@ -49,3 +49,17 @@ fn stuffing_figures_without_certificates_is_an_error() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--format` takes the figure formats of certmesh's style; an unknown one is a usage
+/// error before any work (exit 2), naming it.
+#[test]
+fn an_unknown_figure_format_is_an_input_error() {
+    let dir = std::env::temp_dir().join(format!("proofs-figs-fmt-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("empty")).unwrap();
+    let (code, err) = figures(&["--certs", "empty", "--format", "svg,jpeg"], &dir);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("jpeg"), "{err}");
+    assert!(!dir.join("papers").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -27,9 +27,37 @@ pub fn place(
     r: f64,
     bounds: Box2,
 ) -> Vec<(f64, f64)> {
+    place_avoiding(points, labels, size, r, bounds, &[])
+}
+
+/// Boxes of half-width `w` every `step` along the segment a–b (figure units): a drawn
+/// line as obstacles for [`place_avoiding`].
+pub fn along(a: (f64, f64), b: (f64, f64), w: f64, step: f64) -> Vec<Box2> {
+    let n = ((b.0 - a.0).hypot(b.1 - a.1) / step.max(1e-9))
+        .ceil()
+        .max(1.0) as usize;
+    (0..=n)
+        .map(|i| {
+            let t = i as f64 / n as f64;
+            let (x, y) = (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
+            (x - w, y - w, x + w, y + w)
+        })
+        .collect()
+}
+
+/// [`place`], also keeping the labels off `obstacles` (e.g. the drawn lines, [`along`]).
+pub fn place_avoiding(
+    points: &[(f64, f64)],
+    labels: &[String],
+    size: f64,
+    r: f64,
+    bounds: Box2,
+    obstacles: &[Box2],
+) -> Vec<(f64, f64)> {
     let mut taken: Vec<Box2> = points
         .iter()
         .map(|&(x, y)| (x - r, y - r, x + r, y + r))
+        .chain(obstacles.iter().copied())
         .collect();
     let mut out = Vec::with_capacity(labels.len());
     for (&(x, y), l) in points.iter().zip(labels) {
@@ -67,6 +95,24 @@ pub fn place(
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[test]
+    fn labels_keep_off_lines() {
+        // A line running right from the point: the label goes elsewhere.
+        let line = along((100.0, 100.0), (400.0, 100.0), 2.0, 4.0);
+        let l = vec!["W3".to_string()];
+        let at = place_avoiding(
+            &[(100.0, 100.0)],
+            &l,
+            30.0,
+            8.0,
+            (0.0, 0.0, 1000.0, 1000.0),
+            &line,
+        );
+        let b = text_box(&l[0], 30.0, at[0].0, at[0].1);
+        assert!(line.iter().all(|o| overlap(*o, b) == 0.0), "{b:?}");
+        let free = place(&[(100.0, 100.0)], &l, 30.0, 8.0, (0.0, 0.0, 1000.0, 1000.0));
+        assert!(free[0].0 > 100.0, "right first without obstacles: {free:?}");
+    }
     #[test]
     fn crowded_labels_do_not_overlap() {
         let pts = [(100.0, 100.0), (104.0, 100.0), (108.0, 102.0)];

@@ -156,7 +156,7 @@ pub fn write_arcs(fig: &Path, ratio: Ratio, cases: &[Case], which: &[usize]) -> 
             "All {} triangles: min and max projected angle along their boundary arcs, case after case",
             cases.len()
         ),
-        "boundary arc k of all cases + position t (no unit)",
+        "boundary arc k (all cases) + t (no unit)",
         "projected angle (degrees)",
         &envelope,
     )

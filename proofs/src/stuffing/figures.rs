@@ -175,8 +175,13 @@ fn render(f: &Fig, stem: &Path) -> Result<(), String> {
             Key::Line(palette::REDDISH_PURPLE),
         ));
     }
+    // The dot marks every vertex; "F" is named only where a fixed vertex is drawn.
     keys.push((
-        "F: fixed lattice vertex".into(),
+        if f.labels.iter().any(|l| l.starts_with('F')) {
+            "F: fixed lattice vertex".into()
+        } else {
+            "vertex of the witness".into()
+        },
         Key::Dot(palette::BLACK, true),
     ));
     let meta = Meta {
@@ -277,12 +282,29 @@ fn render(f: &Fig, stem: &Path) -> Result<(), String> {
                 ch.backend_coord(&(f.range.0.start, f.range.1.end)),
                 ch.backend_coord(&(f.range.0.end, f.range.1.start)),
             );
-            let at = certmesh::figure::labels::place(
+            // Labels keep off the drawn segments and edges as well as the vertices.
+            let bc = |p: &(f64, f64)| {
+                let c = ch.backend_coord(p);
+                (c.0 as f64, c.1 as f64)
+            };
+            let mut lines: Vec<((f64, f64), (f64, f64))> =
+                f.segs.iter().map(|(a, b, _)| (bc(a), bc(b))).collect();
+            for i in 0..4 {
+                for j in i + 1..4 {
+                    lines.push((bc(&pts[i]), bc(&pts[j])));
+                }
+            }
+            let obstacles: Vec<_> = lines
+                .iter()
+                .flat_map(|&(a, b)| certmesh::figure::labels::along(a, b, pt(1.0), pt(2.0)))
+                .collect();
+            let at = certmesh::figure::labels::place_avoiding(
                 &px,
                 &labels,
                 pt(SMALL_PT + 1.0),
                 r,
                 (b0.0 as f64, b0.1 as f64, b1.0 as f64, b1.1 as f64),
+                &obstacles,
             );
             for (l, (x, y)) in labels.iter().zip(at) {
                 area.draw(&Text::new(
