@@ -19,10 +19,11 @@ const CELLS_PER_TRIANGLE: f64 = 4.0;
 /// Cells per axis at most (160³ cells: 16 MB of bucket offsets).
 const MAX_CELLS: usize = 160;
 
-/// The grid: `n` cells per axis of size `h` from `min`; cell `(i, j, k)` lists the
-/// corners of the triangles whose box meets it.
-#[derive(Clone, Debug, Default)]
-pub struct TriGrid {
+/// The grid over a mesh: `n` cells per axis of size `h` from `min`; cell `(i, j, k)`
+/// lists the triangles whose box meets it.
+#[derive(Clone, Debug)]
+pub struct TriGrid<'a> {
+    mesh: &'a TriMesh,
     min: [f64; 3],
     h: [f64; 3],
     n: [usize; 3],
@@ -30,22 +31,26 @@ pub struct TriGrid {
     /// `slack` meets, and lower bounds are taken to cells grown by it, so a point
     /// rounded into a neighbouring cell is still accounted for.
     slack: f64,
-    cells: Buckets<[[f64; 3]; 3]>,
+    cells: Buckets<u32>,
 }
 
-impl TriGrid {
+impl<'a> TriGrid<'a> {
     /// Errors on out-of-range indices or non-finite coordinates.
-    pub fn new(mesh: &TriMesh) -> Result<Self> {
+    pub fn new(mesh: &'a TriMesh) -> Result<Self> {
+        use rayon::prelude::*;
         crate::metrics::check_trimesh(mesh)?;
         let nf = mesh.triangles.len();
-        let Some(bb) = Aabb::of_points(
-            &mesh
-                .triangles
-                .iter()
-                .flat_map(|t| t.map(|v| mesh.vertices[v as usize]))
-                .collect::<Vec<_>>(),
-        ) else {
-            return Ok(TriGrid::default());
+        let empty = TriGrid {
+            mesh,
+            min: [0.0; 3],
+            h: [1.0; 3],
+            n: [1; 3],
+            slack: 0.0,
+            cells: Buckets::default(),
+        };
+        // The box of all vertices (used or not: it only places the cells).
+        let (Some(bb), true) = (Aabb::of_points(&mesh.vertices), nf > 0) else {
+            return Ok(empty);
         };
         let ext = bb.size();
         let longest = ext.iter().copied().fold(0.0, f64::max);
@@ -75,21 +80,29 @@ impl TriGrid {
             .chain(&bb.max)
             .fold(0.0f64, |m, x| m.max(x.abs()));
         let mut g = TriGrid {
+            mesh,
             min: bb.min,
             h,
             n,
             slack: 1e-9 * (h.iter().copied().fold(f64::INFINITY, f64::min) + scale),
             cells: Buckets::default(),
         };
+        // The cells each triangle's box (grown by the slack) meets, once, in parallel.
+        let ranges: Vec<([usize; 3], [usize; 3])> = (0..nf)
+            .into_par_iter()
+            .map(|t| {
+                let b = Aabb::of_points(&mesh.corners(t))
+                    .expect("three corners")
+                    .inflate(g.slack);
+                (g.cell(b.min), g.cell(b.max))
+            })
+            .collect();
         g.cells = Buckets::build(total, |emit| {
-            for t in 0..nf {
-                let c = mesh.corners(t);
-                let b = Aabb::of_points(&c).expect("three corners").inflate(g.slack);
-                let (lo, hi) = (g.cell(b.min), g.cell(b.max));
+            for (t, (lo, hi)) in ranges.iter().enumerate() {
                 for z in lo[2]..=hi[2] {
                     for y in lo[1]..=hi[1] {
                         for x in lo[0]..=hi[0] {
-                            emit(g.index([x, y, z]) as u32, c);
+                            emit(g.index([x, y, z]) as u32, t as u32);
                         }
                     }
                 }
@@ -145,8 +158,9 @@ impl TriGrid {
             if lb > *best {
                 return;
             }
-            for &[a, b, t] in self.cells.bucket(self.index(c.map(|x| x as usize))) {
-                let q = closest_on_triangle(p, a, b, t);
+            for &t in self.cells.bucket(self.index(c.map(|x| x as usize))) {
+                let [a, b, c] = self.mesh.corners(t as usize);
+                let q = closest_on_triangle(p, a, b, c);
                 let d = geom::sub(p, q.point);
                 *best = best.min(geom::dot(d, d));
             }

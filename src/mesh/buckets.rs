@@ -43,7 +43,7 @@ impl<T: Copy + Default + Send + Sync> Buckets<T> {
 
     /// Number of vertices (buckets).
     pub fn len(&self) -> usize {
-        self.start.len() - 1
+        self.start.len().saturating_sub(1)
     }
     pub fn is_empty(&self) -> bool {
         self.len() == 0

@@ -101,11 +101,19 @@ impl TetMesh {
     /// The boundary faces: faces in exactly one tetrahedron, oriented outward, in this
     /// mesh's vertex numbering, sorted.
     pub fn boundary_faces(&self) -> Vec<[u32; 3]> {
+        Self::boundary_faces_of(&self.face_buckets(false))
+    }
+    /// [`TetMesh::boundary_faces`] from this mesh's [`TetMesh::face_buckets`].
+    pub fn boundary_faces_of(faces: &Buckets<FaceItem>) -> Vec<[u32; 3]> {
         use rayon::prelude::*;
-        let b = self.face_buckets(false);
-        let mut tris: Vec<[u32; 3]> = (0..b.len())
+        let mut tris: Vec<[u32; 3]> = (0..faces.len())
             .into_par_iter()
-            .flat_map_iter(|v| b.runs(v, |x| x.0).filter(|r| r.len() == 1).map(|r| r[0].1))
+            .flat_map_iter(|v| {
+                faces
+                    .runs(v, |x| x.0)
+                    .filter(|r| r.len() == 1)
+                    .map(|r| r[0].1)
+            })
             .collect();
         tris.par_sort_unstable();
         tris
@@ -113,9 +121,13 @@ impl TetMesh {
     /// The boundary surface: [`TetMesh::boundary_faces`], with the vertices no face
     /// uses dropped (the rest renumbered in order of first use).
     pub fn boundary(&self) -> TriMesh {
+        self.boundary_with(&self.face_buckets(false))
+    }
+    /// [`TetMesh::boundary`] from this mesh's [`TetMesh::face_buckets`] (`false`).
+    pub fn boundary_with(&self, faces: &Buckets<FaceItem>) -> TriMesh {
         let mut m = TriMesh {
             vertices: self.vertices.clone(),
-            triangles: self.boundary_faces(),
+            triangles: Self::boundary_faces_of(faces),
         };
         m.compact();
         m

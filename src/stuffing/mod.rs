@@ -677,10 +677,13 @@ impl Mesher for Stuffing {
             (generate(fl, f, p)?, None, t1)
         };
         let t2 = std::time::Instant::now();
-        let boundary = s.mesh.boundary();
+        // One face incidence for the boundary and the conformity check.
+        let faces = s.mesh.face_buckets(false);
+        let boundary = s.mesh.boundary_with(&faces);
         progress.finish();
         let q = quality::summarize(&s.mesh, &boundary);
-        let conforming = check_conforming(&s.mesh, &boundary);
+        let conforming = check_conforming_faces(&faces, &boundary);
+        drop(faces);
         let (al, as_) = p.alphas();
         let stats = StuffingStats {
             angles: q,
