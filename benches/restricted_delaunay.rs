@@ -4,10 +4,10 @@
 //! certified reach bound). `benches/cgal/` holds the kernel comparison with CGAL.
 //!
 //! Group `certify`: the topological-ball-property certificate of a ~10⁴-vertex mesh
-//! (`certmesh certify`; target under 1 s). The mesh is the OFF file named by
-//! `CERTMESH_CERTIFY_OFF` with the surface `CERTMESH_CERTIFY_SURFACE` (default genus2)
-//! — a CGAL output written by `benches/cgal/surface_mesher` — or, without it, the `bo`
-//! mesh of genus2 at radius 0.02, distance 0.002 (about 1.2e4 vertices, like CGAL's).
+//! (`certmesh certify`; target under 1 s). The mesh is CGAL's genus2 at radius 0.02,
+//! distance 0.002 (13 392 vertices), shipped as `data/cgal-genus2-13392.off` (written
+//! by `benches/cgal/surface_mesher genus2 30 0.02 0.002 0`); another OFF file may be
+//! named by `CERTMESH_CERTIFY_OFF` with its surface in `CERTMESH_CERTIFY_SURFACE`.
 //! Group `cdrr`: the Cheng–Dey–Ramos–Ray driver on the catalog.
 use certmesh::catalog;
 use certmesh::mesher::options::MesherOptions;
@@ -46,20 +46,10 @@ fn bench_certify(c: &mut Criterion) {
     let name = std::env::var("CERTMESH_CERTIFY_SURFACE").unwrap_or_else(|_| "genus2".into());
     let e = catalog::get(&name).unwrap();
     let f = e.function();
-    let mesh = match std::env::var("CERTMESH_CERTIFY_OFF") {
-        Ok(p) => certmesh::io::read_tri(&p).unwrap(),
-        Err(_) => {
-            let m = BoissonnatOudot::from_options(&MesherOptions {
-                facet_size: Some(0.02),
-                facet_distance: Some(0.002),
-                manifold: true,
-                ..Default::default()
-            })
-            .unwrap();
-            let out = m.mesh(&f, &e.domain, &NoProgress).unwrap();
-            out.mesh.surface().unwrap().clone()
-        }
-    };
+    let path = std::env::var("CERTMESH_CERTIFY_OFF").unwrap_or_else(|_| {
+        concat!(env!("CARGO_MANIFEST_DIR"), "/data/cgal-genus2-13392.off").into()
+    });
+    let mesh = certmesh::io::read_tri(&path).unwrap();
     let mut g = c.benchmark_group("certify");
     g.sample_size(10);
     g.warm_up_time(Duration::from_secs(1));
@@ -84,13 +74,19 @@ fn bench_cdrr(c: &mut Criterion) {
     g.warm_up_time(Duration::from_secs(1));
     g.measurement_time(Duration::from_secs(10));
     let m = ChengDeyRamosRay::default();
+    // Every smooth catalog surface but genus5 (about 14 s a run: 10 samples would take
+    // minutes; its single-run time is in papers/meshing-of-surfaces/cdrr.md).
     for name in [
         "sphere",
+        "ellipsoid",
         "torus",
         "two-spheres",
         "genus2",
         "tanglecube",
         "thin-torus",
+        "paraboloid-cap",
+        "blob",
+        "superquadric",
     ] {
         let e = catalog::get(name).unwrap();
         let f = e.function();

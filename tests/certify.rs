@@ -233,3 +233,109 @@ proptest! {
         }
     }
 }
+
+/// The report as JSON without its timings (the only fields allowed to differ).
+fn untimed(r: &certmesh::restricted_delaunay::certify::CertifyReport) -> serde_json::Value {
+    let mut v = serde_json::to_value(r).unwrap();
+    v.as_object_mut().unwrap().remove("seconds");
+    v["tbp"].as_object_mut().unwrap().remove("seconds");
+    v
+}
+
+fn in_pool<T: Send>(threads: usize, job: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(job)
+}
+
+/// The checks run in parallel chunks (the Voronoi-edge scan, the facet and cell
+/// covers): one thread and several give the same report — the same restricted
+/// triangulation, the same failures in the same order — on a certified mesh and on
+/// a wrong one.
+#[test]
+fn parallel_and_serial_certify_agree() {
+    for (m, name, certified) in [
+        (cdrr("torus"), "torus", true),
+        (mc("two-spheres", 21), "two-spheres", false),
+    ] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        let run = |threads| {
+            in_pool(threads, || {
+                certify_mesh(&m, &f, &e.domain, &CertifyOptions::default()).unwrap()
+            })
+        };
+        let (r1, rdt1) = run(1);
+        let (r4, rdt4) = run(4);
+        assert_eq!(r1.homeomorphic, certified, "{name}: {}", r1.verdict);
+        assert_eq!(untimed(&r1), untimed(&r4), "{name}");
+        assert_eq!(rdt1.vertices, rdt4.vertices, "{name}");
+        assert_eq!(rdt1.triangles, rdt4.triangles, "{name}");
+    }
+}
+
+/// The scan's batched one-enclosure pre-test only settles segments free of S: against
+/// plain certified root isolation on every dual segment (no pre-test), every facet has
+/// the same number of crossings wherever the plain isolation is complete, and a facet
+/// the scan leaves undecided is undecided by the plain isolation too.
+#[test]
+fn the_scan_pre_test_agrees_with_plain_root_isolation() {
+    use certmesh::implicit::ops::{isolate_segment, SegmentBudget};
+    use certmesh::restricted_delaunay::restricted::{
+        certified_circumcentres, facet_vertices, key, scan_certified,
+    };
+    use std::collections::HashMap;
+    for (name, res) in [("two-spheres", 21), ("torus", 14)] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        let m = mc(name, res);
+        let (t, _) = Delaunay::from_points(&m.vertices, 1).unwrap();
+        let cc = certified_circumcentres(&t);
+        let s = scan_certified(&t, &f, &e.domain, &cc, SegmentBudget::default());
+        let crossings: HashMap<_, usize> = s
+            .facets
+            .iter()
+            .map(|x| (key(x.v), x.test.crossings.len()))
+            .collect();
+        let undecided: Vec<_> = s.undecided.iter().map(|u| key(u.v)).collect();
+        let dbox = e.domain.intervals();
+        let (mut compared, mut restricted) = (0, 0);
+        for (c, i, d, _) in t.facets(false) {
+            let fv = facet_vertices(&t, c, i, true);
+            if fv.iter().any(|&v| t.is_far(v)) {
+                continue;
+            }
+            let k = key(fv);
+            let (Some(a), Some(b)) = (cc[c as usize], cc[d as usize]) else {
+                assert!(undecided.contains(&k));
+                continue;
+            };
+            let r = isolate_segment(&f, &a, &b, Some(&dbox), SegmentBudget::default());
+            if undecided.contains(&k) {
+                assert!(!r.complete(), "{name}: {k:?} undecided by the scan only");
+                continue;
+            }
+            if r.complete() {
+                compared += 1;
+                restricted += usize::from(!r.roots.is_empty());
+                assert_eq!(
+                    crossings.get(&k).copied().unwrap_or(0),
+                    r.roots.len(),
+                    "{name}: facet {k:?}"
+                );
+            }
+        }
+        assert!(
+            compared > 1000 && restricted > 100,
+            "{name}: {compared} {restricted}"
+        );
+        let decided = s
+            .facets
+            .iter()
+            .filter(|x| !undecided.contains(&key(x.v)))
+            .count();
+        assert_eq!(restricted, decided, "{name}");
+    }
+}

@@ -176,7 +176,7 @@ impl TbpCache {
             Vec::new()
         }
     }
-    fn proven(&self, k: &Vec<u32>) -> bool {
+    fn proven(&self, k: &[u32]) -> bool {
         self.keep && self.proven.contains(k)
     }
 }
