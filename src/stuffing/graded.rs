@@ -192,6 +192,11 @@ pub fn stuff_graded(
                     let q = add(c, unit(a, 2 * s as i64 - 1));
                     if in_window(q) {
                         leaves.insert(q);
+                    } else {
+                        // The half-pyramid this leaf protects stays: the asterisk
+                        // guarantee (and the non-BCC safe property that uses it) does
+                        // not hold there, so the run is reported clipped.
+                        clipped = true;
                     }
                 }
             }
