@@ -8,8 +8,10 @@ release binary first).
 Anchors: scikit-image's measure.marching_cubes (pip install scikit-image numpy) on the
 same 256^3 torus volume (benches/skimage_mc.py --once, timed in-process: numpy
 sampling + the marching cubes call); the paper's Python GradNormal (quoted, not
-measured: 1,141 s); CGAL Mesh_3 is not measured here (left for later; see the note
-in the output).
+measured: 1,141 s); CGAL Mesh_3 (benches/cgal/mesh3_sphere.cpp, built by bench.sh when
+libcgal-dev is installed; its path in CGAL_MESH3) on the unit sphere at the size that
+gives about as many tetrahedra as the stuffing run. Then each lattice mesher and its
+report on 1 and 2 threads (RAYON_NUM_THREADS), interleaved.
 """
 import json
 import os
@@ -24,6 +26,8 @@ CERTMESH = os.environ.get("CERTMESH", os.path.join(ROOT, "target", "release", "c
 REPS = int(os.environ.get("BENCH_REPS", "5"))
 OUT = os.path.join(ROOT, "papers", "BENCH.md")
 TMP = os.environ.get("TMPDIR", "/tmp")
+MESH3 = os.environ.get("CGAL_MESH3")  # benches/cgal/mesh3_sphere.cpp, built by bench.sh
+CGAL_VERSION = os.environ.get("CGAL_VERSION", "")
 # GradNormal's 52,931,340-tetrahedron genus-2 run: e = 3 * scale_for_count(1, n, sqrt(2)/4)
 # (benches/gradnormal.rs), H = sqrt(3)/2.
 N_TETS = 52_931_340.0
@@ -35,16 +39,17 @@ def load():
         return " ".join(f.read().split()[:3])
 
 
-def run(cmd):
+def run(cmd, env=None):
     """Wall time of a whole process and its stdout (an error stops the script)."""
+    full = dict(os.environ, **(env or {}))
     t0 = time.perf_counter()
-    p = subprocess.run(cmd, check=True, capture_output=True, text=True, timeout=600)
+    p = subprocess.run(cmd, check=True, capture_output=True, text=True, timeout=600, env=full)
     return time.perf_counter() - t0, p.stdout
 
 
-def certmesh(args):
+def certmesh(args, env=None):
     """Whole-process wall time and the report's mesher time (`seconds`)."""
-    wall, out = run([CERTMESH] + args + ["--json"])
+    wall, out = run([CERTMESH] + args + ["--json"], env)
     rep = json.loads(out)
     return wall, rep["seconds"], rep
 
@@ -104,20 +109,58 @@ def main():
     rows.append(("GradNormal genus 2, 52.9 M tetrahedra (mesher time)", 1141.0, med(g_mesher), quoted, f"{l0} → {l1}"))
     rows.append(("GradNormal genus 2, 52.9 M tetrahedra, whole process (default report)", 1141.0, med(g_wall), quoted, f"{l0} → {l1}"))
     rows.append(("GradNormal genus 2, 52.9 M tetrahedra, whole process (--metrics none)", 1141.0, med(g_none), quoted, f"{l0} → {l1}"))
-    # 4: stuffing on the sphere (whole process); CGAL Mesh_3 not measured here.
+    # 4: stuffing on the sphere (whole process), against CGAL Mesh_3 on the same sphere
+    # at about the same number of tetrahedra (resolution 42: 142,704; CGAL cell size 0.05:
+    # about 143,500), interleaved.
     l0 = load()
-    st = ["mesh", "sphere", "--algo", "stuffing", "-o", os.path.join(TMP, "bench-sphere.vtk")]
-    s_wall, s_mesher = [], []
-    tets = None
+    st = ["mesh", "sphere", "--algo", "stuffing", "--resolution", "42",
+          "-o", os.path.join(TMP, "bench-sphere.vtk")]
+    s_wall, s_mesher, c_time = [], [], []
+    tets, crep, srep = None, None, None
     for _ in range(REPS):
-        w, s, rep = certmesh(st)
+        if MESH3:
+            _, out = run([MESH3, "0.05", "0.05", "0.005"])
+            crep = json.loads(out)
+            c_time.append(crep["seconds"])
+        w, s, srep = certmesh(st)
         s_wall.append(w)
         s_mesher.append(s)
-        tets = rep.get("tetrahedra")
+        tets = srep.get("tetrahedra")
     l1 = load()
-    cgal = "CGAL Mesh_3: not measured (quoted from issue 20: 143,898 tetrahedra in 2.50 s)"
-    rows.append((f"stuffing, sphere ({tets:,} tetrahedra), mesher time", 2.50, med(s_mesher), cgal, f"{l0} → {l1}"))
-    rows.append((f"stuffing, sphere ({tets:,} tetrahedra), whole process", 2.50, med(s_wall), cgal, f"{l0} → {l1}"))
+    st_stats = srep.get("stats") or {}
+    ours = (f"{tets:,} tetrahedra, {tets / med(s_mesher):,.0f}/s, dihedral "
+            f"{st_stats.get('min_dihedral_deg', float('nan')):.1f}°–{st_stats.get('max_dihedral_deg', float('nan')):.1f}°")
+    if crep:
+        cgal = (f"CGAL {CGAL_VERSION} Mesh_3, measured: facet angle 25, facet size 0.05, facet distance "
+                f"0.005, radius-edge 2, cell size 0.05, its default perturb and exude; "
+                f"{crep['tetrahedra']:,} tetrahedra, {crep['tetrahedra'] / med(c_time):,.0f}/s, dihedral "
+                f"{crep['min_dihedral_deg']:.1f}°–{crep['max_dihedral_deg']:.1f}°")
+        a = med(c_time)
+    else:
+        cgal = "CGAL Mesh_3: not measured (libcgal-dev not installed; quoted from issue 20: 143,898 tetrahedra in 2.50 s)"
+        a = 2.50
+    rows.append((f"stuffing, sphere ({ours}), mesher time", a, med(s_mesher), cgal, f"{l0} → {l1}"))
+    rows.append((f"stuffing, sphere ({tets:,} tetrahedra), whole process", a, med(s_wall), cgal, f"{l0} → {l1}"))
+
+    # 5: 1 and 2 threads, interleaved: mesher time (the report's `seconds`) and the rest
+    # of the process (report, writing, start-up).
+    thread_rows = []
+    for name, args in [
+        ("mc, torus 256³", torus),
+        ("mt, torus 128³", ["mesh", "torus", "--algo", "mt", "--resolution", "128",
+                           "-o", os.path.join(TMP, "bench-torus-mt.ply")]),
+        ("gradnormal, genus 2, 52.9 M tetrahedra", gn),
+        ("stuffing, sphere, resolution 42", st),
+    ]:
+        l0 = load()
+        t = {1: ([], []), 2: ([], [])}
+        for _ in range(REPS):
+            for n in (1, 2):
+                w, s, _ = certmesh(args, {"RAYON_NUM_THREADS": str(n)})
+                t[n][0].append(s)
+                t[n][1].append(w - s)
+        l1 = load()
+        thread_rows.append((name, [med(t[1][0]), med(t[2][0]), med(t[1][1]), med(t[2][1])], f"{l0} → {l1}"))
 
     cpu = platform.processor() or platform.machine()
     try:
@@ -145,6 +188,20 @@ def main():
         else:
             r_s = f"{a / c:,.1f}" if c == c and c > 0 and a == a else "—"
         lines.append(f"| {name} | {note} | {a_s} | {ms(c)} | {r_s} | {la} |")
+    lines += [
+        "",
+        "Each lattice mesher on 1 and 2 threads (`RAYON_NUM_THREADS`), interleaved, medians; "
+        "\"rest\" is the whole process minus the mesher time (report, writing, start-up). Serial by "
+        "design in the report: the union-find of components and boundary loops, the count and "
+        "fill passes of the vertex buckets, the angle mean and histogram (a fixed summation "
+        "order), the cell grid's fill pass, and writing the file; in stuffing, the fill passes "
+        "of the face buckets.",
+        "",
+        "| workload | load average | mesher, 1 thread | 2 threads | speed-up | rest, 1 thread | 2 threads | speed-up |",
+        "|---|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for name, (m1, m2, r1, r2), la in thread_rows:
+        lines.append(f"| {name} | {la} | {ms(m1)} | {ms(m2)} | {m1 / m2:.2f} | {ms(r1)} | {ms(r2)} | {r1 / r2:.2f} |")
     lines += [
         "",
         "Criterion benches per workload: `cargo bench --bench end_to_end` (evaluation + mesh + "
