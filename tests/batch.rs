@@ -3,10 +3,13 @@
 //! kernel `Iv` (`Tape::eval_iv_in`) and against inari's generic interpreter, on random
 //! formulas, random points and boxes of every scale (the fallback lanes included), and
 //! batches of every length (the padded last chunk included). The `Implicit` batch
-//! methods of `Formula` and `Counted` agree with their scalar methods likewise.
+//! methods of `Formula` and `Counted` agree with their scalar methods likewise. The
+//! batch gradient (`Implicit::grad_batch`, on `Dual<Lanes>`) equals `Implicit::grad`
+//! bit for bit, and the batch Newton projection (`ops::project_batch`) equals
+//! `ops::project` point by point.
 use certmesh::catalog;
 use certmesh::implicit::batch::{BatchScratch, LANES};
-use certmesh::implicit::{Counted, Formula, Implicit, Iv};
+use certmesh::implicit::{ops, Counted, Dual, Formula, FromGeneric, GenericFn, Implicit, Iv, Num};
 use inari::Interval;
 use proptest::prelude::*;
 
@@ -166,8 +169,85 @@ fn check_boxes(f: &Formula, boxes: &[[Iv; 3]]) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// `grad_batch` against `grad` (value and gradient, every bit), and `project_batch`
+/// against `project`.
+fn check_gradients(f: &dyn Implicit, pts: &[[f64; 3]]) -> Result<(), TestCaseError> {
+    let mut out = vec![
+        Dual {
+            v: 0.0,
+            g: [0.0; 3]
+        };
+        pts.len()
+    ];
+    f.grad_batch(pts, &mut out);
+    for (p, d) in pts.iter().zip(&out) {
+        let want = f.grad(*p);
+        prop_assert!(
+            same_f64(d.v, want.v) && (0..3).all(|k| same_f64(d.g[k], want.g[k])),
+            "{}: at {:?} batch {:?} scalar {:?}",
+            f.describe(),
+            p,
+            d,
+            want
+        );
+    }
+    let proj = ops::project_batch(f, pts, 8, 1e-10);
+    for (p, q) in pts.iter().zip(&proj) {
+        let want = ops::project(f, *p, 8, 1e-10);
+        let same = match (q, want) {
+            (None, None) => true,
+            (Some(a), Some(b)) => (0..3).all(|k| same_f64(a[k], b[k])),
+            _ => false,
+        };
+        prop_assert!(
+            same,
+            "{}: projection of {:?}: batch {:?} scalar {:?}",
+            f.describe(),
+            p,
+            q,
+            want
+        );
+    }
+    Ok(())
+}
+
+/// Generic Rust code (`FromGeneric`) has the lane gradient too.
+struct Blob;
+impl GenericFn for Blob {
+    fn eval<T: Num>(&self, [x, y, z]: [T; 3]) -> T {
+        (x.clone() * y.clone()).sin() + z.clone().exp() - (x.square() + T::lit(0.5)).sqrt()
+            + y.abs().min(&z)
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(400))]
+
+    #[test]
+    fn batch_gradient_and_projection_equal_scalar(
+        text in arb_formula(),
+        pts in prop::collection::vec(arb_point(), 1..(3 * LANES + 2)),
+    ) {
+        let f = Formula::surface(&text).unwrap();
+        check_gradients(&f, &pts)?;
+    }
+
+    #[test]
+    fn batch_gradient_on_catalog_and_generic_code(
+        pick in 0usize..64,
+        pts in prop::collection::vec(arb_point(), 1..(2 * LANES + 3)),
+        near in prop::collection::vec(prop::array::uniform3(-2.0f64..2.0), 1..(2 * LANES + 3)),
+    ) {
+        let entries = catalog::surfaces();
+        let e = &entries[pick % entries.len()];
+        let f = e.function();
+        check_gradients(&f, &pts)?;
+        // Points near the surface: most projections converge.
+        check_gradients(&f, &near)?;
+        check_gradients(&FromGeneric(Blob), &near)?;
+        let c = Counted::new(&f);
+        check_gradients(&c, &near)?;
+    }
 
     #[test]
     fn batch_f64_equals_scalar(
@@ -223,8 +303,17 @@ fn counted_batches_count_each_point() {
     for (b, v) in boxes.iter().zip(&iv) {
         assert_eq!(*v, f.eval_interval(b));
     }
+    let pts: Vec<[f64; 3]> = xs.iter().map(|&x| [x, x, x]).collect();
+    let mut d = vec![
+        Dual {
+            v: 0.0,
+            g: [0.0; 3]
+        };
+        pts.len()
+    ];
+    c.grad_batch(&pts, &mut d);
     let n = c.counts();
-    assert_eq!((n.points, n.intervals), (21, 21));
+    assert_eq!((n.points, n.intervals, n.gradients), (21, 21, 21));
 }
 
 /// A batch of slices of different lengths is refused with a clear panic message.

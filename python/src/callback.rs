@@ -61,23 +61,40 @@ impl PyFunction {
 
     /// Central differences: the values at p ± h e_k in one batch.
     fn gradient(&self, p: [f64; 3]) -> Dual<f64> {
-        let mut pts = vec![p];
-        let h: Vec<f64> = (0..3).map(|k| 1e-6 * p[k].abs().max(1.0)).collect();
-        for k in 0..self.dim {
-            for s in [1.0, -1.0] {
-                let mut q = p;
-                q[k] += s * h[k];
-                pts.push(q);
+        let mut out = [Dual { v: 0.0, g: [0.0; 3] }];
+        self.gradients(&[p], &mut out);
+        out[0]
+    }
+
+    /// Central differences at every point: one call of the Python function for the
+    /// values at all points and at p ± h e_k (1 + 2·dim per point).
+    fn gradients(&self, pts: &[[f64; 3]], out: &mut [Dual<f64>]) {
+        let per = 1 + 2 * self.dim;
+        let mut c: [Vec<f64>; 3] = Default::default();
+        let mut hs = Vec::with_capacity(pts.len());
+        for &p in pts {
+            let h: [f64; 3] = [0, 1, 2].map(|k| 1e-6 * p[k].abs().max(1.0));
+            let mut push = |q: [f64; 3]| (0..3).for_each(|k| c[k].push(q[k]));
+            push(p);
+            for k in 0..self.dim {
+                for s in [1.0, -1.0] {
+                    let mut q = p;
+                    q[k] += s * h[k];
+                    push(q);
+                }
             }
+            hs.push(h);
         }
-        let mut v = vec![0.0; pts.len()];
-        let c: Vec<Vec<f64>> = (0..3).map(|k| pts.iter().map(|q| q[k]).collect()).collect();
+        let mut v = vec![0.0; c[0].len()];
         self.call([&c[0], &c[1], &c[2]], &mut v);
-        let mut g = [0.0; 3];
-        for k in 0..self.dim {
-            g[k] = (v[1 + 2 * k] - v[2 + 2 * k]) / (2.0 * h[k]);
+        for (i, (o, h)) in out.iter_mut().zip(&hs).enumerate() {
+            let w = &v[i * per..(i + 1) * per];
+            let mut g = [0.0; 3];
+            for k in 0..self.dim {
+                g[k] = (w[1 + 2 * k] - w[2 + 2 * k]) / (2.0 * h[k]);
+            }
+            *o = Dual { v: w[0], g };
         }
-        Dual { v: v[0], g }
     }
 }
 
@@ -98,6 +115,11 @@ impl Implicit for PyFunction {
     }
     fn grad(&self, p: [f64; 3]) -> Dual<f64> {
         self.gradient(p)
+    }
+    /// One call of the Python function for the whole batch (central differences).
+    fn grad_batch(&self, p: &[[f64; 3]], out: &mut [Dual<f64>]) {
+        assert!(p.len() == out.len(), "batch slices of different lengths");
+        self.gradients(p, out)
     }
     fn grad_interval(&self, _b: &IBox) -> Dual<Interval> {
         Dual {

@@ -94,6 +94,10 @@ impl Implicit for Guarded<'_> {
         self.control.check();
         self.f.grad(p)
     }
+    fn grad_batch(&self, p: &[[f64; 3]], out: &mut [Dual<f64>]) {
+        self.control.check();
+        self.f.grad_batch(p, out)
+    }
     fn grad_interval(&self, b: &IBox) -> Dual<Interval> {
         self.control.check();
         self.f.grad_interval(b)

@@ -11,6 +11,7 @@ pub mod batch;
 pub mod critical;
 pub mod directed;
 pub mod expr;
+pub mod lanes;
 pub mod number;
 pub mod ops;
 pub mod reach;
@@ -66,6 +67,16 @@ pub trait Implicit: Send + Sync {
     }
     /// f and its gradient at a point.
     fn grad(&self, p: [f64; 3]) -> Dual<f64>;
+    /// f and its gradient at many points into `out`: the values of [`Implicit::grad`],
+    /// bit for bit (formulas and generic Rust functions: [`batch::LANES`] points per
+    /// pass, see [`lanes`]); the default calls `grad` point by point. Panics if the
+    /// lengths differ.
+    fn grad_batch(&self, p: &[[f64; 3]], out: &mut [Dual<f64>]) {
+        assert!(p.len() == out.len(), "batch slices of different lengths");
+        for (o, &q) in out.iter_mut().zip(p) {
+            *o = self.grad(q);
+        }
+    }
     /// Enclosures of f and of its gradient over a box.
     fn grad_interval(&self, b: &IBox) -> Dual<Interval>;
     /// f, gradient and Hessian at a point.
@@ -130,6 +141,9 @@ impl<G: GenericFn> Implicit for FromGeneric<G> {
     }
     fn eval_interval(&self, b: &IBox) -> Interval {
         self.0.eval(*b)
+    }
+    fn grad_batch(&self, p: &[[f64; 3]], out: &mut [Dual<f64>]) {
+        lanes::grad_batch(p, out, |v| self.0.eval(v))
     }
     fn grad(&self, p: [f64; 3]) -> Dual<f64> {
         self.0.eval([0, 1, 2].map(|k| Dual::var(p[k], k)))
@@ -230,6 +244,10 @@ impl Implicit for Formula {
     }
     fn eval_interval_batch(&self, b: &[IBox], out: &mut [Interval]) {
         batch::eval_boxes(&self.tape, b, out)
+    }
+    fn grad_batch(&self, p: &[[f64; 3]], out: &mut [Dual<f64>]) {
+        let mut regs = Vec::with_capacity(self.tape.len());
+        lanes::grad_batch(p, out, |v| self.tape.eval(&v, &mut regs))
     }
     fn grad(&self, p: [f64; 3]) -> Dual<f64> {
         let v = [0, 1, 2].map(|k| Dual::var(p[k], k));
@@ -385,7 +403,30 @@ impl EvalCounts {
 /// way for every mesher (a mesher cannot under-report).
 pub struct Counted<'a> {
     inner: &'a dyn Implicit,
-    c: [AtomicU64; 6],
+    c: Shards,
+}
+
+/// The six counters of [`EvalCounts`] in one cache line per shard; each rayon thread
+/// counts in its own shard, so parallel meshers do not contend for one line (a
+/// shared counter cost a third of a stuffing run on 2 threads).
+#[derive(Default)]
+#[repr(align(64))]
+struct Shard([AtomicU64; 6]);
+
+const SHARDS: usize = 8;
+
+#[derive(Default)]
+struct Shards([Shard; SHARDS]);
+
+impl Shards {
+    #[inline]
+    fn add(&self, kind: usize, n: u64) {
+        let s = rayon::current_thread_index().map_or(0, |i| (i + 1) % SHARDS);
+        self.0[s].0[kind].fetch_add(n, Relaxed);
+    }
+    fn load(&self, kind: usize) -> u64 {
+        self.0.iter().map(|s| s.0[kind].load(Relaxed)).sum()
+    }
 }
 
 impl<'a> Counted<'a> {
@@ -397,12 +438,12 @@ impl<'a> Counted<'a> {
     }
     pub fn counts(&self) -> EvalCounts {
         EvalCounts {
-            points: self.c[0].load(Relaxed),
-            intervals: self.c[1].load(Relaxed),
-            gradients: self.c[2].load(Relaxed),
-            interval_gradients: self.c[3].load(Relaxed),
-            hessians: self.c[4].load(Relaxed),
-            regularity: self.c[5].load(Relaxed),
+            points: self.c.load(0),
+            intervals: self.c.load(1),
+            gradients: self.c.load(2),
+            interval_gradients: self.c.load(3),
+            hessians: self.c.load(4),
+            regularity: self.c.load(5),
         }
     }
 }
@@ -413,42 +454,46 @@ impl Implicit for Counted<'_> {
     }
     #[inline]
     fn eval(&self, p: [f64; 3]) -> f64 {
-        self.c[0].fetch_add(1, Relaxed);
+        self.c.add(0, 1);
         self.inner.eval(p)
     }
     fn eval_interval(&self, b: &IBox) -> Interval {
-        self.c[1].fetch_add(1, Relaxed);
+        self.c.add(1, 1);
         self.inner.eval_interval(b)
     }
     fn eval_batch(&self, p: [&[f64]; 3], out: &mut [f64]) {
-        self.c[0].fetch_add(out.len() as u64, Relaxed);
+        self.c.add(0, out.len() as u64);
         self.inner.eval_batch(p, out)
     }
     fn eval_interval_batch(&self, b: &[IBox], out: &mut [Interval]) {
-        self.c[1].fetch_add(out.len() as u64, Relaxed);
+        self.c.add(1, out.len() as u64);
         self.inner.eval_interval_batch(b, out)
     }
     fn grad(&self, p: [f64; 3]) -> Dual<f64> {
-        self.c[2].fetch_add(1, Relaxed);
+        self.c.add(2, 1);
         self.inner.grad(p)
     }
+    fn grad_batch(&self, p: &[[f64; 3]], out: &mut [Dual<f64>]) {
+        self.c.add(2, out.len() as u64);
+        self.inner.grad_batch(p, out)
+    }
     fn grad_interval(&self, b: &IBox) -> Dual<Interval> {
-        self.c[3].fetch_add(1, Relaxed);
+        self.c.add(3, 1);
         self.inner.grad_interval(b)
     }
     fn hessian(&self, p: [f64; 3]) -> Hyper<f64> {
-        self.c[4].fetch_add(1, Relaxed);
+        self.c.add(4, 1);
         self.inner.hessian(p)
     }
     fn hessian_interval(&self, b: &IBox) -> Hyper<Interval> {
-        self.c[4].fetch_add(1, Relaxed);
+        self.c.add(4, 1);
         self.inner.hessian_interval(b)
     }
     fn is_rigorous(&self) -> bool {
         self.inner.is_rigorous()
     }
     fn regularity(&self, b: &IBox) -> Regularity {
-        self.c[5].fetch_add(1, Relaxed);
+        self.c.add(5, 1);
         self.inner.regularity(b)
     }
     fn describe(&self) -> String {

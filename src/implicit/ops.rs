@@ -343,6 +343,49 @@ pub fn project(f: &dyn Implicit, p: [f64; 3], steps: usize, tol: f64) -> Option<
     None
 }
 
+/// [`project`] of every point of `pts`, bit for bit, with the batch gradient
+/// ([`Implicit::grad_batch`]): each Newton round evaluates the points not yet settled
+/// in one batch.
+pub fn project_batch(
+    f: &dyn Implicit,
+    pts: &[[f64; 3]],
+    steps: usize,
+    tol: f64,
+) -> Vec<Option<[f64; 3]>> {
+    let mut out = vec![None; pts.len()];
+    let mut active: Vec<usize> = (0..pts.len()).collect();
+    let mut cur: Vec<[f64; 3]> = pts.to_vec();
+    let mut d = vec![
+        crate::implicit::Dual {
+            v: 0.0,
+            g: [0.0; 3]
+        };
+        pts.len()
+    ];
+    for _ in 0..steps.max(1) {
+        if active.is_empty() {
+            break;
+        }
+        let n = active.len();
+        f.grad_batch(&cur[..n], &mut d[..n]);
+        let mut keep = 0;
+        for j in 0..n {
+            // A point whose gradient vanishes or is not finite is dropped (None).
+            if let Some((r, len)) = newton_step(f, cur[j], d[j]) {
+                if len <= tol {
+                    out[active[j]] = Some(r);
+                } else {
+                    active[keep] = active[j];
+                    cur[keep] = r;
+                    keep += 1;
+                }
+            }
+        }
+        active.truncate(keep);
+    }
+    out
+}
+
 /// Exactly `steps` Newton steps (fewer if f vanishes exactly), as GradNormal's
 /// Algorithm 2, line 6 prescribes: the point, and whether every step had a usable
 /// gradient (if not, the point where it stopped). One gradient evaluation per step.

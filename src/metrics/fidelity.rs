@@ -211,23 +211,76 @@ fn surface_to_mesh(
 
 /// Project `p` onto f = 0 by Newton steps (the oracle's
 /// [`project`](crate::implicit::ops::project)).
-pub use crate::implicit::ops::project;
+pub use crate::implicit::ops::{project, project_batch};
 
-/// [`project`] for the distance samples: a point where f is exactly 0 is on f = 0
-/// already, also where ∇f vanishes there (e.g. f ≡ 0), where `project` gives up; its
-/// distance is then measured (0), not left out.
-fn project_sample(f: &dyn Implicit, p: [f64; 3], steps: usize, tol: f64) -> Option<[f64; 3]> {
-    if f.eval(p) == 0.0 {
-        return Some(p);
-    }
-    project(f, p, steps, tol)
+/// Points per batch of [`project_samples`] (one rayon task each).
+const BATCH: usize = 1024;
+
+/// Every point projected onto f = 0 by Newton steps ([`project_batch`]), in order;
+/// a point where f is exactly 0 is on f = 0 already, also where ∇f vanishes there
+/// (e.g. f ≡ 0), where `project` gives up: its distance is then measured (0), not
+/// left out. Batches of [`BATCH`] points in parallel, with the batch evaluator; the
+/// same points, bit for bit, as projecting each point alone.
+fn project_samples(
+    f: &dyn Implicit,
+    pts: &[[f64; 3]],
+    steps: usize,
+    tol: f64,
+) -> Vec<Option<[f64; 3]>> {
+    pts.par_chunks(BATCH)
+        .flat_map_iter(|c| {
+            let cols: [Vec<f64>; 3] = [0, 1, 2].map(|k| c.iter().map(|p| p[k]).collect());
+            let mut v = vec![0.0; c.len()];
+            f.eval_batch([&cols[0], &cols[1], &cols[2]], &mut v);
+            let moving: Vec<[f64; 3]> = c
+                .iter()
+                .zip(&v)
+                .filter(|(_, &v)| v != 0.0)
+                .map(|(&p, _)| p)
+                .collect();
+            let mut moved = project_batch(f, &moving, steps, tol).into_iter();
+            let out: Vec<Option<[f64; 3]>> = c
+                .iter()
+                .zip(&v)
+                .map(|(&p, &v)| {
+                    if v == 0.0 {
+                        Some(p)
+                    } else {
+                        moved.next().unwrap()
+                    }
+                })
+                .collect();
+            out
+        })
+        .collect()
 }
 
 /// The first-order distance estimate |f|/|∇f| at `p`.
 pub fn distance_estimate(f: &dyn Implicit, p: [f64; 3]) -> f64 {
-    let d = f.grad(p);
+    estimate_from(f.grad(p), f.dim())
+}
+
+/// [`distance_estimate`] at every point (the batch gradient, in parallel batches).
+pub fn distance_estimates_at(f: &dyn Implicit, pts: &[[f64; 3]]) -> Vec<f64> {
+    pts.par_chunks(BATCH)
+        .flat_map_iter(|c| {
+            let mut d = vec![
+                crate::implicit::Dual {
+                    v: 0.0,
+                    g: [0.0; 3]
+                };
+                c.len()
+            ];
+            f.grad_batch(c, &mut d);
+            d.into_iter().map(|d| estimate_from(d, f.dim()))
+        })
+        .collect()
+}
+
+/// |f|/|∇f| from f and ∇f at a point (∇f's z component ignored for curves).
+fn estimate_from(d: crate::implicit::Dual<f64>, dim: usize) -> f64 {
     let mut g = d.g;
-    if f.dim() == 2 {
+    if dim == 2 {
         g[2] = 0.0;
     }
     let n = geom::norm(g);
@@ -286,29 +339,51 @@ pub fn surface_points_counted(
     let reach = geom::norm(if planar { [h[0], h[1], 0.0] } else { h });
     let nz = if planar { 1 } else { n };
     let grown = domain.inflate(reach);
-    let candidates = std::sync::atomic::AtomicUsize::new(0);
-    let pts = (0..n * n * nz)
+    let seed = |idx: usize| {
+        let (i, j, k) = (idx % n, (idx / n) % n, idx / (n * n));
+        [
+            domain.min[0] + (i as f64 + 0.5) * h[0],
+            domain.min[1] + (j as f64 + 0.5) * h[1],
+            if planar {
+                0.0
+            } else {
+                domain.min[2] + (k as f64 + 0.5) * h[2]
+            },
+        ]
+    };
+    // The grid in batches, in order: the seeds near f = 0 by the first-order
+    // estimate, then their projections (batch evaluation throughout).
+    let total = n * n * nz;
+    let per: Vec<(Vec<[f64; 3]>, usize)> = (0..total.div_ceil(BATCH))
         .into_par_iter()
-        .filter_map(|idx| {
-            let (i, j, k) = (idx % n, (idx / n) % n, idx / (n * n));
-            let p = [
-                domain.min[0] + (i as f64 + 0.5) * h[0],
-                domain.min[1] + (j as f64 + 0.5) * h[1],
-                if planar {
-                    0.0
-                } else {
-                    domain.min[2] + (k as f64 + 0.5) * h[2]
-                },
+        .map(|b| {
+            let seeds: Vec<[f64; 3]> = (b * BATCH..((b + 1) * BATCH).min(total))
+                .map(seed)
+                .collect();
+            let mut d = vec![
+                crate::implicit::Dual {
+                    v: 0.0,
+                    g: [0.0; 3]
+                };
+                seeds.len()
             ];
-            if !(distance_estimate(f, p) < reach) {
-                return None;
-            }
-            candidates.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            let q = project_sample(f, p, steps, tol)?;
-            grown.contains(q).then_some(q)
+            f.grad_batch(&seeds, &mut d);
+            let near: Vec<[f64; 3]> = seeds
+                .iter()
+                .zip(&d)
+                .filter(|(_, &d)| estimate_from(d, f.dim()) < reach)
+                .map(|(&p, _)| p)
+                .collect();
+            let found = project_samples(f, &near, steps, tol)
+                .into_iter()
+                .flatten()
+                .filter(|&q| grown.contains(q))
+                .collect();
+            (found, near.len())
         })
         .collect();
-    (pts, candidates.into_inner())
+    let candidates = per.iter().map(|(_, c)| c).sum();
+    (per.into_iter().flat_map(|(p, _)| p).collect(), candidates)
 }
 
 /// |f|/|∇f| over the vertices (NaN where f is undefined, inf where ∇f = 0 ≠ f).
@@ -447,7 +522,7 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
             &["max_distance_estimate", "mean_distance_estimate"],
         )
     } else {
-        let est: Vec<f64> = verts.par_iter().map(|&p| distance_estimate(f, p)).collect();
+        let est = distance_estimates_at(f, verts);
         distance_estimates(&est, &mut undefined)
     };
 
@@ -469,10 +544,11 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
             (el.sample)(e, i)
         })
         .collect();
-    let m2s: Vec<Option<f64>> = verts
-        .par_iter()
-        .chain(samples.par_iter())
-        .map(|&p| project_sample(f, p, steps, tol).map(|q| geom::dist(p, q)))
+    let from: Vec<[f64; 3]> = verts.iter().chain(&samples).copied().collect();
+    let m2s: Vec<Option<f64>> = project_samples(f, &from, steps, tol)
+        .into_iter()
+        .zip(&from)
+        .map(|(q, &p)| q.map(|q| geom::dist(p, q)))
         .collect();
     let attempted = m2s.len();
     let unconverged = m2s.iter().filter(|d| d.is_none()).count();
@@ -497,33 +573,40 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
     } else {
         // Normal deviation at the projections of the elements' centres (at the centre
         // itself where Newton fails; if it fails everywhere, the deviation is undefined).
-        let projected = std::sync::atomic::AtomicUsize::new(0);
-        let dev: Vec<f64> = (0..el.weights.len())
+        let (normals, centres): (Vec<[f64; 3]>, Vec<[f64; 3]>) = (0..el.weights.len())
             .into_par_iter()
-            .filter_map(|e| {
-                let (n, cen) = (el.normal)(e)?;
-                if !(geom::norm(n) > 0.0) {
-                    return None;
-                }
-                let q = match project_sample(f, cen, steps, tol) {
-                    Some(q) => {
-                        projected.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        q
+            .filter_map(|e| (el.normal)(e).filter(|(n, _)| geom::norm(*n) > 0.0))
+            .unzip();
+        let proj = project_samples(f, &centres, steps, tol);
+        let projected = proj.iter().filter(|q| q.is_some()).count();
+        let at: Vec<[f64; 3]> = proj
+            .iter()
+            .zip(&centres)
+            .map(|(q, &c)| q.unwrap_or(c))
+            .collect();
+        let dev: Vec<f64> = at
+            .par_chunks(BATCH)
+            .zip(normals.par_chunks(BATCH))
+            .flat_map_iter(|(q, ns)| {
+                let mut d = vec![
+                    crate::implicit::Dual {
+                        v: 0.0,
+                        g: [0.0; 3]
+                    };
+                    q.len()
+                ];
+                f.grad_batch(q, &mut d);
+                d.into_iter().zip(ns).filter_map(|(d, &n)| {
+                    let mut g = d.g;
+                    if el.planar {
+                        g[2] = 0.0;
                     }
-                    None => cen,
-                };
-                let mut g = f.grad(q).g;
-                if el.planar {
-                    g[2] = 0.0;
-                }
-                if !(geom::norm(g) > 0.0) {
-                    return None;
-                }
-                Some(
-                    geom::norm(geom::cross(n, g))
-                        .atan2(geom::dot(n, g))
-                        .to_degrees(),
-                )
+                    (geom::norm(g) > 0.0).then(|| {
+                        geom::norm(geom::cross(n, g))
+                            .atan2(geom::dot(n, g))
+                            .to_degrees()
+                    })
+                })
             })
             .collect();
         // A curve's segments carry no orientation: no flipped normals.
@@ -533,12 +616,8 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
             dev.iter().filter(|&&a| a > 90.0).count()
         };
         let unsigned: Vec<f64> = dev.iter().map(|&a| a.min(180.0 - a)).collect();
-        let (dmax, dmean) = normal_deviation(
-            &unsigned,
-            el.weights.len(),
-            projected.into_inner(),
-            &mut undefined,
-        );
+        let (dmax, dmean) =
+            normal_deviation(&unsigned, el.weights.len(), projected, &mut undefined);
         (dmax, dmean, flipped)
     };
 

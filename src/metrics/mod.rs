@@ -139,12 +139,21 @@ pub fn stats_and_topology(
     f: Option<&dyn Implicit>,
     params: &FidelityParams,
 ) -> Result<(Stats, TopologyReport)> {
-    let topo = analyze(mesh)?;
-    let ang = angles::triangle_summary(mesh, ANGLE_BIN_DEG)?;
-    let fidelity = match f {
-        Some(f) => Some(fidelity::surface_fidelity(mesh, f, params)?),
-        None => None,
-    };
+    // Three independent measures, side by side on rayon's threads (each is parallel
+    // inside too; the serial parts of one overlap the others).
+    let (topo, (ang, fidelity)) = rayon::join(
+        || analyze(mesh),
+        || {
+            rayon::join(
+                || angles::triangle_summary(mesh, ANGLE_BIN_DEG),
+                || {
+                    f.map(|f| fidelity::surface_fidelity(mesh, f, params))
+                        .transpose()
+                },
+            )
+        },
+    );
+    let (topo, ang, fidelity) = (topo?, ang?, fidelity?);
     let stats = Stats {
         vertices: topo.vertices,
         isolated_vertices: topo.isolated_vertices,

@@ -1,13 +1,19 @@
 //! Angle measurements used by the stuffing stats and the Table 1 checks: dihedral
 //! angles, plane angles of every tetrahedron face, plane angles of the exposed
 //! (boundary) triangles, and inverted-tetrahedron counts (exact `orient3d`).
-use crate::kernel::geom::{angle_deg, cross, dot, norm, sub};
+use crate::kernel::geom::{cross, dot, norm, sub};
 use crate::mesh::{TetMesh, TriMesh};
 use rayon::prelude::*;
 use serde::Serialize;
 
 /// The six dihedral angles of a tetrahedron, in degrees.
 pub fn dihedrals(p: [[f64; 3]; 4]) -> [f64; 6] {
+    dihedral_pairs(p).map(deg)
+}
+
+/// Each dihedral angle of [`dihedrals`] as the pair (|a×b|, a·b) of the two face
+/// directions a, b perpendicular to the edge: the angle is atan2 of the pair.
+fn dihedral_pairs(p: [[f64; 3]; 4]) -> [(f64, f64); 6] {
     const E: [(usize, usize, usize, usize); 6] = crate::kernel::geom::TET_EDGES_WITH_OPPOSITE;
     E.map(|(i, j, k, l)| {
         let e = sub(p[j], p[i]);
@@ -18,20 +24,80 @@ pub fn dihedrals(p: [[f64; 3]; 4]) -> [f64; 6] {
             [v[0] - s * e[0], v[1] - s * e[1], v[2] - s * e[2]]
         };
         let (a, b) = (perp(p[k]), perp(p[l]));
-        norm(cross(a, b)).atan2(dot(a, b)).to_degrees()
+        (norm(cross(a, b)), dot(a, b))
     })
+}
+
+/// The angle at `b` of the triangle `a b c` as the pair of [`angle_deg`]: atan2 of it
+/// is the angle (the same operations, so the same bits).
+fn angle_pair(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> (f64, f64) {
+    let (u, v) = (sub(a, b), sub(c, b));
+    (norm(cross(u, v)), dot(u, v))
+}
+
+/// The angle of a pair, in degrees.
+fn deg((y, x): (f64, f64)) -> f64 {
+    y.atan2(x).to_degrees()
 }
 
 /// The 12 plane angles of a tetrahedron's faces.
 pub fn plane_angles(p: [[f64; 3]; 4]) -> [f64; 12] {
+    plane_angle_pairs(p).map(deg)
+}
+
+fn plane_angle_pairs(p: [[f64; 3]; 4]) -> [(f64, f64); 12] {
     const F: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
-    let mut out = [0.0; 12];
+    let mut out = [(0.0, 0.0); 12];
     for (fi, f) in F.iter().enumerate() {
         for k in 0..3 {
-            out[3 * fi + k] = angle_deg(p[f[(k + 2) % 3]], p[f[k]], p[f[(k + 1) % 3]]);
+            out[3 * fi + k] = angle_pair(p[f[(k + 2) % 3]], p[f[k]], p[f[(k + 1) % 3]]);
         }
     }
     out
+}
+
+/// A running minimum and maximum of angles given as atan2 pairs (y ≥ 0), computing
+/// atan2 only for a pair that may beat the current extremes: with (cos m, sin m) of
+/// the current minimum m, cos m · y − sin m · x = |(x, y)| sin(θ − m), so a value above
+/// 10⁻⁹ (|x| + |y|) proves θ > m + 10⁻⁹ rad, far beyond the rounding of atan2 and of
+/// the test (about 10⁻¹⁶ relative); likewise for the maximum. The extremes are
+/// therefore those of atan2 over every pair, bit for bit.
+#[derive(Clone, Copy, Debug)]
+struct Extremes {
+    min: f64,
+    max: f64,
+    // (cos, sin) of the current extremes; (0, 0) before the first value, so that the
+    // first pair is always computed.
+    min_dir: [f64; 2],
+    max_dir: [f64; 2],
+}
+
+impl Extremes {
+    const EMPTY: Extremes = Extremes {
+        min: f64::INFINITY,
+        max: f64::NEG_INFINITY,
+        min_dir: [0.0; 2],
+        max_dir: [0.0; 2],
+    };
+    #[inline]
+    fn offer(&mut self, (y, x): (f64, f64)) {
+        let r = 1e-9 * (y.abs() + x.abs());
+        let above_min = self.min_dir[0] * y - self.min_dir[1] * x > r;
+        let below_max = self.max_dir[0] * y - self.max_dir[1] * x < -r;
+        if above_min && below_max {
+            return;
+        }
+        let t = y.atan2(x);
+        let a = t.to_degrees();
+        if a < self.min {
+            self.min = a;
+            self.min_dir = [t.cos(), t.sin()];
+        }
+        if a > self.max {
+            self.max = a;
+            self.max_dir = [t.cos(), t.sin()];
+        }
+    }
 }
 
 /// Extreme angles of a tetrahedral mesh and its boundary.
@@ -65,52 +131,65 @@ pub fn summarize(tets: &TetMesh, boundary: &TriMesh) -> AngleSummary {
         max_exposed_deg: f64::NEG_INFINITY,
         inverted: 0,
     };
-    let join = |mut s: AngleSummary, o: AngleSummary| {
-        s.min_dihedral_deg = s.min_dihedral_deg.min(o.min_dihedral_deg);
-        s.max_dihedral_deg = s.max_dihedral_deg.max(o.max_dihedral_deg);
-        s.min_plane_deg = s.min_plane_deg.min(o.min_plane_deg);
-        s.max_plane_deg = s.max_plane_deg.max(o.max_plane_deg);
-        s.min_exposed_deg = s.min_exposed_deg.min(o.min_exposed_deg);
-        s.max_exposed_deg = s.max_exposed_deg.max(o.max_exposed_deg);
-        s.inverted += o.inverted;
-        s
+    // Per fold: dihedral, plane and exposed extremes, and the inverted count.
+    type Acc = (Extremes, Extremes, Extremes, usize);
+    let none: Acc = (Extremes::EMPTY, Extremes::EMPTY, Extremes::EMPTY, 0);
+    let merge = |mut a: Acc, b: Acc| {
+        for (x, y) in [(&mut a.0, b.0), (&mut a.1, b.1), (&mut a.2, b.2)] {
+            if y.min < x.min {
+                (x.min, x.min_dir) = (y.min, y.min_dir);
+            }
+            if y.max > x.max {
+                (x.max, x.max_dir) = (y.max, y.max_dir);
+            }
+        }
+        a.3 += b.3;
+        a
     };
     let t = (0..tets.tets.len())
         .into_par_iter()
         .fold(
-            || empty,
+            || none,
             |mut s, t| {
                 let p = tets.corners(t);
-                for a in dihedrals(p) {
-                    s.min_dihedral_deg = s.min_dihedral_deg.min(a);
-                    s.max_dihedral_deg = s.max_dihedral_deg.max(a);
-                }
-                for a in plane_angles(p) {
-                    s.min_plane_deg = s.min_plane_deg.min(a);
-                    s.max_plane_deg = s.max_plane_deg.max(a);
-                }
+                dihedral_pairs(p).into_iter().for_each(|q| s.0.offer(q));
+                plane_angle_pairs(p).into_iter().for_each(|q| s.1.offer(q));
                 if orientation(p) <= 0.0 {
-                    s.inverted += 1;
+                    s.3 += 1;
                 }
                 s
             },
         )
-        .reduce(|| empty, join);
+        .reduce(|| none, merge);
     let b = (0..boundary.triangles.len())
         .into_par_iter()
         .fold(
-            || empty,
+            || none,
             |mut s, t| {
                 let [a, b, c] = boundary.corners(t);
-                for x in [angle_deg(c, a, b), angle_deg(a, b, c), angle_deg(b, c, a)] {
-                    s.min_exposed_deg = s.min_exposed_deg.min(x);
-                    s.max_exposed_deg = s.max_exposed_deg.max(x);
+                for q in [
+                    angle_pair(c, a, b),
+                    angle_pair(a, b, c),
+                    angle_pair(b, c, a),
+                ] {
+                    s.2.offer(q);
                 }
                 s
             },
         )
-        .reduce(|| empty, join);
-    join(t, b)
+        .reduce(|| none, merge);
+    let (d, p, e, inverted) = merge(t, b);
+    let s = AngleSummary {
+        min_dihedral_deg: d.min,
+        max_dihedral_deg: d.max,
+        min_plane_deg: p.min,
+        max_plane_deg: p.max,
+        min_exposed_deg: e.min,
+        max_exposed_deg: e.max,
+        inverted,
+        ..empty
+    };
+    s
 }
 
 /// All dihedral angles (for histograms).
@@ -123,6 +202,7 @@ pub fn all_dihedrals(tets: &TetMesh) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernel::geom::angle_deg;
     #[test]
     fn bcc_tet_angles() {
         // The BCC tetrahedron: dihedral angles 60° and 90° (§3).
@@ -150,6 +230,45 @@ mod tests {
     }
 
     proptest! {
+        /// `summarize` (which skips atan2 where a pair cannot beat the extremes) gives
+        /// the extremes of every angle computed one by one, bit for bit, and the
+        /// inverted count: on random tetrahedra, on lattice points (many equal
+        /// angles, ties and right angles) and with degenerate ones.
+        #[test]
+        fn summary_equals_every_angle(
+            pts in prop::collection::vec(pt(), 4..40),
+            lattice in prop::collection::vec([0i32..3, 0i32..3, 0i32..3], 4..40),
+            idx in prop::collection::vec([0usize..1000, 0usize..1000, 0usize..1000, 0usize..1000], 1..60),
+            on_lattice in any::<bool>(),
+        ) {
+            let vertices: Vec<[f64; 3]> = if on_lattice {
+                lattice.iter().map(|q| q.map(|c| c as f64 * 0.5)).collect()
+            } else {
+                pts
+            };
+            let n = vertices.len();
+            let tets: Vec<[u32; 4]> = idx.iter().map(|t| t.map(|i| (i % n) as u32)).collect();
+            let triangles: Vec<[u32; 3]> = tets.iter().map(|t| [t[0], t[1], t[2]]).collect();
+            let mesh = TetMesh { vertices: vertices.clone(), tets };
+            let boundary = TriMesh { vertices, triangles };
+            let s = summarize(&mesh, &boundary);
+            let fold = |xs: Vec<f64>| {
+                xs.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &a| (lo.min(a), hi.max(a)))
+            };
+            let d = fold((0..mesh.tets.len()).flat_map(|t| dihedrals(mesh.corners(t))).collect());
+            let p = fold((0..mesh.tets.len()).flat_map(|t| plane_angles(mesh.corners(t))).collect());
+            let e = fold((0..boundary.triangles.len()).flat_map(|t| {
+                let [a, b, c] = boundary.corners(t);
+                [angle_deg(c, a, b), angle_deg(a, b, c), angle_deg(b, c, a)]
+            }).collect());
+            let bits = |x: f64| x.to_bits();
+            prop_assert_eq!((bits(s.min_dihedral_deg), bits(s.max_dihedral_deg)), (bits(d.0), bits(d.1)));
+            prop_assert_eq!((bits(s.min_plane_deg), bits(s.max_plane_deg)), (bits(p.0), bits(p.1)));
+            prop_assert_eq!((bits(s.min_exposed_deg), bits(s.max_exposed_deg)), (bits(e.0), bits(e.1)));
+            let inv = (0..mesh.tets.len()).filter(|&t| orientation(mesh.corners(t)) <= 0.0).count();
+            prop_assert_eq!(s.inverted, inv);
+        }
+
         /// Dihedral angles are in [0°, 180°], invariant under vertex permutations, and
         /// a swap of two vertices flips the exact orientation.
         #[test]
