@@ -130,6 +130,21 @@ struct LinkScratch {
 
 /// Check the link of a vertex: its faces' opposite edges must form one path or cycle.
 fn link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]], s: &mut LinkScratch) -> bool {
+    if faces.len() <= SMALL_LINK {
+        small_link_is_disk_or_sphere(v, faces, tris)
+    } else {
+        general_link_is_disk_or_sphere(v, faces, tris, s)
+    }
+}
+
+/// [`link_is_disk_or_sphere`] for any valence: link vertices sorted and numbered, then
+/// degrees and a union-find.
+fn general_link_is_disk_or_sphere(
+    v: u32,
+    faces: &[u32],
+    tris: &[[u32; 3]],
+    s: &mut LinkScratch,
+) -> bool {
     s.ends.clear();
     for &f in faces {
         let t = tris[f as usize];
@@ -155,6 +170,51 @@ fn link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]], s: &mut Link
         }
     }
     sets == 1 && s.deg.iter().all(|&d| d <= 2)
+}
+
+/// Links of at most this many faces are checked on the stack ([`small_link_is_disk_or_sphere`]).
+const SMALL_LINK: usize = 24;
+
+/// [`link_is_disk_or_sphere`] for a small link, without sorting or allocation: the
+/// link edges must be connected (a search over edges sharing an end, quadratic in the
+/// valence) and no link vertex may end more than two of them.
+fn small_link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]]) -> bool {
+    let n = faces.len();
+    let mut ends = [(0u32, 0u32); SMALL_LINK];
+    for (e, &f) in ends.iter_mut().zip(faces) {
+        let t = tris[f as usize];
+        let k = t.iter().position(|&x| x == v).unwrap_or(0);
+        *e = (t[(k + 1) % 3], t[(k + 2) % 3]);
+    }
+    let ends = &ends[..n];
+    for &(a, b) in ends {
+        for x in [a, b] {
+            let d: usize = ends
+                .iter()
+                .map(|&(c, e)| (c == x) as usize + (e == x) as usize)
+                .sum();
+            if d > 2 {
+                return false;
+            }
+        }
+    }
+    let mut seen = [false; SMALL_LINK];
+    let mut stack = [0usize; SMALL_LINK];
+    let (mut top, mut count) = (1, 1);
+    seen[0] = true;
+    while top > 0 {
+        top -= 1;
+        let (a, b) = ends[stack[top]];
+        for (j, &(c, e)) in ends.iter().enumerate() {
+            if !seen[j] && (c == a || c == b || e == a || e == b) {
+                seen[j] = true;
+                stack[top] = j;
+                top += 1;
+                count += 1;
+            }
+        }
+    }
+    count == n
 }
 
 /// A half-edge in [`edge_buckets`]: the edge's larger vertex, the face, and whether
@@ -217,29 +277,34 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         .map(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
         .collect();
 
-    // Components: union the vertices of every face.
-    let mut uf = UnionFind::new(nv);
-    let mut used = vec![false; nv];
-    for t in tris {
-        uf.union(t[0], t[1]);
-        uf.union(t[0], t[2]);
-        for &v in t {
-            used[v as usize] = true;
-        }
-    }
-    let root: Vec<u32> = (0..nv as u32).map(|v| uf.find(v)).collect();
-    let mut comp_of_root = vec![u32::MAX; nv];
-    let mut ncomp = 0usize;
-    for v in 0..nv {
-        if used[v] && comp_of_root[root[v] as usize] == u32::MAX {
-            comp_of_root[root[v] as usize] = ncomp as u32;
-            ncomp += 1;
-        }
-    }
+    // Components (union the vertices of every face) beside the edges (the half-edges
+    // grouped by undirected edge, linear time, no global sort): both serial, on two
+    // threads.
+    let ((used, root, comp_of_root, ncomp), eb) = rayon::join(
+        || {
+            let mut uf = UnionFind::new(nv);
+            let mut used = vec![false; nv];
+            for t in tris {
+                uf.union(t[0], t[1]);
+                uf.union(t[0], t[2]);
+                for &v in t {
+                    used[v as usize] = true;
+                }
+            }
+            let root: Vec<u32> = (0..nv as u32).map(|v| uf.find(v)).collect();
+            let mut comp_of_root = vec![u32::MAX; nv];
+            let mut ncomp = 0usize;
+            for v in 0..nv {
+                if used[v] && comp_of_root[root[v] as usize] == u32::MAX {
+                    comp_of_root[root[v] as usize] = ncomp as u32;
+                    ncomp += 1;
+                }
+            }
+            (used, root, comp_of_root, ncomp)
+        },
+        || edge_buckets(nv, tris, &degenerate),
+    );
     let comp = |v: u32| comp_of_root[root[v as usize] as usize] as usize;
-
-    // Edges: the half-edges grouped by undirected edge (linear time, no global sort).
-    let eb = edge_buckets(nv, tris, &degenerate);
 
     let mut c_edges = vec![0usize; ncomp];
     let mut c_faces = vec![0usize; ncomp];
@@ -293,63 +358,74 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         }
     }
 
-    // Orientability: two-colour faces by "flipped or not" along manifold edges.
-    let mut start = vec![0u32; nf + 1];
-    for &(f, g, _) in &adj_pairs {
-        start[f as usize + 1] += 1;
-        start[g as usize + 1] += 1;
-    }
-    for k in 0..nf {
-        start[k + 1] += start[k];
-    }
-    let mut fill = start.clone();
-    let mut nbr = vec![(0u32, false); 2 * adj_pairs.len()];
-    for &(f, g, s) in &adj_pairs {
-        nbr[fill[f as usize] as usize] = (g, s);
-        fill[f as usize] += 1;
-        nbr[fill[g as usize] as usize] = (f, s);
-        fill[g as usize] += 1;
-    }
-    let mut flip = vec![u8::MAX; nf];
-    let mut queue = Vec::new();
-    for f0 in 0..nf {
-        if flip[f0] != u8::MAX || degenerate[f0] {
-            continue;
+    // Orientability (two-colour faces by "flipped or not" along manifold edges), beside
+    // the vertex links and the duplicate faces.
+    let orient = || {
+        let mut nonorientable = Vec::new();
+        let mut start = vec![0u32; nf + 1];
+        for &(f, g, _) in &adj_pairs {
+            start[f as usize + 1] += 1;
+            start[g as usize + 1] += 1;
         }
-        flip[f0] = 0;
-        queue.push(f0 as u32);
-        while let Some(f) = queue.pop() {
-            let ff = flip[f as usize];
-            for &(g, same) in &nbr[start[f as usize] as usize..start[f as usize + 1] as usize] {
-                // Sharing an edge in the same direction means one of the two is flipped.
-                let want = ff ^ (same as u8);
-                if flip[g as usize] == u8::MAX {
-                    flip[g as usize] = want;
-                    queue.push(g);
-                } else if flip[g as usize] != want {
-                    c_nonorientable[comp(tris[f as usize][0])] = true;
+        for k in 0..nf {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut nbr = vec![(0u32, false); 2 * adj_pairs.len()];
+        for &(f, g, s) in &adj_pairs {
+            nbr[fill[f as usize] as usize] = (g, s);
+            fill[f as usize] += 1;
+            nbr[fill[g as usize] as usize] = (f, s);
+            fill[g as usize] += 1;
+        }
+        let mut flip = vec![u8::MAX; nf];
+        let mut queue = Vec::new();
+        for f0 in 0..nf {
+            if flip[f0] != u8::MAX || degenerate[f0] {
+                continue;
+            }
+            flip[f0] = 0;
+            queue.push(f0 as u32);
+            while let Some(f) = queue.pop() {
+                let ff = flip[f as usize];
+                for &(g, same) in &nbr[start[f as usize] as usize..start[f as usize + 1] as usize] {
+                    // Sharing an edge in the same direction means one of the two is flipped.
+                    let want = ff ^ (same as u8);
+                    if flip[g as usize] == u8::MAX {
+                        flip[g as usize] = want;
+                        queue.push(g);
+                    } else if flip[g as usize] != want {
+                        nonorientable.push(f);
+                    }
                 }
             }
         }
-    }
-
+        nonorientable
+    };
     // Non-manifold vertices, from each vertex's link.
-    let vfaces = Buckets::build(nv, |emit| {
-        for (f, t) in tris.iter().enumerate() {
-            if !degenerate[f] {
-                for &v in t {
-                    emit(v, f as u32);
+    let links = || {
+        let vfaces = Buckets::build(nv, |emit| {
+            for (f, t) in tris.iter().enumerate() {
+                if !degenerate[f] {
+                    for &v in t {
+                        emit(v, f as u32);
+                    }
                 }
             }
-        }
-    });
-    let bad_vertex: Vec<bool> = (0..nv)
-        .into_par_iter()
-        .map_init(LinkScratch::default, |s, v| {
-            let fs = vfaces.bucket(v);
-            !fs.is_empty() && !link_is_disk_or_sphere(v as u32, fs, tris, s)
-        })
-        .collect();
+        });
+        (0..nv)
+            .into_par_iter()
+            .map_init(LinkScratch::default, |s, v| {
+                let fs = vfaces.bucket(v);
+                !fs.is_empty() && !link_is_disk_or_sphere(v as u32, fs, tris, s)
+            })
+            .collect::<Vec<bool>>()
+    };
+    let (nonorientable, (bad_vertex, duplicate_faces)) =
+        rayon::join(orient, || rayon::join(links, || duplicate_faces(nv, tris)));
+    for f in nonorientable {
+        c_nonorientable[comp(tris[f as usize][0])] = true;
+    }
     let mut non_manifold_vertices = 0;
     for v in 0..nv {
         if bad_vertex[v] {
@@ -376,8 +452,6 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
             }
         }
     }
-
-    let duplicate_faces = duplicate_faces(nv, tris);
 
     let mut component_list: Vec<ComponentReport> = (0..ncomp)
         .map(|c| {
@@ -869,6 +943,21 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(300))]
+        /// The stack check of small links agrees with the general one (sort, dedup,
+        /// union-find) on random fans around vertex 0: cycles, paths, pinched and
+        /// branching links, repeated faces.
+        #[test]
+        fn small_link_check_equals_general(
+            fan in prop::collection::vec((1u32..9, 1u32..9), 1..SMALL_LINK + 1),
+        ) {
+            let tris: Vec<[u32; 3]> = fan.iter().map(|&(a, b)| [0, a, b]).collect();
+            let faces: Vec<u32> = (0..tris.len() as u32).collect();
+            let small = small_link_is_disk_or_sphere(0, &faces, &tris);
+            let mut s = LinkScratch::default();
+            let general = general_link_is_disk_or_sphere(0, &faces, &tris, &mut s);
+            prop_assert_eq!(small, general, "fan {:?}", fan);
+        }
+
         #[test]
         fn edge_incidence_equals_sorted(tris in soup::<3>(10, 40)) {
             let degenerate: Vec<bool> = tris
