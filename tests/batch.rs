@@ -191,6 +191,21 @@ fn check_gradients(f: &dyn Implicit, pts: &[[f64; 3]]) -> Result<(), TestCaseErr
             want
         );
     }
+    for steps in [0, 1, 3] {
+        let batch = ops::project_steps_batch(f, pts, steps);
+        for (p, (q, ok)) in pts.iter().zip(&batch) {
+            let (want, want_ok) = ops::project_steps(f, *p, steps);
+            prop_assert!(
+                *ok == want_ok && (0..3).all(|k| same_f64(q[k], want[k])),
+                "{}: {} steps from {:?}: batch {:?} scalar {:?}",
+                f.describe(),
+                steps,
+                p,
+                (q, ok),
+                (want, want_ok)
+            );
+        }
+    }
     let proj = ops::project_batch(f, pts, 8, 1e-10);
     for (p, q) in pts.iter().zip(&proj) {
         let want = ops::project(f, *p, 8, 1e-10);

@@ -403,6 +403,51 @@ pub fn project_steps(f: &dyn Implicit, mut p: [f64; 3], steps: usize) -> ([f64; 
     (p, true)
 }
 
+/// [`project_steps`] of every point of `pts`, bit for bit, with the batch gradient:
+/// each round evaluates the points still moving in one batch.
+pub fn project_steps_batch(
+    f: &dyn Implicit,
+    pts: &[[f64; 3]],
+    steps: usize,
+) -> Vec<([f64; 3], bool)> {
+    let mut out: Vec<([f64; 3], bool)> = pts.iter().map(|&p| (p, true)).collect();
+    let mut active: Vec<usize> = (0..pts.len()).collect();
+    let mut cur: Vec<[f64; 3]> = pts.to_vec();
+    let mut d = vec![
+        crate::implicit::Dual {
+            v: 0.0,
+            g: [0.0; 3]
+        };
+        pts.len()
+    ];
+    for _ in 0..steps {
+        if active.is_empty() {
+            break;
+        }
+        let n = active.len();
+        f.grad_batch(&cur[..n], &mut d[..n]);
+        let mut keep = 0;
+        for j in 0..n {
+            let i = active[j];
+            if d[j].v == 0.0 {
+                out[i] = (cur[j], true);
+                continue;
+            }
+            match newton_step(f, cur[j], d[j]) {
+                Some((q, _)) => {
+                    out[i] = (q, true);
+                    active[keep] = i;
+                    cur[keep] = q;
+                    keep += 1;
+                }
+                None => out[i] = (cur[j], false),
+            }
+        }
+        active.truncate(keep);
+    }
+    out
+}
+
 // ---------------------------------------------------------------------------------
 // All roots on a segment in general position, with uncertain end points.
 
