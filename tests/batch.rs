@@ -206,6 +206,36 @@ fn check_gradients(f: &dyn Implicit, pts: &[[f64; 3]]) -> Result<(), TestCaseErr
             );
         }
     }
+    // Crossings: segments between consecutive points (any signs: the batch must agree
+    // with `crossing_t` also where the ends do not change sign), both modes.
+    let segs: Vec<ops::SignChange> = pts
+        .windows(2)
+        .map(|w| ops::SignChange {
+            a: w[0],
+            fa: f.eval(w[0]),
+            b: w[1],
+            fb: f.eval(w[1]),
+        })
+        .collect();
+    for (how, tol) in [
+        (ops::Crossing::Bisection, 0.0),
+        (ops::Crossing::Bisection, 1e-6),
+        (ops::Crossing::Linear, 0.0),
+    ] {
+        let ts = ops::crossing_t_batch(f, &segs, how, tol);
+        for (s, t) in segs.iter().zip(&ts) {
+            let want = ops::crossing_t(f, s.a, s.fa, s.b, s.fb, how, tol);
+            prop_assert!(
+                same_f64(*t, want),
+                "{}: {:?} {:?}: batch {} scalar {}",
+                f.describe(),
+                how,
+                s,
+                t,
+                want
+            );
+        }
+    }
     let proj = ops::project_batch(f, pts, 8, 1e-10);
     for (p, q) in pts.iter().zip(&proj) {
         let want = ops::project(f, *p, 8, 1e-10);

@@ -180,6 +180,86 @@ pub fn crossing_t(
     }
 }
 
+/// One segment for [`crossing_t_batch`]: its ends and the values of f there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SignChange {
+    pub a: [f64; 3],
+    pub fa: f64,
+    pub b: [f64; 3],
+    pub fb: f64,
+}
+
+/// [`crossing_t`] on every segment, bit for bit: the bisections of all segments advance
+/// together, each round evaluating the midpoints of the unfinished ones in one batch
+/// ([`Implicit::eval_batch`]).
+pub fn crossing_t_batch(
+    f: &dyn Implicit,
+    segs: &[SignChange],
+    how: Crossing,
+    tol: f64,
+) -> Vec<f64> {
+    let mut out: Vec<f64> = segs
+        .iter()
+        .map(|s| {
+            if s.fa == 0.0 {
+                0.0
+            } else if s.fb == 0.0 {
+                1.0
+            } else {
+                (s.fa / (s.fa - s.fb)).clamp(0.0, 1.0)
+            }
+        })
+        .collect();
+    if how == Crossing::Linear {
+        return out;
+    }
+    // (segment, lo, hi) of the bisections still running.
+    let mut active: Vec<(usize, f64, f64)> = segs
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.fa != 0.0 && s.fb != 0.0)
+        .map(|(i, _)| (i, 0.0, 1.0))
+        .collect();
+    let (mut xs, mut v): ([Vec<f64>; 3], Vec<f64>) = Default::default();
+    while !active.is_empty() {
+        // The loop condition and the midpoint test of `bisect`: a finished segment
+        // takes its final value here.
+        active.retain(|&(i, lo, hi)| {
+            let mid = 0.5 * (lo + hi);
+            let go = hi - lo > tol && !(mid <= lo || mid >= hi);
+            if !go {
+                out[i] = 0.5 * (lo + hi);
+            }
+            go
+        });
+        xs.iter_mut().for_each(Vec::clear);
+        for &(i, lo, hi) in &active {
+            let p = lerp(segs[i].a, segs[i].b, 0.5 * (lo + hi));
+            (0..3).for_each(|k| xs[k].push(p[k]));
+        }
+        v.resize(active.len(), 0.0);
+        f.eval_batch([&xs[0], &xs[1], &xs[2]], &mut v);
+        let mut keep = 0;
+        for j in 0..active.len() {
+            let (i, lo, hi) = active[j];
+            let mid = 0.5 * (lo + hi);
+            let fm = v[j];
+            if fm == 0.0 {
+                out[i] = mid;
+                continue;
+            }
+            active[keep] = if (fm < 0.0) == (segs[i].fa < 0.0) {
+                (i, mid, hi)
+            } else {
+                (i, lo, mid)
+            };
+            keep += 1;
+        }
+        active.truncate(keep);
+    }
+    out
+}
+
 /// Locate the crossing of f + ε = 0 between `pa` (sign `sa`) and `pb` by bisection on
 /// sign⁺ to `tol` (relative), or by linear interpolation of the end values.
 pub fn locate(

@@ -7,6 +7,7 @@
 //! `f > 0`, and *zero* when `f == 0` exactly. Meshing the exterior (§3.3, double
 //! sided) uses `sign(f)` instead.
 use crate::error::{Error, Result};
+use crate::implicit::ops::SignChange;
 use crate::implicit::Implicit;
 use crate::kernel::geom::{lerp, Aabb};
 use crate::lattice::bcc::{self, Lattice, NEIGHBORS};
@@ -300,42 +301,62 @@ impl Field {
         let lat = &self.lat;
         let sign = &self.sign;
         let fv = &self.f;
-        let work = |p: usize| -> Option<CutRec> {
+        // The sign-changing edges of every positive point, in order (point, direction),
+        // then their crossings in batches (the bisections of a batch advance together,
+        // one batch evaluation per round), then one record per point.
+        let edges_of = |p: usize| -> Vec<(u32, u8, SignChange)> {
             if sign[p] != 1 {
-                return None;
+                return Vec::new();
             }
             let c = lat.coord(p as u32);
-            let mut rec = CutRec {
-                p: p as u32,
-                t: [f64::NAN; 14],
-                vid: [NONE; 14],
-            };
-            let mut any = false;
+            let mut out = Vec::new();
             for (d, o) in NEIGHBORS.iter().enumerate() {
                 if let Some(q) = lat.id([c[0] + o[0], c[1] + o[1], c[2] + o[2]]) {
                     if sign[q as usize] == -1 {
                         let (a, b) = (lat.position(p as u32), lat.position(q));
-                        rec.t[d] = crate::implicit::ops::crossing_t(
-                            f,
-                            a,
-                            fv[p],
-                            b,
-                            fv[q as usize],
-                            how,
-                            tol,
-                        );
-                        any = true;
+                        out.push((
+                            p as u32,
+                            d as u8,
+                            SignChange {
+                                a,
+                                fa: fv[p],
+                                b,
+                                fb: fv[q as usize],
+                            },
+                        ));
                     }
                 }
             }
-            any.then_some(rec)
+            out
         };
         let n = lat.n_points();
-        self.cuts = if parallel {
-            (0..n).into_par_iter().filter_map(work).collect()
+        let edges: Vec<(u32, u8, SignChange)> = if parallel {
+            (0..n).into_par_iter().flat_map_iter(edges_of).collect()
         } else {
-            (0..n).filter_map(work).collect()
+            (0..n).flat_map(edges_of).collect()
         };
+        const BATCH: usize = 1024;
+        let solve = |c: &[(u32, u8, SignChange)]| {
+            let segs: Vec<SignChange> = c.iter().map(|e| e.2).collect();
+            crate::implicit::ops::crossing_t_batch(f, &segs, how, tol)
+        };
+        let ts: Vec<f64> = if parallel {
+            edges.par_chunks(BATCH).flat_map_iter(solve).collect()
+        } else {
+            edges.chunks(BATCH).flat_map(solve).collect()
+        };
+        let mut cuts: Vec<CutRec> = Vec::new();
+        for (&(p, d, _), &t) in edges.iter().zip(&ts) {
+            if cuts.last().is_none_or(|r| r.p != p) {
+                cuts.push(CutRec {
+                    p,
+                    t: [f64::NAN; 14],
+                    vid: [NONE; 14],
+                });
+            }
+            cuts.last_mut().unwrap().t[d as usize] = t;
+        }
+        self.cuts = cuts;
         for (i, r) in self.cuts.iter().enumerate() {
             self.surf[r.p as usize] = i as u32;
         }
