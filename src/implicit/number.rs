@@ -433,6 +433,14 @@ pub struct Dual<T> {
     pub g: [T; 3],
 }
 
+impl Dual<f64> {
+    /// f = 0 and ∇f = 0: a placeholder for output buffers.
+    pub const ZERO: Dual<f64> = Dual {
+        v: 0.0,
+        g: [0.0; 3],
+    };
+}
+
 impl<T: Num> Dual<T> {
     /// The coordinate variable `k` (0, 1, 2) with value `v`.
     pub fn var(v: T, k: usize) -> Self {

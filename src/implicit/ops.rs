@@ -423,26 +423,20 @@ pub fn project(f: &dyn Implicit, p: [f64; 3], steps: usize, tol: f64) -> Option<
     None
 }
 
-/// [`project`] of every point of `pts`, bit for bit, with the batch gradient
-/// ([`Implicit::grad_batch`]): each Newton round evaluates the points not yet settled
-/// in one batch.
-pub fn project_batch(
+/// The loop of the batch projections: up to `rounds` rounds over the points still
+/// moving, one batch gradient ([`Implicit::grad_batch`]) per round; `step(i, p, d)`
+/// gets point `i` at `p` with (f, ∇f) = `d` there and returns its next position, or
+/// `None` once it is settled.
+fn batch_rounds(
     f: &dyn Implicit,
     pts: &[[f64; 3]],
-    steps: usize,
-    tol: f64,
-) -> Vec<Option<[f64; 3]>> {
-    let mut out = vec![None; pts.len()];
+    rounds: usize,
+    mut step: impl FnMut(usize, [f64; 3], crate::implicit::Dual<f64>) -> Option<[f64; 3]>,
+) {
     let mut active: Vec<usize> = (0..pts.len()).collect();
     let mut cur: Vec<[f64; 3]> = pts.to_vec();
-    let mut d = vec![
-        crate::implicit::Dual {
-            v: 0.0,
-            g: [0.0; 3]
-        };
-        pts.len()
-    ];
-    for _ in 0..steps.max(1) {
+    let mut d = vec![crate::implicit::Dual::ZERO; pts.len()];
+    for _ in 0..rounds {
         if active.is_empty() {
             break;
         }
@@ -450,19 +444,35 @@ pub fn project_batch(
         f.grad_batch(&cur[..n], &mut d[..n]);
         let mut keep = 0;
         for j in 0..n {
-            // A point whose gradient vanishes or is not finite is dropped (None).
-            if let Some((r, len)) = newton_step(f, cur[j], d[j]) {
-                if len <= tol {
-                    out[active[j]] = Some(r);
-                } else {
-                    active[keep] = active[j];
-                    cur[keep] = r;
-                    keep += 1;
-                }
+            if let Some(q) = step(active[j], cur[j], d[j]) {
+                active[keep] = active[j];
+                cur[keep] = q;
+                keep += 1;
             }
         }
         active.truncate(keep);
     }
+}
+
+/// [`project`] of every point of `pts`, bit for bit, with the batch gradient: each
+/// Newton round evaluates the points not yet settled in one batch.
+pub fn project_batch(
+    f: &dyn Implicit,
+    pts: &[[f64; 3]],
+    steps: usize,
+    tol: f64,
+) -> Vec<Option<[f64; 3]>> {
+    let mut out = vec![None; pts.len()];
+    batch_rounds(f, pts, steps.max(1), |i, p, d| {
+        // A point whose gradient vanishes or is not finite is dropped (None).
+        let (r, len) = newton_step(f, p, d)?;
+        if len <= tol {
+            out[i] = Some(r);
+            None
+        } else {
+            Some(r)
+        }
+    });
     out
 }
 
@@ -491,40 +501,21 @@ pub fn project_steps_batch(
     steps: usize,
 ) -> Vec<([f64; 3], bool)> {
     let mut out: Vec<([f64; 3], bool)> = pts.iter().map(|&p| (p, true)).collect();
-    let mut active: Vec<usize> = (0..pts.len()).collect();
-    let mut cur: Vec<[f64; 3]> = pts.to_vec();
-    let mut d = vec![
-        crate::implicit::Dual {
-            v: 0.0,
-            g: [0.0; 3]
-        };
-        pts.len()
-    ];
-    for _ in 0..steps {
-        if active.is_empty() {
-            break;
+    batch_rounds(f, pts, steps, |i, p, d| {
+        if d.v == 0.0 {
+            return None;
         }
-        let n = active.len();
-        f.grad_batch(&cur[..n], &mut d[..n]);
-        let mut keep = 0;
-        for j in 0..n {
-            let i = active[j];
-            if d[j].v == 0.0 {
-                out[i] = (cur[j], true);
-                continue;
+        match newton_step(f, p, d) {
+            Some((q, _)) => {
+                out[i] = (q, true);
+                Some(q)
             }
-            match newton_step(f, cur[j], d[j]) {
-                Some((q, _)) => {
-                    out[i] = (q, true);
-                    active[keep] = i;
-                    cur[keep] = q;
-                    keep += 1;
-                }
-                None => out[i] = (cur[j], false),
+            None => {
+                out[i] = (p, false);
+                None
             }
         }
-        active.truncate(keep);
-    }
+    });
     out
 }
 

@@ -264,13 +264,7 @@ pub fn distance_estimate(f: &dyn Implicit, p: [f64; 3]) -> f64 {
 pub fn distance_estimates_at(f: &dyn Implicit, pts: &[[f64; 3]]) -> Vec<f64> {
     pts.par_chunks(BATCH)
         .flat_map_iter(|c| {
-            let mut d = vec![
-                crate::implicit::Dual {
-                    v: 0.0,
-                    g: [0.0; 3]
-                };
-                c.len()
-            ];
+            let mut d = vec![crate::implicit::Dual::ZERO; c.len()];
             f.grad_batch(c, &mut d);
             d.into_iter().map(|d| estimate_from(d, f.dim()))
         })
@@ -360,13 +354,7 @@ pub fn surface_points_counted(
             let seeds: Vec<[f64; 3]> = (b * BATCH..((b + 1) * BATCH).min(total))
                 .map(seed)
                 .collect();
-            let mut d = vec![
-                crate::implicit::Dual {
-                    v: 0.0,
-                    g: [0.0; 3]
-                };
-                seeds.len()
-            ];
+            let mut d = vec![crate::implicit::Dual::ZERO; seeds.len()];
             f.grad_batch(&seeds, &mut d);
             let near: Vec<[f64; 3]> = seeds
                 .iter()
@@ -588,13 +576,7 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
             .par_chunks(BATCH)
             .zip(normals.par_chunks(BATCH))
             .flat_map_iter(|(q, ns)| {
-                let mut d = vec![
-                    crate::implicit::Dual {
-                        v: 0.0,
-                        g: [0.0; 3]
-                    };
-                    q.len()
-                ];
+                let mut d = vec![crate::implicit::Dual::ZERO; q.len()];
                 f.grad_batch(q, &mut d);
                 d.into_iter().zip(ns).filter_map(|(d, &n)| {
                     let mut g = d.g;
