@@ -65,30 +65,46 @@ pub struct Histogram {
 impl Histogram {
     /// Bins of width `bin_width` covering `[lo, hi]`.
     pub fn new(lo: f64, hi: f64, bin_width: f64, values: impl IntoIterator<Item = f64>) -> Self {
+        let mut h = Histogram::empty(lo, hi, bin_width);
+        for v in values {
+            h.add(v);
+        }
+        h
+    }
+    /// No values yet: the bins of [`Histogram::new`].
+    pub fn empty(lo: f64, hi: f64, bin_width: f64) -> Self {
         let bins = if bin_width > 0.0 && hi > lo {
             ((hi - lo) / bin_width).ceil().max(1.0) as usize
         } else {
             1
         };
         let bw = if bin_width > 0.0 { bin_width } else { 1.0 };
-        let mut counts = vec![0u64; bins];
-        for v in values {
-            if v.is_nan() {
-                continue;
-            }
-            let k = ((v - lo) / bw).floor();
-            let k = if k < 0.0 {
-                0
-            } else {
-                (k as usize).min(bins - 1)
-            };
-            counts[k] += 1;
-        }
         Histogram {
             lo,
             bin_width: bw,
-            counts,
+            counts: vec![0u64; bins],
         }
+    }
+    /// Count `v` (NaN is left out; values beyond the ends go to the end bins).
+    #[inline]
+    pub fn add(&mut self, v: f64) {
+        if v.is_nan() {
+            return;
+        }
+        let k = ((v - self.lo) / self.bin_width).floor();
+        let k = if k < 0.0 {
+            0
+        } else {
+            (k as usize).min(self.counts.len() - 1)
+        };
+        self.counts[k] += 1;
+    }
+    /// The counts of both (histograms of the same bins).
+    pub fn merge(mut self, o: &Histogram) -> Self {
+        for (a, b) in self.counts.iter_mut().zip(&o.counts) {
+            *a += b;
+        }
+        self
     }
     pub fn total(&self) -> u64 {
         self.counts.iter().sum()
@@ -143,41 +159,50 @@ pub fn per_triangle(mesh: &TriMesh) -> Result<Vec<Option<[f64; 3]>>> {
 /// Summary of the triangle angles, with a histogram of `bin_width` degrees.
 pub fn triangle_summary(mesh: &TriMesh, bin_width: f64) -> Result<TriangleAngles> {
     let per = per_triangle(mesh)?;
-    let ok: Vec<(usize, [f64; 3])> = per
-        .iter()
-        .enumerate()
-        .filter_map(|(i, a)| a.map(|a| (i, a)))
-        .collect();
-    let (min_angle_deg, max_angle_deg) = min_max(ok.iter().flat_map(|(_, a)| a.iter().copied()));
-    let mean_min_angle_deg = if ok.is_empty() {
-        None
-    } else {
-        Some(
-            ok.iter()
-                .map(|(_, a)| a[0].min(a[1]).min(a[2]))
-                .sum::<f64>()
-                / ok.len() as f64,
-        )
+    // Ranges and histogram in one parallel pass: min, max and integer counts are exact
+    // reductions, so the result does not depend on the split.
+    let lohi =
+        |a: Option<(f64, f64)>, v: f64| Some(a.map_or((v, v), |(l, h)| (l.min(v), h.max(v))));
+    let both = |a: Option<(f64, f64)>, b: Option<(f64, f64)>| match (a, b) {
+        (Some((l, h)), Some((m, k))) => Some((l.min(m), h.max(k))),
+        (x, None) | (None, x) => x,
     };
-    let ratios: Vec<f64> = ok
+    type Acc = (Option<(f64, f64)>, Option<(f64, f64)>, Histogram, usize);
+    let none = || -> Acc { (None, None, Histogram::empty(0.0, 180.0, bin_width), 0) };
+    let (angles, ratios, histogram, ok) = per
         .par_iter()
-        .map(|(i, _)| edge_ratio(&mesh.corners(*i)))
-        .collect();
-    let (min_edge_ratio, max_edge_ratio) = min_max(ratios.into_iter());
+        .enumerate()
+        .fold(none, |mut acc, (i, a)| {
+            if let Some(a) = a {
+                for &x in a {
+                    acc.0 = lohi(acc.0, x);
+                    acc.2.add(x);
+                }
+                acc.1 = lohi(acc.1, edge_ratio(&mesh.corners(i)));
+                acc.3 += 1;
+            }
+            acc
+        })
+        .reduce(none, |a, b| {
+            (both(a.0, b.0), both(a.1, b.1), a.2.merge(&b.2), a.3 + b.3)
+        });
+    // The mean in mesh order (a fixed summation order).
+    let mean_min_angle_deg = (ok > 0).then(|| {
+        per.iter()
+            .flatten()
+            .map(|a| a[0].min(a[1]).min(a[2]))
+            .sum::<f64>()
+            / ok as f64
+    });
     Ok(TriangleAngles {
         triangles: mesh.triangles.len(),
-        degenerate: mesh.triangles.len() - ok.len(),
-        min_angle_deg,
-        max_angle_deg,
+        degenerate: mesh.triangles.len() - ok,
+        min_angle_deg: angles.map(|x| x.0),
+        max_angle_deg: angles.map(|x| x.1),
         mean_min_angle_deg,
-        min_edge_ratio,
-        max_edge_ratio,
-        histogram: Histogram::new(
-            0.0,
-            180.0,
-            bin_width,
-            ok.iter().flat_map(|(_, a)| a.iter().copied()),
-        ),
+        min_edge_ratio: ratios.map(|x| x.0),
+        max_edge_ratio: ratios.map(|x| x.1),
+        histogram,
     })
 }
 
