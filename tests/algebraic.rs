@@ -452,7 +452,6 @@ fn table_t4_ellipses() {
 }
 
 #[test]
-#[ignore = "degree 8 with a shear: several minutes in the test build (interval root isolation on BigRational is the bottleneck); run with --ignored"]
 fn table_degree8_mix() {
     table(
         "((x^2 + y^2)^2 - 2*(x^2 - y^2))*(x^2 + y^2 - 4)*(x - y^2 + 1)",

@@ -268,20 +268,7 @@ impl RealAlg {
                 return Some(s);
             }
         }
-        let (l, h) = match dyadic_pair(&self.lo, &self.hi) {
-            Some((a, b, h)) => eval_interval_int(q, &a, &b, h),
-            None => {
-                let (l, h) = eval_interval(q, &self.lo, &self.hi);
-                (l.numer().clone(), h.numer().clone())
-            }
-        };
-        if l.is_positive() {
-            Some(1)
-        } else if h.is_negative() {
-            Some(-1)
-        } else {
-            None
-        }
+        exact_interval_sign(q, &self.lo, &self.hi)
     }
     /// Is `q` zero at this number? Exact: the gcd with the defining polynomial changes
     /// sign on the isolating interval.
@@ -434,6 +421,26 @@ fn separate(a: &mut RealAlg, b: &mut RealAlg) -> Result<Ordering> {
     Err(Error::TooLarge(
         "comparison of algebraic numbers: refinement budget exhausted".into(),
     ))
+}
+
+/// The sign of the exact interval Horner enclosure of q over \[lo, hi\] (the
+/// formula of [`eval_interval`]), when it excludes 0: in integers for dyadic
+/// endpoints, in rationals otherwise.
+pub fn exact_interval_sign(q: &UPoly, lo: &BigRational, hi: &BigRational) -> Option<i32> {
+    let (l, h) = match dyadic_pair(lo, hi) {
+        Some((a, b, e)) => eval_interval_int(q, &a, &b, e),
+        None => {
+            let (l, h) = eval_interval(q, lo, hi);
+            (l.numer().clone(), h.numer().clone())
+        }
+    };
+    if l.is_positive() {
+        Some(1)
+    } else if h.is_negative() {
+        Some(-1)
+    } else {
+        None
+    }
 }
 
 /// (A, B, H) with lo = A/2^H and hi = B/2^H, when both are dyadic.

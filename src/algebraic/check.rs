@@ -13,7 +13,7 @@
 //! polynomials; then it rebuilds the graph from the verified counts and compares it.
 //! The polynomial pipeline (shear, square-free part, subresultants) is recomputed, as
 //! it is deterministic.
-use super::algnum::{eval_interval, root_bound_log2, RealAlg};
+use super::algnum::{eval_interval, exact_interval_sign, root_bound_log2, RealAlg};
 use super::bipoly::BiPoly;
 use super::subres;
 use super::sweep::{at_beta, genericity_condition, sk_poly, Label};
@@ -194,7 +194,7 @@ fn verify_sign(a: &RealAlg, q: &UPoly, claimed: i32) -> Result<bool> {
             if a.is_exact() {
                 q.sign_at(&a.lo) == claimed
             } else {
-                isign(&eval_interval(q, &a.lo, &a.hi)) == Some(claimed)
+                exact_interval_sign(q, &a.lo, &a.hi) == Some(claimed)
             }
         }
         _ => false,

@@ -85,26 +85,6 @@ pub fn subresultant(p: &BiPoly, q: &BiPoly, j: usize) -> BiPoly {
     BiPoly::new((0..=j).map(|i| sub_coef(p, q, j, i)).collect())
 }
 
-/// lc(B)^(deg A − deg B + 1)·A mod B in y over Z\[x\] (deg A ≥ deg B, B ≠ 0).
-fn prem(a: &BiPoly, b: &BiPoly) -> BiPoly {
-    let db = b.c.len() - 1;
-    let lb = b.lc_y();
-    let mut steps = a.c.len() - db;
-    let mut r = a.clone();
-    while !r.is_zero() && r.c.len() > db {
-        let k = r.c.len() - 1 - db;
-        let lr = r.lc_y();
-        let mut c: Vec<UPoly> = r.c.iter().map(|p| p.mul(&lb)).collect();
-        for (j, bj) in b.c.iter().enumerate() {
-            c[j + k] = c[j + k].sub(&lr.mul(bj));
-        }
-        r = BiPoly::new(c);
-        steps -= 1;
-    }
-    let f = lb.pow(steps as u32);
-    BiPoly::new(r.c.iter().map(|p| p.mul(&f)).collect())
-}
-
 fn scale(a: &BiPoly, k: &UPoly) -> BiPoly {
     BiPoly::new(a.c.iter().map(|p| p.mul(k)).collect())
 }
@@ -125,7 +105,7 @@ pub fn chain(p: &BiPoly, q: &BiPoly) -> Vec<BiPoly> {
     out[dq] = q.clone();
     let mut s = q.lc_y();
     let mut a = q.clone();
-    let mut b = prem(p, &neg(q));
+    let mut b = p.prem(&neg(q));
     loop {
         let d = a.deg_y() as usize;
         if b.is_zero() {
@@ -145,7 +125,7 @@ pub fn chain(p: &BiPoly, q: &BiPoly) -> Vec<BiPoly> {
         if e == 0 {
             break;
         }
-        let nb = div(&prem(&a, &neg(&b)), &s.pow(delta as u32).mul(&a.lc_y()));
+        let nb = div(&a.prem(&neg(&b)), &s.pow(delta as u32).mul(&a.lc_y()));
         a = c;
         s = a.lc_y();
         b = nb;

@@ -190,9 +190,20 @@ pub fn sk_poly(sres_k: &UPoly, sk: &[UPoly]) -> BiPoly {
 
 /// den^d·h(u, num/den) for h = Σ h_j(u) vʲ: zero at α iff h(α, β(α)) = 0.
 pub fn at_beta(h: &BiPoly, num: &UPoly, den: &UPoly, d: usize) -> UPoly {
-    let mut acc = UPoly::zero();
-    for (j, c) in h.c.iter().enumerate() {
-        acc = acc.add(&c.mul(&num.pow(j as u32)).mul(&den.pow((d - j) as u32)));
+    // Homogeneous Horner: Σ_j h_j·num^j·den^(d−j) with den^(d−j) built once.
+    let n = h.c.len();
+    if n == 0 {
+        return UPoly::zero();
+    }
+    let mut dpow = vec![den.pow((d + 1 - n) as u32)];
+    for _ in 1..n {
+        let next = dpow.last().unwrap().mul(den);
+        dpow.push(next);
+    }
+    // dpow[t] = den^(d − n + 1 + t); h_j needs den^(d − j) = dpow[n − 1 − j].
+    let mut acc = h.c[n - 1].mul(&dpow[0]);
+    for j in (0..n - 1).rev() {
+        acc = acc.mul(num).add(&h.c[j].mul(&dpow[n - 1 - j]));
     }
     acc
 }
@@ -223,9 +234,6 @@ impl Ri {
             lo: x.clone(),
             hi: x.clone(),
         }
-    }
-    fn has_zero(&self) -> bool {
-        !self.lo.is_positive() && !self.hi.is_negative()
     }
     fn sign(&self) -> Option<i32> {
         if self.lo.is_positive() {
@@ -382,90 +390,161 @@ fn fibre_roots(
         }
         let cluster = matches!(mode, Mode::Cluster);
         let minw = pow2q(-(24 + 8 * round as i64));
-        let mut found = Vec::new();
-        let mut undecided: Vec<(BigRational, BigRational)> = Vec::new();
-        let mut excluded: Vec<(BigRational, BigRational)> = Vec::new();
-        let mut ok = true;
-        let mut budget = 40_000usize;
-        let mut stack = regions;
-        while let Some((a, b)) = stack.pop() {
-            if budget == 0 {
-                ok = false;
-                break;
-            }
-            budget -= 1;
+        let kind = |a: &BigRational, b: &BigRational| {
             let j = Ri {
                 lo: a.clone(),
                 hi: b.clone(),
             };
-            if !eval2(&cs, &j, prec).has_zero() {
-                if cluster {
-                    excluded.push((a, b));
-                }
-                continue;
-            }
-            if !eval2(&csy, &j, prec).has_zero() {
-                let fa = eval2(&cs, &Ri::pt(&a), prec).sign();
-                let fb = eval2(&cs, &Ri::pt(&b), prec).sign();
-                if let (Some(sa), Some(sb)) = (fa, fb) {
-                    if sa != sb {
-                        found.push(FRoot {
-                            lo: a,
-                            hi: b,
-                            special: false,
-                            boundary: false,
-                            snap: None,
-                        });
-                    } else if cluster {
-                        excluded.push((a, b));
-                    }
-                    continue;
-                }
-            }
-            if &b - &a < minw {
-                if cluster {
-                    undecided.push((a, b));
-                    continue;
-                }
-                ok = false;
-                break;
-            }
-            let mid = (&a + &b) / two();
-            stack.push((mid.clone(), b));
-            stack.push((a, mid));
-        }
-        if !ok || found.len() != want {
+            box_kind(
+                eval2(&cs, &j, prec).sign(),
+                || Some(eval2(&csy, &j, prec).sign()),
+                || {
+                    let end = |t: &BigRational| eval2(&cs, &Ri::pt(t), prec).sign();
+                    Some((end(a), end(b)))
+                },
+            )
+        };
+        let mid = |a: &BigRational, b: &BigRational| (b - a >= minw).then(|| (a + b) / two());
+        let Search::Done(found, excluded, undecided) =
+            box_search(regions, 40_000, cluster, kind, mid)
+        else {
             continue;
-        }
-        if let Some(n) = nbox {
-            found.push(FRoot {
-                lo: n.lo,
-                hi: n.hi,
-                special: true,
-                boundary: false,
-                snap: None,
-            });
-        }
-        if cluster {
-            undecided.sort();
-            if undecided.is_empty() || undecided.windows(2).any(|w| w[0].1 != w[1].0) {
-                continue;
-            }
-            found.push(FRoot {
-                lo: undecided[0].0.clone(),
-                hi: undecided.last().unwrap().1.clone(),
-                special: true,
-                boundary: false,
-                snap: None,
-            });
-        }
-        found.sort_by(|x, y| x.lo.cmp(&y.lo));
-        return Ok((found, excluded));
+        };
+        let Some(boxes) = finish_boxes(found, nbox.map(|n| (n.lo, n.hi)), undecided, want, cluster)
+        else {
+            continue;
+        };
+        return Ok((froots(boxes), excluded));
     }
     Err(Error::TooLarge(format!(
         "event fibre near u = {:.6}: the {want} simple roots were not certified within the refinement budget",
         alpha.to_f64()
     )))
+}
+
+/// One box of an event fibre, from interval evaluations of g and g_v over it.
+enum BoxKind {
+    /// 0 ∉ g(α, box).
+    Empty,
+    /// A certified simple root: strictly opposite end signs and 0 ∉ g_v(α, box).
+    Root,
+    /// g monotone on the box with the same strict sign at both ends: no root.
+    SameSign,
+    /// Undecided: split it.
+    Open,
+}
+
+/// A box's kind from the sign of g over it, then (lazily) the sign of g_v over it and
+/// the signs of g at its two ends; None when an evaluation failed.
+fn box_kind(
+    g: Option<i32>,
+    gy: impl FnOnce() -> Option<Option<i32>>,
+    ends: impl FnOnce() -> Option<(Option<i32>, Option<i32>)>,
+) -> Option<BoxKind> {
+    if g.is_some() {
+        return Some(BoxKind::Empty);
+    }
+    if gy()?.is_some() {
+        if let (Some(sa), Some(sb)) = ends()? {
+            return Some(if sa != sb {
+                BoxKind::Root
+            } else {
+                BoxKind::SameSign
+            });
+        }
+    }
+    Some(BoxKind::Open)
+}
+
+/// How a bisection search of an event fibre ended.
+enum Search<T> {
+    /// (simple-root boxes, boxes without a root, undecided boxes at the smallest width).
+    Done(Vec<(T, T)>, Vec<(T, T)>, Vec<(T, T)>),
+    /// Budget exhausted, or an undecided box at the smallest width outside cluster
+    /// mode: try again with α refined.
+    Failed,
+    /// An evaluation failed (the f64 filter gives up).
+    Abort,
+}
+
+/// The bisection of `regions` shared by the f64 filter and the exact rationals:
+/// `kind` classifies a box (None: the evaluation failed), `mid` splits it (None: at
+/// the smallest width).
+fn box_search<T: Clone>(
+    regions: Vec<(T, T)>,
+    mut budget: usize,
+    cluster: bool,
+    kind: impl Fn(&T, &T) -> Option<BoxKind>,
+    mid: impl Fn(&T, &T) -> Option<T>,
+) -> Search<T> {
+    let (mut found, mut excluded, mut undecided) = (Vec::new(), Vec::new(), Vec::new());
+    let mut stack = regions;
+    while let Some((a, b)) = stack.pop() {
+        if budget == 0 {
+            return Search::Failed;
+        }
+        budget -= 1;
+        match kind(&a, &b) {
+            None => return Search::Abort,
+            Some(BoxKind::Root) => found.push((a, b)),
+            Some(BoxKind::Empty | BoxKind::SameSign) => {
+                if cluster {
+                    excluded.push((a, b));
+                }
+            }
+            Some(BoxKind::Open) => match mid(&a, &b) {
+                Some(m) => {
+                    stack.push((m.clone(), b));
+                    stack.push((a, m));
+                }
+                None if cluster => undecided.push((a, b)),
+                None => return Search::Failed,
+            },
+        }
+    }
+    Search::Done(found, excluded, undecided)
+}
+
+/// The fibre's root boxes, sorted, each flagged special or not: the `want` simple
+/// roots, then β's box N (generic mode) or the one contiguous cluster of undecided
+/// boxes (cluster mode); None when the counts or the cluster do not work out.
+fn finish_boxes<T: Clone + PartialOrd>(
+    found: Vec<(T, T)>,
+    nbox: Option<(T, T)>,
+    mut undecided: Vec<(T, T)>,
+    want: usize,
+    cluster: bool,
+) -> Option<Vec<((T, T), bool)>> {
+    if found.len() != want {
+        return None;
+    }
+    let mut out: Vec<((T, T), bool)> = found.into_iter().map(|x| (x, false)).collect();
+    if let Some(n) = nbox {
+        out.push((n, true));
+    }
+    if cluster {
+        undecided.sort_by(|x, y| x.0.partial_cmp(&y.0).expect("ordered"));
+        if undecided.is_empty() || undecided.windows(2).any(|w| w[0].1 != w[1].0) {
+            return None;
+        }
+        let span = (undecided[0].0.clone(), undecided.last().unwrap().1.clone());
+        out.push((span, true));
+    }
+    out.sort_by(|x, y| x.0 .0.partial_cmp(&y.0 .0).expect("ordered"));
+    Some(out)
+}
+
+fn froots(boxes: Vec<((BigRational, BigRational), bool)>) -> Vec<FRoot> {
+    boxes
+        .into_iter()
+        .map(|((lo, hi), special)| FRoot {
+            lo,
+            hi,
+            special,
+            boundary: false,
+            snap: None,
+        })
+        .collect()
 }
 
 /// [`fibre_roots`] with the f64 filter: the same search and the same claims, every
@@ -543,73 +622,34 @@ fn fibre_roots_f64(
             Some(horner(c, Interval::try_from((a, b)).ok()?))
         };
         let minw = 2f64.powi(-((20 + 8 * round) as i32));
-        let mut found: Vec<(f64, f64)> = Vec::new();
-        let mut undecided: Vec<(f64, f64)> = Vec::new();
-        let mut excluded: Vec<(f64, f64)> = Vec::new();
-        let mut ok = true;
-        let mut budget = 20_000usize;
-        let mut stack = regions;
-        while let Some((a, b)) = stack.pop() {
-            if budget == 0 {
-                ok = false;
-                break;
-            }
-            budget -= 1;
-            let fj = ev(&cs, a, b)?;
-            if iv_sign(fj).is_some() {
-                if cluster {
-                    excluded.push((a, b));
-                }
-                continue;
-            }
-            if iv_sign(ev(&csy, a, b)?).is_some() {
-                let fa = iv_sign(ev(&cs, a, a)?);
-                let fb = iv_sign(ev(&cs, b, b)?);
-                if let (Some(sa), Some(sb)) = (fa, fb) {
-                    if sa != sb {
-                        found.push((a, b));
-                    } else if cluster {
-                        excluded.push((a, b));
-                    }
-                    continue;
-                }
-            }
-            let mid = a + (b - a) * 0.5;
-            if b - a < minw * (1.0 + a.abs().max(b.abs())) || !(a < mid && mid < b) {
-                if cluster {
-                    undecided.push((a, b));
-                    continue;
-                }
-                ok = false;
-                break;
-            }
-            stack.push((mid, b));
-            stack.push((a, mid));
-        }
-        if !ok || found.len() != want {
-            continue;
-        }
-        let root = |(a, b): (f64, f64), special: bool| FRoot {
-            lo: q(a),
-            hi: q(b),
-            special,
-            boundary: false,
-            snap: None,
+        let kind = |a: &f64, b: &f64| {
+            let (a, b) = (*a, *b);
+            box_kind(
+                iv_sign(ev(&cs, a, b)?),
+                || Some(iv_sign(ev(&csy, a, b)?)),
+                || Some((iv_sign(ev(&cs, a, a)?), iv_sign(ev(&cs, b, b)?))),
+            )
         };
-        let mut roots: Vec<FRoot> = found.into_iter().map(|x| root(x, false)).collect();
-        if let Some(n) = nbox {
-            roots.push(root(n, true));
-        }
-        if cluster {
-            undecided.sort_by(|x, y| x.0.total_cmp(&y.0));
-            if undecided.is_empty() || undecided.windows(2).any(|w| w[0].1 != w[1].0) {
-                continue;
-            }
-            roots.push(root((undecided[0].0, undecided.last().unwrap().1), true));
-        }
-        roots.sort_by(|x, y| x.lo.cmp(&y.lo));
+        let mid = |a: &f64, b: &f64| {
+            let m = a + (b - a) * 0.5;
+            let wide = b - a >= minw * (1.0 + a.abs().max(b.abs()));
+            (wide && *a < m && m < *b).then_some(m)
+        };
+        let (found, excluded, undecided) = match box_search(regions, 20_000, cluster, kind, mid) {
+            Search::Done(f, e, u) => (f, e, u),
+            Search::Failed => continue,
+            Search::Abort => return None,
+        };
+        let Some(boxes) = finish_boxes(found, nbox, undecided, want, cluster) else {
+            continue;
+        };
+        let qb = |v: Vec<((f64, f64), bool)>| {
+            v.into_iter()
+                .map(|((a, b), sp)| ((q(a), q(b)), sp))
+                .collect::<Vec<_>>()
+        };
         let ex = excluded.into_iter().map(|(a, b)| (q(a), q(b))).collect();
-        return Some((roots, ex));
+        return Some((froots(qb(boxes)), ex));
     }
     None
 }
