@@ -11,17 +11,25 @@
 # median wall time of REPS runs of the certmesh command (process start, parsing,
 # sweep, certificate and SVG output included), the two tools alternating.
 #
-# usage: benches/cgal/curve_analysis.sh [OUTDIR] [REPS]   (default /tmp/certmesh-gvn-cgal, 5)
+# usage: [CERTMESH_BIN=…] benches/cgal/curve_analysis.sh [OUTDIR] [REPS]
+#        (default /tmp/certmesh-gvn-cgal, 5)
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 out=${1:-/tmp/certmesh-gvn-cgal}
 reps=${2:-5}
 mkdir -p "$out"
-g++ -O3 -DNDEBUG -DCGAL_USE_MPFI -std=c++17 -o "$out/curve_analysis" "$here/curve_analysis.cpp" \
-    -lmpfi -lmpfr -lgmp
-(cd "$root" && cargo build --release --bin certmesh)
-cm="${CARGO_TARGET_DIR:-$root/target}/release/certmesh"
+# CERTMESH_BIN=path skips the cargo build; an existing, newer harness is reused.
+if [ ! "$out/curve_analysis" -nt "$here/curve_analysis.cpp" ]; then
+    g++ -O3 -DNDEBUG -DCGAL_USE_MPFI -std=c++17 -o "$out/curve_analysis" "$here/curve_analysis.cpp" \
+        -lmpfi -lmpfr -lgmp
+fi
+if [ -n "${CERTMESH_BIN:-}" ]; then
+    cm=$CERTMESH_BIN
+else
+    (cd "$root" && cargo build --release --bin certmesh)
+    cm="${CARGO_TARGET_DIR:-$root/target}/release/certmesh"
+fi
 printf '| curve | shear | certmesh events | CGAL events | arcs agree | certmesh (ms) | CGAL (ms) |\n'
 printf '|---|---|---|---|---|---|---|\n'
 while IFS='|' read -r name dom formula; do
@@ -75,6 +83,6 @@ devil|-3,-3,3,3|y^2*(y^2 - 1) - x^2*(x^2 - 2)
 t4|-2,-2,2,2|8*x^4 - 8*x^2 + 8*y^4 - 8*y^2 + 2
 cusp|-2,-2,2,2|y^2 - x^3
 crunode|-2,-2,2,2|y^2 - x^2*(x + 1)
-acnode|-2,-2,2,2|y^2 - x^2*(x - 1)
+acnode|-2.5,-2.5,2.5,2.5|y^2 - x^2*(x - 1)
 degree8-mix|-3,-3,3,3|((x^2 + y^2)^2 - 2*(x^2 - y^2))*(x^2 + y^2 - 4)*(x - y^2 + 1)
 CURVES
