@@ -16,7 +16,7 @@ use num_traits::{ToPrimitive, Zero};
 /// An interval holding the integer `a`, or `None` beyond the f64 range.
 pub fn int_iv(a: &BigInt) -> Option<Interval> {
     if a.is_zero() {
-        return Some(Interval::try_from((0.0, 0.0)).ok()?);
+        return Interval::try_from((0.0, 0.0)).ok();
     }
     let f = a.to_f64()?;
     if !f.is_finite() {
