@@ -452,7 +452,6 @@ fn table_t4_ellipses() {
 }
 
 #[test]
-#[ignore = "degree 8 with a shear: several minutes in the test build (interval root isolation on BigRational is the bottleneck); run with --ignored"]
 fn table_degree8_mix() {
     table(
         "((x^2 + y^2)^2 - 2*(x^2 - y^2))*(x^2 + y^2 - 4)*(x - y^2 + 1)",
@@ -605,6 +604,35 @@ proptest! {
         }
     }
 
+    /// Ducos' subresultant chain over Z[x], specialised at x0, equals the
+    /// Sylvester-submatrix determinants of the specialised polynomials (rational
+    /// Gaussian elimination), coefficient by coefficient, for (P, P_y), for P with an
+    /// unrelated Q of degree deg P − 1, and for a non-constant leading coefficient
+    /// (defective chains included).
+    #[test]
+    fn ducos_chain_is_sylvester_determinants(p in bipoly_strategy(5, 2), r in bipoly_strategy(3, 2), x0 in -3i64..=3) {
+        let x = q(x0, 1);
+        // P/y (degree 4, a constant leading coefficient) against an unrelated cubic.
+        let p4 = BiPoly::new(p.c[1..].to_vec());
+        // A leading coefficient x² − 1 that vanishes at some x0 (the formal degrees
+        // keep the determinants polynomial in the coefficients).
+        let mut c5 = p.c.clone();
+        c5[5] = c5[5].mul(&UPoly::from_i64(&[-1, 0, 1]));
+        let p5 = BiPoly::new(c5);
+        for (a, b) in [(p.clone(), p.dy()), (p4, r), (p5.clone(), p5.dy())] {
+            let (ps, qs) = (spec(&a, &x), spec(&b, &x));
+            let ch = subres::chain(&a, &b);
+            prop_assert_eq!(ch.len(), b.deg_y() as usize + 1);
+            for j in 0..b.deg_y() as usize {
+                for i in 0..=j {
+                    let got = ch[j].c.get(i).map_or(BigRational::zero(), |c| c.eval_q(&x));
+                    prop_assert_eq!(got, sub_coef_q(&ps, &qs, j, i), "j = {}, i = {}", j, i);
+                }
+                prop_assert!(ch[j].deg_y() <= j as isize);
+            }
+        }
+    }
+
     /// Specialisation commutes with the resultant, and the first non-vanishing
     /// principal subresultant at x0 has the index of the degree of the gcd.
     #[test]
@@ -654,6 +682,46 @@ proptest! {
         let n = subres::distinct_real_roots(d, lc, &signs);
         let b = q(1 << 30, 1);
         prop_assert_eq!(n as usize, sturm_count(&p.at_x(&x), &-b.clone(), &b));
+    }
+
+    /// The f64 filter encloses: integer coefficients up to ~190 bits and rational
+    /// points and intervals convert to enclosing intervals, and interval Horner over
+    /// them holds the exact value at every rational of the interval tried.
+    #[test]
+    fn f64_filter_encloses_exact_values(c in proptest::collection::vec((-1000i64..=1000, 0u32..190), 1..9), a in -2000i64..2000, b in 1i64..3000, w in 0i64..50) {
+        use certmesh::algebraic::fint;
+        let p = UPoly::new(c.iter().map(|&(m, sh)| num_bigint::BigInt::from(m) << sh as usize).collect());
+        prop_assume!(!p.is_zero());
+        let (lo, hi) = (q(a, b), q(a + w, b));
+        let Some(cf) = fint::poly_iv(&p) else { return Ok(()); };
+        let Some(x) = fint::qq_iv(&lo, &hi) else { return Ok(()); };
+        let e = fint::horner(&cf, x);
+        for t in [lo.clone(), hi.clone(), (&lo + &hi) / q(2, 1)] {
+            let v = p.eval_q(&t);
+            let inside = BigRational::from_float(e.inf()).is_none_or(|l| l <= v)
+                && BigRational::from_float(e.sup()).is_none_or(|h| v <= h);
+            prop_assert!(inside, "p({}) = {} outside [{}, {}]", t, v, e.inf(), e.sup());
+        }
+    }
+
+    /// Refinement (quadratic interval refinement with bisection fallback) keeps an
+    /// isolating interval: inside the old one, at most the asked width, a strict sign
+    /// change of the square-free polynomial (or an exact root), one root inside (Sturm).
+    #[test]
+    fn refinement_keeps_isolating_intervals(p in upoly_strategy(), bits in 1i64..200) {
+        let sq = p.squarefree();
+        let w = BigRational::new(1.into(), num_bigint::BigInt::from(1) << bits as usize);
+        for r in isolate(&p).unwrap() {
+            let mut a = r.clone();
+            a.refine_to(&w);
+            prop_assert!(a.lo >= r.lo && a.hi <= r.hi && &a.hi - &a.lo <= w);
+            if a.is_exact() {
+                prop_assert_eq!(p.sign_at(&a.lo), 0);
+            } else {
+                prop_assert!(a.p.sign_at(&a.lo) * a.p.sign_at(&a.hi) < 0);
+                prop_assert_eq!(sturm_count(&sq, &a.lo, &a.hi), 1);
+            }
+        }
     }
 
     /// Real algebraic numbers: the sign of q at a root agrees with the sign of q at a

@@ -1,7 +1,9 @@
 //! Exact real root isolation (Descartes' rule of signs with bisection, the
 //! Vincent–Collins–Akritas method on dyadic intervals) and real algebraic numbers:
 //! a square-free integer polynomial with an isolating rational interval, refined by
-//! bisection, compared exactly, and the sign of another polynomial at it.
+//! bisection or quadratic interval refinement, compared exactly, and the sign of
+//! another polynomial at it (an f64 interval filter first, then exact).
+use super::fint;
 use super::upoly::{sign, UPoly};
 use crate::error::{Error, Result};
 use num_bigint::BigInt;
@@ -202,11 +204,71 @@ impl RealAlg {
             self.hi = m;
         }
     }
-    /// Bisect until the interval is at most `w` wide (or exact).
+    /// Refine until the interval is at most `w` wide (or exact): quadratic interval
+    /// refinement (Abbott), a secant guess on a grid of N cells verified by two exact
+    /// signs, N squared on success, halved with a bisection on failure. Endpoints stay
+    /// dyadic when they are.
     pub fn refine_to(&mut self, w: &BigRational) {
+        let mut n_log = 4u64;
         while !self.is_exact() && &self.width() > w {
-            self.bisect();
+            if self.qir_step(n_log) {
+                n_log = (n_log * 2).min(1 << 12);
+            } else {
+                self.bisect();
+                n_log = (n_log / 2).max(2);
+            }
         }
+    }
+    /// One step of quadratic interval refinement with N = 2^n_log cells; false when the
+    /// guess was not verified (or the endpoints are not dyadic).
+    fn qir_step(&mut self, n_log: u64) -> bool {
+        let Some((a, b, h)) = dyadic_pair(&self.lo, &self.hi) else {
+            return false;
+        };
+        let den = BigInt::one() << h;
+        let (pa, pb) = (self.p.eval_hom(&a, &den), self.p.eval_hom(&b, &den));
+        let (sa, sb) = (sign(&pa), sign(&pb));
+        if sa == 0 || sb == 0 || sa == sb {
+            return false;
+        }
+        let n = BigInt::one() << n_log;
+        // The secant's root lies j/N of the way from a to b.
+        let j = ((&n * &pa) / (&pa - &pb)).clamp(BigInt::one(), &n - 1);
+        let step = &b - &a;
+        let base = &a << n_log;
+        let (lo, hi) = (&base + (&j - 1) * &step, &base + (&j + 1) * &step);
+        let h2 = h + n_log;
+        let den2 = BigInt::one() << h2;
+        let (sl, sh) = (
+            sign(&self.p.eval_hom(&lo, &den2)),
+            sign(&self.p.eval_hom(&hi, &den2)),
+        );
+        let q = |x: BigInt| BigRational::new(x, den2.clone());
+        if sl == 0 {
+            self.lo = q(lo);
+            self.hi = self.lo.clone();
+        } else if sh == 0 {
+            self.lo = q(hi);
+            self.hi = self.lo.clone();
+        } else if sl != sh {
+            self.lo = q(lo);
+            self.hi = q(hi);
+        } else {
+            return false;
+        }
+        true
+    }
+    /// The sign of q on the whole isolating interval, when interval Horner proves it:
+    /// the f64 filter first, then exactly (integer Horner on dyadic endpoints, or
+    /// rationals). The checker's exact evaluation on this or a smaller interval then
+    /// proves it too.
+    fn interval_sign(&self, q: &UPoly, qf: Option<&[inari::Interval]>) -> Option<i32> {
+        if let (Some(c), Some(x)) = (qf, fint::qq_iv(&self.lo, &self.hi)) {
+            if let Some(s) = fint::iv_sign(fint::horner(c, x)) {
+                return Some(s);
+            }
+        }
+        exact_interval_sign(q, &self.lo, &self.hi)
     }
     /// Is `q` zero at this number? Exact: the gcd with the defining polynomial changes
     /// sign on the isolating interval.
@@ -217,7 +279,7 @@ impl RealAlg {
         if self.is_exact() {
             return q.sign_at(&self.lo) == 0;
         }
-        let g = self.p.gcd(q);
+        let g = gcd_cached(&self.p, q);
         if g.deg() <= 0 {
             return false;
         }
@@ -233,21 +295,26 @@ impl RealAlg {
         if self.is_exact() {
             return Ok(q.sign_at(&self.lo));
         }
-        if self.is_root_of(q) {
-            return Ok(0);
-        }
-        for _ in 0..REFINE_STEPS {
+        let qf = fint::poly_iv(q);
+        let mut tested_root = false;
+        let (mut bits, mut total) = (4usize, 0usize);
+        while total <= REFINE_STEPS {
             if self.is_exact() {
                 return Ok(q.sign_at(&self.lo));
             }
-            let e = eval_interval(q, &self.lo, &self.hi);
-            if e.0.is_positive() {
-                return Ok(1);
+            if let Some(s) = self.interval_sign(q, qf.as_deref()) {
+                return Ok(s);
             }
-            if e.1.is_negative() {
-                return Ok(-1);
+            if !tested_root {
+                tested_root = true;
+                if self.is_root_of(q) {
+                    return Ok(0);
+                }
             }
-            self.bisect();
+            let w = self.width() / pow2(bits as i64);
+            self.refine_to(&w);
+            total += bits;
+            bits = (bits * 2).min(256);
         }
         Err(Error::TooLarge(
             "sign of a polynomial at an algebraic number: refinement budget exhausted".into(),
@@ -302,6 +369,36 @@ impl RealAlg {
     }
 }
 
+type GcdMemo = std::cell::RefCell<std::collections::HashMap<(UPoly, UPoly), UPoly>>;
+thread_local! {
+    static MEMO: GcdMemo = Default::default();
+}
+
+/// Forget the remembered gcds (the sweep and the checker start each run with an empty
+/// memo, so that every run, and every benchmark iteration, does its own work).
+pub fn clear_gcd_memo() {
+    MEMO.with(|m| m.borrow_mut().clear());
+}
+
+/// gcd(p, q), remembered: the events of a sweep share their defining polynomial
+/// (the square-free discriminant), and the zero tests ask the same gcds at each of
+/// them (a pure function of its arguments; the memo is per thread and bounded).
+fn gcd_cached(p: &UPoly, q: &UPoly) -> UPoly {
+    let key = (p.clone(), q.clone());
+    if let Some(g) = MEMO.with(|m| m.borrow().get(&key).cloned()) {
+        return g;
+    }
+    let g = p.gcd(q);
+    MEMO.with(|m| {
+        let mut m = m.borrow_mut();
+        if m.len() >= 128 {
+            m.clear();
+        }
+        m.insert(key, g.clone());
+    });
+    g
+}
+
 /// Refine two distinct numbers until their intervals are disjoint.
 fn separate(a: &mut RealAlg, b: &mut RealAlg) -> Result<Ordering> {
     for _ in 0..REFINE_STEPS {
@@ -324,6 +421,54 @@ fn separate(a: &mut RealAlg, b: &mut RealAlg) -> Result<Ordering> {
     Err(Error::TooLarge(
         "comparison of algebraic numbers: refinement budget exhausted".into(),
     ))
+}
+
+/// The sign of the exact interval Horner enclosure of q over \[lo, hi\] (the
+/// formula of [`eval_interval`]), when it excludes 0: in integers for dyadic
+/// endpoints, in rationals otherwise.
+pub fn exact_interval_sign(q: &UPoly, lo: &BigRational, hi: &BigRational) -> Option<i32> {
+    let (l, h) = match dyadic_pair(lo, hi) {
+        Some((a, b, e)) => eval_interval_int(q, &a, &b, e),
+        None => {
+            let (l, h) = eval_interval(q, lo, hi);
+            (l.numer().clone(), h.numer().clone())
+        }
+    };
+    if l.is_positive() {
+        Some(1)
+    } else if h.is_negative() {
+        Some(-1)
+    } else {
+        None
+    }
+}
+
+/// (A, B, H) with lo = A/2^H and hi = B/2^H, when both are dyadic.
+pub fn dyadic_pair(lo: &BigRational, hi: &BigRational) -> Option<(BigInt, BigInt, u64)> {
+    let pow2_exp = |d: &BigInt| {
+        let b = d.bits() - 1;
+        (d == &(BigInt::one() << b)).then_some(b)
+    };
+    let (hl, hh) = (pow2_exp(lo.denom())?, pow2_exp(hi.denom())?);
+    let h = hl.max(hh);
+    Some((lo.numer() << (h - hl), hi.numer() << (h - hh), h))
+}
+
+/// 2^(H·n)·(the interval Horner enclosure of q over \[A, B\]/2^H): the same
+/// formula as [`eval_interval`] scaled by a positive factor, in integers.
+pub fn eval_interval_int(q: &UPoly, a: &BigInt, b: &BigInt, h: u64) -> (BigInt, BigInt) {
+    let mut it = q.c.iter().rev();
+    let Some(first) = it.next() else {
+        return (BigInt::zero(), BigInt::zero());
+    };
+    let (mut lo, mut hi) = (first.clone(), first.clone());
+    for (t, c) in it.enumerate() {
+        let ps = [&lo * a, &lo * b, &hi * a, &hi * b];
+        let ct = c << (h * (t as u64 + 1));
+        lo = ps.iter().min().unwrap() + &ct;
+        hi = ps.iter().max().unwrap() + ct;
+    }
+    (lo, hi)
 }
 
 /// A rational interval enclosure of q over \[lo, hi\] (Horner in interval arithmetic).

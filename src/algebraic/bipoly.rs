@@ -194,11 +194,16 @@ impl BiPoly {
         let g = self.content_x();
         self.div_x(&g).expect("content divides").lc_sign_normal()
     }
-    /// Pseudo-remainder in y over Z\[x\].
+    /// Pseudo-remainder in y over Z\[x\]: lc(b)^(deg self − deg b + 1)·self mod b
+    /// (self returned when its degree is below b's).
     pub fn prem(&self, b: &Self) -> Self {
         let db = b.c.len() - 1;
         let lb = b.lc_y();
         let mut r = self.clone();
+        if r.c.len() <= db {
+            return r;
+        }
+        let mut steps = r.c.len() - db;
         while !r.is_zero() && r.c.len() > db {
             let k = r.c.len() - 1 - db;
             let lr = r.lc_y();
@@ -207,6 +212,11 @@ impl BiPoly {
                 c[j + k] = c[j + k].sub(&lr.mul(bj));
             }
             r = Self::new(c);
+            steps -= 1;
+        }
+        if steps > 0 {
+            let f = lb.pow(steps as u32);
+            r = Self::new(r.c.iter().map(|p| p.mul(&f)).collect());
         }
         r
     }

@@ -13,7 +13,7 @@
 //! polynomials; then it rebuilds the graph from the verified counts and compares it.
 //! The polynomial pipeline (shear, square-free part, subresultants) is recomputed, as
 //! it is deterministic.
-use super::algnum::{eval_interval, root_bound_log2, RealAlg};
+use super::algnum::{eval_interval, exact_interval_sign, root_bound_log2, RealAlg};
 use super::bipoly::BiPoly;
 use super::subres;
 use super::sweep::{at_beta, genericity_condition, sk_poly, Label};
@@ -194,7 +194,7 @@ fn verify_sign(a: &RealAlg, q: &UPoly, claimed: i32) -> Result<bool> {
             if a.is_exact() {
                 q.sign_at(&a.lo) == claimed
             } else {
-                isign(&eval_interval(q, &a.lo, &a.hi)) == Some(claimed)
+                exact_interval_sign(q, &a.lo, &a.hi) == Some(claimed)
             }
         }
         _ => false,
@@ -259,6 +259,7 @@ impl Dom {
 
 /// Re-verify every claim of a curve certificate with exact rationals.
 pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
+    super::algnum::clear_gcd_memo();
     if c.format != CERT_FORMAT {
         return Err(bad(format!("unknown format '{}'", c.format)));
     }
@@ -321,7 +322,8 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
     let d = g.deg_y() as usize;
     let gy = g.dy();
     let gx = g.dx();
-    let sres = subres::principal(&g, &gy);
+    let chain = subres::full_chain(&g, &gy);
+    let sres = subres::principal_of(&chain);
     let disc = &sres[0];
     let lc_sign = sign(&g.lc_y().coef(0));
     // Events: isolating, ordered, inside the u-range, critical iff D(α) = 0.
@@ -532,7 +534,7 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
             if e.m != m {
                 return Err(bad(format!("event {ei}: m is wrong (the signs give {m})")));
             }
-            let sk: Vec<UPoly> = (0..k).map(|i| subres::sub_coef(&g, &gy, k, i)).collect();
+            let sk: Vec<UPoly> = subres::lower_of(&chain, k);
             let generic = (0..k.saturating_sub(1))
                 .all(|i| a.is_root_of(&genericity_condition(&sres[k], &sk, k, i)));
             if e.generic != Some(generic) {

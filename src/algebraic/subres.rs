@@ -1,7 +1,9 @@
-//! Subresultants of two polynomials in y over Z\[x\] from their definition, as
-//! determinants of Sylvester submatrices (fraction-free Bareiss elimination over
-//! Z\[x\]), and the signed-subresultant (Sturm–Habicht) count of distinct real roots
-//! by permanences minus variations.
+//! Subresultants of two polynomials in y over Z\[x\]: the whole chain by Ducos'
+//! algorithm (the subresultant PRS with Lazard's and Ducos' exact divisions, L. Ducos,
+//! "Optimizations of the subresultant algorithm", J. Pure Appl. Algebra 145, 2000), and
+//! single coefficients from the definition, as determinants of Sylvester submatrices
+//! (fraction-free Bareiss elimination over Z\[x\]); the signed-subresultant
+//! (Sturm–Habicht) count of distinct real roots by permanences minus variations.
 use super::bipoly::BiPoly;
 use super::upoly::UPoly;
 use num_bigint::BigInt;
@@ -83,16 +85,93 @@ pub fn subresultant(p: &BiPoly, q: &BiPoly, j: usize) -> BiPoly {
     BiPoly::new((0..=j).map(|i| sub_coef(p, q, j, i)).collect())
 }
 
-/// The principal subresultant coefficients sres_j = det_{j,j}, j = 0 … deg Q.
-pub fn principal(p: &BiPoly, q: &BiPoly) -> Vec<UPoly> {
-    (0..=q.deg_y() as usize)
-        .map(|j| sub_coef(p, q, j, j))
+fn scale(a: &BiPoly, k: &UPoly) -> BiPoly {
+    BiPoly::new(a.c.iter().map(|p| p.mul(k)).collect())
+}
+
+fn div(a: &BiPoly, k: &UPoly) -> BiPoly {
+    a.div_x(k).expect("subresultant division is exact")
+}
+
+/// The subresultant chain S_j(P, Q), j = 0 … deg Q (index j; zero where the chain
+/// is defective), for deg P = deg Q + 1 ≥ 2, by Ducos' algorithm: with s = sres_d of
+/// the last regular S_d = A and B = S_(d−1) of degree e, S_e = lc(B)^(δ−1)·B/s^(δ−1)
+/// (δ = d − e, Lazard's exact divisions one power at a time) and
+/// S_(e−1) = prem(A, −B)/(s^δ·lc(A)).
+pub fn chain(p: &BiPoly, q: &BiPoly) -> Vec<BiPoly> {
+    let (dp, dq) = (p.deg_y() as usize, q.deg_y() as usize);
+    assert!(dq >= 1 && dp == dq + 1, "chain: deg P = deg Q + 1 ≥ 2");
+    let mut out = vec![BiPoly::zero(); dq + 1];
+    out[dq] = q.clone();
+    let mut s = q.lc_y();
+    let mut a = q.clone();
+    let mut b = p.prem(&neg(q));
+    loop {
+        let d = a.deg_y() as usize;
+        if b.is_zero() {
+            break;
+        }
+        let e = b.deg_y() as usize;
+        out[d - 1] = b.clone();
+        let delta = d - e;
+        let mut c = b.clone();
+        if delta > 1 {
+            let lb = b.lc_y();
+            for _ in 1..delta {
+                c = div(&scale(&c, &lb), &s);
+            }
+            out[e] = c.clone();
+        }
+        if e == 0 {
+            break;
+        }
+        let nb = div(&a.prem(&neg(&b)), &s.pow(delta as u32).mul(&a.lc_y()));
+        a = c;
+        s = a.lc_y();
+        b = nb;
+    }
+    out
+}
+
+fn neg(a: &BiPoly) -> BiPoly {
+    BiPoly::new(a.c.iter().map(|p| p.neg()).collect())
+}
+
+/// The subresultant chain S_0 … S_(deg Q): Ducos' algorithm when
+/// deg P = deg Q + 1 ≥ 2 (always so for (f, f_y) with a constant leading coefficient),
+/// the determinants otherwise.
+pub fn full_chain(p: &BiPoly, q: &BiPoly) -> Vec<BiPoly> {
+    if q.deg_y() >= 1 && p.deg_y() == q.deg_y() + 1 {
+        return chain(p, q);
+    }
+    (0..=q.deg_y().max(0) as usize)
+        .map(|j| subresultant(p, q, j))
         .collect()
+}
+
+/// The principal coefficients sres_j (the coefficient of yʲ of S_j) of a chain.
+pub fn principal_of(ch: &[BiPoly]) -> Vec<UPoly> {
+    ch.iter()
+        .enumerate()
+        .map(|(j, s)| s.c.get(j).cloned().unwrap_or_default())
+        .collect()
+}
+
+/// The coefficients of y⁰ … y^(j−1) of S_j in a chain.
+pub fn lower_of(ch: &[BiPoly], j: usize) -> Vec<UPoly> {
+    (0..j)
+        .map(|i| ch[j].c.get(i).cloned().unwrap_or_default())
+        .collect()
+}
+
+/// The principal subresultant coefficients sres_j, j = 0 … deg Q.
+pub fn principal(p: &BiPoly, q: &BiPoly) -> Vec<UPoly> {
+    principal_of(&full_chain(p, q))
 }
 
 /// The resultant Res_y(P, Q) = sres_0.
 pub fn resultant(p: &BiPoly, q: &BiPoly) -> UPoly {
-    sub_coef(p, q, 0, 0)
+    principal(p, q).swap_remove(0)
 }
 
 /// The sign (−1)^((d−j)(d−j−1)/2) turning sres_j of (f, f_y) into the signed

@@ -11,8 +11,10 @@
 //! 3. Event fibres: k = the first non-vanishing principal subresultant at α (exact
 //!    zero tests), the genericity test S_k(α, v) = sres_k(α)·(v − β)^k, β from the
 //!    subresultant coefficients, m = the distinct real roots from the Sturm–Habicht
-//!    signs, the other m − 1 roots certified by interval bisection over exact rational
-//!    intervals; branch counts a_L = n_L − (m − 1), a_R = n_R − (m − 1).
+//!    signs, the other m − 1 roots certified by interval bisection (outward-rounded
+//!    f64 intervals first, exact rationals when f64 cannot decide); branch counts
+//!    a_L = n_L − (m − 1), a_R = n_R − (m − 1). These subresultant tests run for all
+//!    critical events before anything else, so a rejected shear costs little.
 //! 4. Rational fibres between events, isolated exactly; join the i-th arc from the
 //!    bottom on each side; keep what is inside the domain; unshear (determinant 1, so
 //!    isotopy is kept).
@@ -22,6 +24,7 @@
 use super::algnum::{eval_interval, isolate, q_to_f64, RealAlg};
 use super::bipoly::BiPoly;
 use super::check::{CertEvent, CertFibre, CertInterval, CertRoot, CurveCert};
+use super::fint;
 use super::subres;
 use super::upoly::{sign, UPoly};
 use crate::error::{Error, Result};
@@ -187,9 +190,20 @@ pub fn sk_poly(sres_k: &UPoly, sk: &[UPoly]) -> BiPoly {
 
 /// den^d·h(u, num/den) for h = Σ h_j(u) vʲ: zero at α iff h(α, β(α)) = 0.
 pub fn at_beta(h: &BiPoly, num: &UPoly, den: &UPoly, d: usize) -> UPoly {
-    let mut acc = UPoly::zero();
-    for (j, c) in h.c.iter().enumerate() {
-        acc = acc.add(&c.mul(&num.pow(j as u32)).mul(&den.pow((d - j) as u32)));
+    // Homogeneous Horner: Σ_j h_j·num^j·den^(d−j) with den^(d−j) built once.
+    let n = h.c.len();
+    if n == 0 {
+        return UPoly::zero();
+    }
+    let mut dpow = vec![den.pow((d + 1 - n) as u32)];
+    for _ in 1..n {
+        let next = dpow.last().unwrap().mul(den);
+        dpow.push(next);
+    }
+    // dpow[t] = den^(d − n + 1 + t); h_j needs den^(d − j) = dpow[n − 1 − j].
+    let mut acc = h.c[n - 1].mul(&dpow[0]);
+    for j in (0..n - 1).rev() {
+        acc = acc.mul(num).add(&h.c[j].mul(&dpow[n - 1 - j]));
     }
     acc
 }
@@ -220,9 +234,6 @@ impl Ri {
             lo: x.clone(),
             hi: x.clone(),
         }
-    }
-    fn has_zero(&self) -> bool {
-        !self.lo.is_positive() && !self.hi.is_negative()
     }
     fn sign(&self) -> Option<i32> {
         if self.lo.is_positive() {
@@ -297,6 +308,8 @@ struct FRoot {
 struct Special<'a> {
     num: &'a UPoly,
     den: &'a UPoly,
+    /// The multiple root has multiplicity k + 1.
+    k: usize,
 }
 
 fn special_box(s: &Special, a: &RealAlg) -> Option<Ri> {
@@ -339,6 +352,9 @@ fn fibre_roots(
     m: usize,
     mode: Mode,
 ) -> Result<(Vec<FRoot>, Vec<(BigRational, BigRational)>)> {
+    if let Some(r) = fibre_roots_f64(g, gy, alpha, m, mode) {
+        return Ok(r);
+    }
     let lc = g.lc_y().coef(0).abs();
     let want = m - usize::from(!matches!(mode, Mode::Plain));
     for round in 0..12u64 {
@@ -374,90 +390,268 @@ fn fibre_roots(
         }
         let cluster = matches!(mode, Mode::Cluster);
         let minw = pow2q(-(24 + 8 * round as i64));
-        let mut found = Vec::new();
-        let mut undecided: Vec<(BigRational, BigRational)> = Vec::new();
-        let mut excluded: Vec<(BigRational, BigRational)> = Vec::new();
-        let mut ok = true;
-        let mut budget = 40_000usize;
-        let mut stack = regions;
-        while let Some((a, b)) = stack.pop() {
-            if budget == 0 {
-                ok = false;
-                break;
-            }
-            budget -= 1;
+        let kind = |a: &BigRational, b: &BigRational| {
             let j = Ri {
                 lo: a.clone(),
                 hi: b.clone(),
             };
-            if !eval2(&cs, &j, prec).has_zero() {
-                if cluster {
-                    excluded.push((a, b));
-                }
-                continue;
-            }
-            if !eval2(&csy, &j, prec).has_zero() {
-                let fa = eval2(&cs, &Ri::pt(&a), prec).sign();
-                let fb = eval2(&cs, &Ri::pt(&b), prec).sign();
-                if let (Some(sa), Some(sb)) = (fa, fb) {
-                    if sa != sb {
-                        found.push(FRoot {
-                            lo: a,
-                            hi: b,
-                            special: false,
-                            boundary: false,
-                            snap: None,
-                        });
-                    } else if cluster {
-                        excluded.push((a, b));
-                    }
-                    continue;
-                }
-            }
-            if &b - &a < minw {
-                if cluster {
-                    undecided.push((a, b));
-                    continue;
-                }
-                ok = false;
-                break;
-            }
-            let mid = (&a + &b) / two();
-            stack.push((mid.clone(), b));
-            stack.push((a, mid));
-        }
-        if !ok || found.len() != want {
+            box_kind(
+                eval2(&cs, &j, prec).sign(),
+                || Some(eval2(&csy, &j, prec).sign()),
+                || {
+                    let end = |t: &BigRational| eval2(&cs, &Ri::pt(t), prec).sign();
+                    Some((end(a), end(b)))
+                },
+            )
+        };
+        let mid = |a: &BigRational, b: &BigRational| (b - a >= minw).then(|| (a + b) / two());
+        let Search::Done(found, excluded, undecided) =
+            box_search(regions, 40_000, cluster, kind, mid)
+        else {
             continue;
-        }
-        if let Some(n) = nbox {
-            found.push(FRoot {
-                lo: n.lo,
-                hi: n.hi,
-                special: true,
-                boundary: false,
-                snap: None,
-            });
-        }
-        if cluster {
-            undecided.sort();
-            if undecided.is_empty() || undecided.windows(2).any(|w| w[0].1 != w[1].0) {
-                continue;
-            }
-            found.push(FRoot {
-                lo: undecided[0].0.clone(),
-                hi: undecided.last().unwrap().1.clone(),
-                special: true,
-                boundary: false,
-                snap: None,
-            });
-        }
-        found.sort_by(|x, y| x.lo.cmp(&y.lo));
-        return Ok((found, excluded));
+        };
+        let Some(boxes) = finish_boxes(found, nbox.map(|n| (n.lo, n.hi)), undecided, want, cluster)
+        else {
+            continue;
+        };
+        return Ok((froots(boxes), excluded));
     }
     Err(Error::TooLarge(format!(
         "event fibre near u = {:.6}: the {want} simple roots were not certified within the refinement budget",
         alpha.to_f64()
     )))
+}
+
+/// One box of an event fibre, from interval evaluations of g and g_v over it.
+enum BoxKind {
+    /// 0 ∉ g(α, box).
+    Empty,
+    /// A certified simple root: strictly opposite end signs and 0 ∉ g_v(α, box).
+    Root,
+    /// g monotone on the box with the same strict sign at both ends: no root.
+    SameSign,
+    /// Undecided: split it.
+    Open,
+}
+
+/// A box's kind from the sign of g over it, then (lazily) the sign of g_v over it and
+/// the signs of g at its two ends; None when an evaluation failed.
+fn box_kind(
+    g: Option<i32>,
+    gy: impl FnOnce() -> Option<Option<i32>>,
+    ends: impl FnOnce() -> Option<(Option<i32>, Option<i32>)>,
+) -> Option<BoxKind> {
+    if g.is_some() {
+        return Some(BoxKind::Empty);
+    }
+    if gy()?.is_some() {
+        if let (Some(sa), Some(sb)) = ends()? {
+            return Some(if sa != sb {
+                BoxKind::Root
+            } else {
+                BoxKind::SameSign
+            });
+        }
+    }
+    Some(BoxKind::Open)
+}
+
+/// How a bisection search of an event fibre ended.
+enum Search<T> {
+    /// (simple-root boxes, boxes without a root, undecided boxes at the smallest width).
+    Done(Vec<(T, T)>, Vec<(T, T)>, Vec<(T, T)>),
+    /// Budget exhausted, or an undecided box at the smallest width outside cluster
+    /// mode: try again with α refined.
+    Failed,
+    /// An evaluation failed (the f64 filter gives up).
+    Abort,
+}
+
+/// The bisection of `regions` shared by the f64 filter and the exact rationals:
+/// `kind` classifies a box (None: the evaluation failed), `mid` splits it (None: at
+/// the smallest width).
+fn box_search<T: Clone>(
+    regions: Vec<(T, T)>,
+    mut budget: usize,
+    cluster: bool,
+    kind: impl Fn(&T, &T) -> Option<BoxKind>,
+    mid: impl Fn(&T, &T) -> Option<T>,
+) -> Search<T> {
+    let (mut found, mut excluded, mut undecided) = (Vec::new(), Vec::new(), Vec::new());
+    let mut stack = regions;
+    while let Some((a, b)) = stack.pop() {
+        if budget == 0 {
+            return Search::Failed;
+        }
+        budget -= 1;
+        match kind(&a, &b) {
+            None => return Search::Abort,
+            Some(BoxKind::Root) => found.push((a, b)),
+            Some(BoxKind::Empty | BoxKind::SameSign) => {
+                if cluster {
+                    excluded.push((a, b));
+                }
+            }
+            Some(BoxKind::Open) => match mid(&a, &b) {
+                Some(m) => {
+                    stack.push((m.clone(), b));
+                    stack.push((a, m));
+                }
+                None if cluster => undecided.push((a, b)),
+                None => return Search::Failed,
+            },
+        }
+    }
+    Search::Done(found, excluded, undecided)
+}
+
+/// The fibre's root boxes, sorted, each flagged special or not: the `want` simple
+/// roots, then β's box N (generic mode) or the one contiguous cluster of undecided
+/// boxes (cluster mode); None when the counts or the cluster do not work out.
+fn finish_boxes<T: Clone + PartialOrd>(
+    found: Vec<(T, T)>,
+    nbox: Option<(T, T)>,
+    mut undecided: Vec<(T, T)>,
+    want: usize,
+    cluster: bool,
+) -> Option<Vec<((T, T), bool)>> {
+    if found.len() != want {
+        return None;
+    }
+    let mut out: Vec<((T, T), bool)> = found.into_iter().map(|x| (x, false)).collect();
+    if let Some(n) = nbox {
+        out.push((n, true));
+    }
+    if cluster {
+        undecided.sort_by(|x, y| x.0.partial_cmp(&y.0).expect("ordered"));
+        if undecided.is_empty() || undecided.windows(2).any(|w| w[0].1 != w[1].0) {
+            return None;
+        }
+        let span = (undecided[0].0.clone(), undecided.last().unwrap().1.clone());
+        out.push((span, true));
+    }
+    out.sort_by(|x, y| x.0 .0.partial_cmp(&y.0 .0).expect("ordered"));
+    Some(out)
+}
+
+fn froots(boxes: Vec<((BigRational, BigRational), bool)>) -> Vec<FRoot> {
+    boxes
+        .into_iter()
+        .map(|((lo, hi), special)| FRoot {
+            lo,
+            hi,
+            special,
+            boundary: false,
+            snap: None,
+        })
+        .collect()
+}
+
+/// [`fibre_roots`] with the f64 filter: the same search and the same claims, every
+/// box decided by outward-rounded interval Horner over an enclosure of α's isolating
+/// interval. A claim proven here holds for the exact interval evaluation the checker
+/// does (inclusion isotonicity), and the box endpoints are f64 values, exact rationals.
+/// `None` when f64 cannot decide (the caller falls back to exact rationals).
+#[allow(clippy::type_complexity)]
+fn fibre_roots_f64(
+    g: &BiPoly,
+    gy: &BiPoly,
+    alpha: &mut RealAlg,
+    m: usize,
+    mode: Mode,
+) -> Option<(Vec<FRoot>, Vec<(BigRational, BigRational)>)> {
+    use fint::{horner, iv_sign, pt};
+    use inari::Interval;
+    let polys = |b: &BiPoly| b.c.iter().map(fint::poly_iv).collect::<Option<Vec<_>>>();
+    let (gf, gyf) = (polys(g)?, polys(gy)?);
+    let lc = fint::int_iv(&g.lc_y().coef(0).abs())?;
+    let spf = match mode {
+        Mode::Generic(s) => Some((fint::poly_iv(s.num)?, fint::poly_iv(s.den)?, s.k)),
+        _ => None,
+    };
+    let want = m - usize::from(!matches!(mode, Mode::Plain));
+    let cluster = matches!(mode, Mode::Cluster);
+    let q = |x: f64| BigRational::from_float(x).expect("finite");
+    for round in 0..6u64 {
+        // The excluded neighbourhood of β has radius ρ = 2^−rho; α's width is small
+        // against ρ^(k+1), the size of f next to a root of multiplicity k + 1.
+        let rho = 2 + 2 * round;
+        let wlog = match &spf {
+            Some((_, _, k)) => (*k as u64 + 1) * rho + 10,
+            None => 20 + 8 * round,
+        };
+        if wlog > 52 {
+            return None;
+        }
+        alpha.refine_to(&pow2q(-(wlog as i64)));
+        let ai = fint::qq_iv(&alpha.lo, &alpha.hi)?;
+        let cs: Vec<Interval> = gf.iter().map(|c| horner(c, ai)).collect();
+        let csy: Vec<Interval> = gyf.iter().map(|c| horner(c, ai)).collect();
+        let mag = cs[..cs.len() - 1]
+            .iter()
+            .map(|c| c.mag())
+            .fold(0.0f64, f64::max);
+        let y = (pt(1.0) + pt(mag) / lc).sup();
+        if !y.is_finite() {
+            return None;
+        }
+        let mut regions: Vec<(f64, f64)> = Vec::new();
+        let mut nbox = None;
+        if let Some((nf, df, _)) = &spf {
+            let (ni, di) = (horner(nf, ai), horner(df, ai));
+            if iv_sign(di).is_none() {
+                continue;
+            }
+            let b = ni / di;
+            let r = pt(2f64.powi(-(rho as i32)));
+            let (lo, hi) = ((pt(b.inf()) - r).inf(), (pt(b.sup()) + r).sup());
+            if !lo.is_finite() || !hi.is_finite() {
+                return None;
+            }
+            if -y < lo {
+                regions.push((-y, lo));
+            }
+            if hi < y {
+                regions.push((hi, y));
+            }
+            nbox = Some((lo, hi));
+        } else {
+            regions.push((-y, y));
+        }
+        let ev = |c: &[Interval], a: f64, b: f64| -> Option<Interval> {
+            Some(horner(c, Interval::try_from((a, b)).ok()?))
+        };
+        let minw = 2f64.powi(-((20 + 8 * round) as i32));
+        let kind = |a: &f64, b: &f64| {
+            let (a, b) = (*a, *b);
+            box_kind(
+                iv_sign(ev(&cs, a, b)?),
+                || Some(iv_sign(ev(&csy, a, b)?)),
+                || Some((iv_sign(ev(&cs, a, a)?), iv_sign(ev(&cs, b, b)?))),
+            )
+        };
+        let mid = |a: &f64, b: &f64| {
+            let m = a + (b - a) * 0.5;
+            let wide = b - a >= minw * (1.0 + a.abs().max(b.abs()));
+            (wide && *a < m && m < *b).then_some(m)
+        };
+        let (found, excluded, undecided) = match box_search(regions, 20_000, cluster, kind, mid) {
+            Search::Done(f, e, u) => (f, e, u),
+            Search::Failed => continue,
+            Search::Abort => return None,
+        };
+        let Some(boxes) = finish_boxes(found, nbox, undecided, want, cluster) else {
+            continue;
+        };
+        let qb = |v: Vec<((f64, f64), bool)>| {
+            v.into_iter()
+                .map(|((a, b), sp)| ((q(a), q(b)), sp))
+                .collect::<Vec<_>>()
+        };
+        let ex = excluded.into_iter().map(|(a, b)| (q(a), q(b))).collect();
+        return Some((froots(qb(boxes)), ex));
+    }
+    None
 }
 
 /// Shrink the root boxes of an event fibre after refining α (keeps every invariant:
@@ -534,6 +728,80 @@ struct Event {
     /// A vertical side of the domain (s = 0): the whole fibre is boundary.
     side: bool,
     bpoints: Vec<BPoint>,
+    /// The subresultant data of a critical event (computed before anything else, so
+    /// that a rejected shear costs little).
+    crit: Option<Crit>,
+}
+
+/// What the principal subresultants say about a critical fibre u = α.
+#[derive(Clone, Debug)]
+struct Crit {
+    /// Signs of sres_j(α), j = 0 … d − 1.
+    signs: Vec<i32>,
+    k: usize,
+    m: usize,
+    generic: bool,
+    /// Non-generic: the distinct real roots of S_k(α, ·) and the signs giving them.
+    r: Option<usize>,
+    r_signs: Vec<i32>,
+}
+
+/// k, m, the genericity test and the real-only r-test at a critical event; a
+/// non-generic frame (r ≥ 2) is the `nongeneric` error.
+fn critical_data(
+    u: &mut RealAlg,
+    g: &BiPoly,
+    chain: &[BiPoly],
+    sres: &[UPoly],
+    lc_sign: i32,
+    sk_cache: &mut std::collections::HashMap<usize, Vec<UPoly>>,
+) -> Result<Crit> {
+    let d = g.deg_y() as usize;
+    let mut signs = vec![0i32; d];
+    let mut k = None;
+    for j in 1..d {
+        let sg = u.sign_of(&sres[j])?;
+        signs[j] = sg;
+        if sg != 0 && k.is_none() {
+            k = Some(j);
+        }
+    }
+    let k = k.ok_or_else(|| Error::Param("internal: no non-zero subresultant".into()))?;
+    let m = subres::distinct_real_roots(d, lc_sign, &signs).max(0) as usize;
+    let sk = sk_cache
+        .entry(k)
+        .or_insert_with(|| subres::lower_of(chain, k));
+    // Genericity: S_k(α, v) = sres_k(α)·(v − β)^k.
+    let generic =
+        (0..k.saturating_sub(1)).all(|i| u.is_root_of(&genericity_condition(&sres[k], sk, k, i)));
+    let mut c = Crit {
+        signs,
+        k,
+        m,
+        generic,
+        r: None,
+        r_signs: Vec::new(),
+    };
+    if !generic {
+        // The real-only test: r = the distinct real roots of S_k(α, ·).
+        let skp = sk_poly(&sres[k], sk);
+        let ps = subres::principal(&skp, &skp.dy());
+        let mut rs = vec![0i32; k];
+        for j in 0..k {
+            rs[j] = u.sign_of(&ps[j])?;
+        }
+        let lck = u.sign_of(&sres[k])?;
+        let r = subres::distinct_real_roots(k, lck, &rs).max(0) as usize;
+        if r >= 2 {
+            return Err(nongeneric(format!(
+                "the fibre over u ≈ {:.6} has {r} real multiple roots (k = {k})",
+                u.to_f64()
+            )));
+        }
+        c.r = Some(r);
+        c.r_signs = rs;
+    }
+    Ok(c)
 }
 
 fn nongeneric(msg: String) -> Error {
@@ -542,6 +810,7 @@ fn nongeneric(msg: String) -> Error {
 
 /// The exact topology of f = 0 inside `domain` (its x and y ranges).
 pub fn analyse(f: &BiPoly, domain: &Aabb, p: &SweepParams) -> Result<SweepResult> {
+    super::algnum::clear_gcd_memo();
     if f.is_zero() {
         return Err(Error::Param(
             "f is identically zero: its zero set is the whole plane".into(),
@@ -638,6 +907,7 @@ fn side_crossings(
                     critical: false,
                     side: false,
                     bpoints: vec![bp.clone()],
+                    crit: None,
                 },
             )?;
         }
@@ -715,7 +985,8 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
     }
     let d = dy as usize;
     let gy = g.dy();
-    let sres = subres::principal(g, &gy);
+    let chain = subres::full_chain(g, &gy);
+    let sres = subres::principal_of(&chain);
     let disc = sres[0].clone();
     out.resultant_degree = disc.deg();
     out.resultant_bits = disc.max_bits();
@@ -738,9 +1009,23 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
                     critical: true,
                     side: false,
                     bpoints: Vec::new(),
+                    crit: None,
                 },
             )?;
         }
+    }
+    // The subresultant data of every critical event first: a non-generic frame is
+    // rejected before any fibre is computed.
+    let mut sk_cache: std::collections::HashMap<usize, Vec<UPoly>> = Default::default();
+    for ev in events.iter_mut() {
+        ev.crit = Some(critical_data(
+            &mut ev.u,
+            g,
+            &chain,
+            &sres,
+            lc_sign,
+            &mut sk_cache,
+        )?);
     }
     // Box events.
     let zero = BigRational::zero();
@@ -765,6 +1050,7 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
                     critical: false,
                     side: true,
                     bpoints: Vec::new(),
+                    crit: None,
                 },
             )?;
             continue;
@@ -882,7 +1168,6 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
         });
     }
     // Event fibres.
-    let mut sk_cache: std::collections::HashMap<usize, Vec<UPoly>> = Default::default();
     let mut segs: Vec<[u32; 2]> = Vec::new();
     // Per event, per fibre root: (vertex id when kept, branches left, branches right).
     let mut ev_vertices: Vec<Vec<(Option<u32>, usize, usize)>> = Vec::new();
@@ -937,60 +1222,32 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
         // The multiple root: generic (β = num/den), clustered (r = 1), none (phantom).
         let mut generic = false;
         let mut cluster = false;
-        if ev.critical {
-            let mut signs = vec![0i32; d];
-            let mut k = None;
-            for j in 1..d {
-                let sg = ev.u.sign_of(&sres[j])?;
-                signs[j] = sg;
-                if sg != 0 && k.is_none() {
-                    k = Some(j);
-                }
-            }
-            let k = k.ok_or_else(|| Error::Param("internal: no non-zero subresultant".into()))?;
+        if let Some(c) = &ev.crit {
+            let k = c.k;
             info.k = Some(k);
             cev.k = Some(k);
-            cev.signs = signs.clone();
-            m = subres::distinct_real_roots(d, lc_sign, &signs).max(0) as usize;
+            cev.signs = c.signs.clone();
+            m = c.m;
             info.m = m;
             cev.m = m;
-            let sk = sk_cache
-                .entry(k)
-                .or_insert_with(|| (0..k).map(|i| subres::sub_coef(g, &gy, k, i)).collect());
-            // Genericity: S_k(α, v) = sres_k(α)·(v − β)^k.
-            generic = (0..k.saturating_sub(1))
-                .all(|i| ev.u.is_root_of(&genericity_condition(&sres[k], sk, k, i)));
+            generic = c.generic;
             info.generic = Some(generic);
             cev.generic = Some(generic);
             if generic {
-                num = sk[k - 1].neg();
+                num = sk_cache[&k][k - 1].neg();
                 den = sres[k].scale(&BigInt::from(k));
                 info.multiplicity = Some(k + 1);
             } else {
-                // The real-only test: r = the distinct real roots of S_k(α, ·).
-                let skp = sk_poly(&sres[k], sk);
-                let ps = subres::principal(&skp, &skp.dy());
-                let mut rs = vec![0i32; k];
-                for j in 0..k {
-                    rs[j] = ev.u.sign_of(&ps[j])?;
-                }
-                let lck = ev.u.sign_of(&sres[k])?;
-                let r = subres::distinct_real_roots(k, lck, &rs).max(0) as usize;
-                info.real_multiple_roots = Some(r);
-                cev.r = Some(r);
-                cev.r_signs = rs;
-                if r >= 2 {
-                    return Err(nongeneric(format!(
-                        "the fibre over u ≈ {:.6} has {r} real multiple roots (k = {k})",
-                        ev.u.to_f64()
-                    )));
-                }
-                cluster = r == 1;
+                info.real_multiple_roots = c.r;
+                cev.r = c.r;
+                cev.r_signs = c.r_signs.clone();
+                cluster = c.r == Some(1);
             }
         }
         let special = Special {
             num: &num,
             den: &den,
+            k: info.k.unwrap_or(1),
         };
         let mode = if generic {
             Mode::Generic(&special)
