@@ -12,7 +12,14 @@ use certmesh::MesherOptions;
 /// `level`, depth limit `depth`), with the vertex table.
 fn all_tets(name: &str, level: u32, depth: u32) -> (Octree, Vec<[u32; 3]>, Vec<[u32; 4]>) {
     let e = catalog::get(name).unwrap();
-    let oct = Octree::build(&e.function(), &e.domain, level, depth, 1_000_000);
+    let oct = Octree::build(
+        &e.function(),
+        &e.domain,
+        level,
+        depth,
+        1_000_000,
+        &Default::default(),
+    );
     let mut vs = oct.vertices();
     let mut tets = Vec::new();
     for i in 0..oct.tree.leaves.len() {
@@ -28,10 +35,12 @@ fn all_tets(name: &str, level: u32, depth: u32) -> (Octree, Vec<[u32; 3]>, Vec<[
 /// levels (hanging faces and edges present). Tampered complexes are rejected.
 #[test]
 fn octree_tetrahedra_conform() {
+    let mut most_levels = 0;
     for (name, level, depth) in [("sphere", 2, 6), ("torus", 3, 7), ("two-spheres", 2, 7)] {
         let (oct, coords, tets) = all_tets(name, level, depth);
         let levels = oct.tree.by_depth();
-        assert!(levels.len() >= 3, "{name}: levels {levels:?}");
+        assert!(levels.len() >= 2, "{name}: levels {levels:?}");
+        most_levels = most_levels.max(levels.len());
         let top = 1u32 << (oct.tree.grid.depth + 1);
         check_conforming(&coords, &tets, top).unwrap_or_else(|e| panic!("{name}: {e}"));
         // Coned leaves (not six Kuhn tetrahedra) are present.
@@ -66,6 +75,8 @@ fn octree_tetrahedra_conform() {
         dup.push(tets[0]);
         assert!(check_conforming(&coords, &dup, top).is_err());
     }
+    // two-spheres is refined deep into the gap: leaves of several sizes side by side.
+    assert!(most_levels >= 4, "{most_levels}");
 }
 
 /// A run of adaptive BCSV with the defaults.

@@ -50,7 +50,7 @@ use crate::morse::octree::{self, Octree};
 use crate::subdivision::{Verdict, DEFAULT_MAX_BOXES};
 use inari::Interval;
 use serde::Serialize;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// The mesher.
 #[derive(Clone, Debug)]
@@ -260,6 +260,14 @@ fn add_tet(b: &mut Builder, key: (u32, u8), t: [u32; 4], s: [i8; 4]) -> Option<V
 /// Greedy collapse of the complex onto its Ŝ cells: the sequence of (τ, σ) pairs, or
 /// `None` when the greedy search gets stuck (which proves nothing).
 pub fn greedy_collapse(cx: &Complex) -> Option<Vec<(u32, u32)>> {
+    let (seq, alive) = greedy_run(cx);
+    (0..cx.cells.len())
+        .all(|i| alive[i] == cx.cells[i].in_s)
+        .then_some(seq)
+}
+
+/// The greedy search: the sequence found and the cells still alive where it stopped.
+fn greedy_run(cx: &Complex) -> (Vec<(u32, u32)>, Vec<bool>) {
     let n = cx.cells.len();
     let mut cof: Vec<Vec<u32>> = vec![Vec::new(); n];
     for (i, c) in cx.cells.iter().enumerate() {
@@ -310,8 +318,7 @@ pub fn greedy_collapse(cx: &Complex) -> Option<Vec<(u32, u32)>> {
             }
         }
     }
-    let done = (0..n).all(|i| alive[i] == cx.cells[i].in_s);
-    done.then_some(seq)
+    (seq, alive)
 }
 
 /// Replay a collapse sequence on the complex, checking every step from scratch
@@ -407,6 +414,12 @@ pub struct Attempt {
     pub min_level: Option<u32>,
     pub leaves: usize,
     pub deepest: u32,
+    /// Adaptive version: rounds of local refinement (where the collapse got stuck, or
+    /// where a leaf a repair round needed was not proven free of critical points).
+    pub local_rounds: usize,
+    /// The tetrahedra where the greedy collapse got stuck (not reported).
+    #[serde(skip)]
+    pub stuck_tets: Vec<u32>,
 }
 
 struct Grid {
@@ -956,10 +969,22 @@ fn certify_tets(
     rep.w_tets = tets.len();
     let cx = bld.cx;
     rep.cells = cx.cells.len();
-    let Some(seq) = greedy_collapse(&cx) else {
+    let (seq, alive) = greedy_run(&cx);
+    if (0..cx.cells.len()).any(|i| alive[i] != cx.cells[i].in_s) {
         rep.failure = Some("condition (3): the greedy collapse of W onto the cut surface got stuck (proves nothing; refine)".into());
+        // Where: the tetrahedra with a piece left (the adaptive version refines there).
+        rep.stuck_tets = bld
+            .ids
+            .iter()
+            .filter_map(|(k, &c)| match k {
+                CKey::T(t, _, _) if alive[c as usize] => Some(*t),
+                _ => None,
+            })
+            .collect();
+        rep.stuck_tets.sort_unstable();
+        rep.stuck_tets.dedup();
         return None;
-    };
+    }
     if let Err(e) = replay(&cx, &seq) {
         rep.failure = Some(format!("the collapse sequence failed its replay: {e}"));
         return None;
@@ -1052,7 +1077,38 @@ fn attempt_octree(
     max_boxes: u64,
     rep: &mut Attempt,
 ) -> Option<Success> {
-    let oct = Octree::build(f, d, min_level, max_depth, max_boxes);
+    let mut force = HashSet::new();
+    for round in 0.. {
+        *rep = Attempt {
+            resolution: rep.resolution,
+            min_level: rep.min_level,
+            local_rounds: round,
+            ..Default::default()
+        };
+        match try_octree(f, d, min_level, max_depth, max_boxes, &force, rep) {
+            Ok(s) => return Some(s),
+            Err(cells) if round < LOCAL_ROUNDS && !cells.is_empty() => force.extend(cells),
+            Err(_) => return None,
+        }
+    }
+    unreachable!("the loop returns")
+}
+
+/// Rounds of local refinement per adaptive attempt.
+const LOCAL_ROUNDS: usize = 6;
+
+/// One try of an adaptive attempt, the cells in `force` split once more; `Err` with
+/// the leaves to split where a local refinement may help (none: it fails as is).
+fn try_octree(
+    f: &dyn Implicit,
+    d: &Aabb,
+    min_level: u32,
+    max_depth: u32,
+    max_boxes: u64,
+    force: &HashSet<u64>,
+    rep: &mut Attempt,
+) -> std::result::Result<Success, Vec<u64>> {
+    let oct = Octree::build(f, d, min_level, max_depth, max_boxes, force);
     let tree = &oct.tree;
     let grid = tree.grid;
     rep.leaves = tree.leaves.len();
@@ -1085,7 +1141,7 @@ fn attempt_octree(
             l.cell.level,
             grid.cell_aabb(l.cell).center()
         ));
-        return None;
+        return Err(Vec::new());
     }
     let nl = tree.leaves.len();
     let mut inw: Vec<bool> = tree
@@ -1101,7 +1157,7 @@ fn attempt_octree(
             let Some(s) = octree::sign_on(f, &grid, l.cell, None) else {
                 rep.failure =
                     Some("an excluded leaf lost its proof (an internal inconsistency)".into());
-                return None;
+                return Err(Vec::new());
             };
             leaf_sign[i] = s;
         }
@@ -1112,10 +1168,12 @@ fn attempt_octree(
     loop {
         let w: Vec<usize> = (0..nl).filter(|&i| inw[i]).collect();
         let mut tets: Vec<[u32; 4]> = Vec::new();
+        let mut tet_leaf: Vec<usize> = Vec::new();
         let mut proven: HashMap<u32, i8> = HashMap::new();
         for &i in &w {
             let lt = cache.entry(i).or_insert_with(|| oct.leaf_tets(i, &mut vs));
             tets.extend_from_slice(&lt.tets);
+            tet_leaf.extend(std::iter::repeat(i).take(lt.tets.len()));
             let cell = tree.leaves[i].cell;
             for p in &lt.pieces {
                 // A piece of ∂W: across an excluded leaf (its proven sign), or on ∂D
@@ -1133,7 +1191,7 @@ fn attempt_octree(
                                     "S may meet the domain boundary (0 in the enclosure of f on a boundary face of the W leaf near {:?})",
                                     grid.cell_aabb(cell).center()
                                 ));
-                                return None;
+                                return Err(Vec::new());
                             }
                         }
                     }
@@ -1144,7 +1202,7 @@ fn attempt_octree(
                             "two proven signs of f at the vertex {:?} (an internal inconsistency)",
                             vs.pos(v)
                         ));
-                        return None;
+                        return Err(Vec::new());
                     }
                 }
             }
@@ -1154,8 +1212,17 @@ fn attempt_octree(
         let defects = manifold_defects(&tets);
         if defects.is_empty() {
             let pos = |v: u32| vs.pos(v);
-            let (mesh, complex, seq) = certify_tets(f, &tets, &pos, &proven, rep)?;
-            return Some(Success {
+            let Some((mesh, complex, seq)) = certify_tets(f, &tets, &pos, &proven, rep) else {
+                // Refine the leaves where the collapse got stuck.
+                let mut cells: Vec<u64> = rep
+                    .stuck_tets
+                    .iter()
+                    .map(|&t| tree.leaves[tet_leaf[t as usize]].cell.key())
+                    .collect();
+                cells.dedup();
+                return Err(cells);
+            };
+            return Ok(Success {
                 mesh,
                 complex,
                 seq,
@@ -1168,6 +1235,7 @@ fn attempt_octree(
         // Repair: add the leaves around each defective vertex. They were excluded
         // (so (E) and (1) still hold); condition (2) is proven on them here.
         let mut added = 0;
+        let mut unproven = Vec::new();
         for (v, _) in &defects {
             for j in oct.leaves_at(vs.coords[*v as usize]) {
                 if inw[j] {
@@ -1180,16 +1248,21 @@ fn attempt_octree(
                         grid.cell_aabb(tree.leaves[j].cell).center(),
                         defects[0].1
                     ));
-                    return None;
+                    unproven.push(tree.leaves[j].cell.key());
+                    continue;
                 }
                 inw[j] = true;
                 added += 1;
             }
         }
+        if !unproven.is_empty() {
+            // Split those leaves: their parts near the defect may be provable.
+            return Err(unproven);
+        }
         round += 1;
         if added == 0 || round > MAX_REPAIR {
             rep.failure = Some(format!("{} (after {round} repair rounds)", defects[0].1));
-            return None;
+            return Err(Vec::new());
         }
     }
 }

@@ -31,7 +31,7 @@ use crate::implicit::critical::linalg::{excludes_zero, sign};
 use crate::implicit::{IBox, Implicit, Regularity};
 use crate::kernel::geom::Aabb;
 use crate::subdivision::{pkey, subdivide, Budget, Cell, Decision, Grid, Tree, Verdict};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// The verdict of a box proven free of critical points of f.
 pub const NO_CRITICAL: &str = "no critical point";
@@ -72,7 +72,10 @@ pub fn sign_on(f: &dyn Implicit, g: &Grid, c: Cell, face: Option<(usize, u8)>) -
 }
 
 /// The refinement criterion of adaptive BCSV (module documentation).
-pub fn criterion(f: &dyn Implicit, g: &Grid, c: Cell) -> Decision {
+pub fn criterion(f: &dyn Implicit, g: &Grid, c: Cell, force: &HashSet<u64>) -> Decision {
+    if (c.level as u32) < g.depth && force.contains(&c.key()) {
+        return Decision::Split("refined where a previous try of the attempt failed");
+    }
     let b = g.cell_ibox(c);
     if box_sign(f, &b).is_some() {
         return Decision::Leaf(Verdict::Empty);
@@ -186,12 +189,15 @@ impl Octree {
     /// Subdivide the domain by [`criterion`] (every box not excluded split at least to
     /// `min_level`, at most to `max_depth`, within `max_boxes` box tests), then balance
     /// every leaf 2:1 against its face, edge and corner neighbours.
+    /// The cells of `force` are split once more (local refinement where a previous try
+    /// failed).
     pub fn build(
         f: &dyn Implicit,
         domain: &Aabb,
         min_level: u32,
         max_depth: u32,
         max_boxes: u64,
+        force: &HashSet<u64>,
     ) -> Octree {
         let grid = Grid {
             domain: *domain,
@@ -200,7 +206,7 @@ impl Octree {
         };
         let budget = Budget::new(max_boxes, None);
         let mut tree = subdivide(grid, min_level, max_depth, &budget, &|g: &Grid, c| {
-            criterion(f, g, c)
+            criterion(f, g, c, force)
         });
         // Children of a split leaf: excluded if proven so, else they keep the parent's
         // verdict (interval enclosures are inclusion monotone: no critical point in a
