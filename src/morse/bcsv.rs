@@ -973,11 +973,16 @@ fn certify_tets(
     if (0..cx.cells.len()).any(|i| alive[i] != cx.cells[i].in_s) {
         rep.failure = Some("condition (3): the greedy collapse of W onto the cut surface got stuck (proves nothing; refine)".into());
         // Where: the tetrahedra with a piece left (the adaptive version refines there).
+        // A tetrahedron is stuck when one of its cells, or of their faces, is left.
+        fn left(cx: &Complex, alive: &[bool], c: u32) -> bool {
+            let cell = &cx.cells[c as usize];
+            (alive[c as usize] && !cell.in_s) || cell.faces.iter().any(|&g| left(cx, alive, g))
+        }
         rep.stuck_tets = bld
             .ids
             .iter()
             .filter_map(|(k, &c)| match k {
-                CKey::T(t, _, _) if alive[c as usize] => Some(*t),
+                CKey::T(t, _, _) if left(&cx, &alive, c) => Some(*t),
                 _ => None,
             })
             .collect();
@@ -1219,6 +1224,7 @@ fn try_octree(
                     .iter()
                     .map(|&t| tree.leaves[tet_leaf[t as usize]].cell.key())
                     .collect();
+                cells.sort_unstable();
                 cells.dedup();
                 return Err(cells);
             };
@@ -1248,7 +1254,13 @@ fn try_octree(
                         grid.cell_aabb(tree.leaves[j].cell).center(),
                         defects[0].1
                     ));
-                    unproven.push(tree.leaves[j].cell.key());
+                    // Split it and the leaves of W at the defect: a finer W may not
+                    // need it.
+                    unproven.extend(
+                        oct.leaves_at(vs.coords[*v as usize])
+                            .into_iter()
+                            .map(|k| tree.leaves[k].cell.key()),
+                    );
                     continue;
                 }
                 inw[j] = true;
