@@ -1100,7 +1100,7 @@ fn attempt_octree(
 }
 
 /// Rounds of local refinement per adaptive attempt.
-const LOCAL_ROUNDS: usize = 6;
+const LOCAL_ROUNDS: usize = 4;
 
 /// One try of an adaptive attempt, the cells in `force` split once more; `Err` with
 /// the leaves to split where a local refinement may help (none: it fails as is).
@@ -1274,7 +1274,15 @@ fn try_octree(
         round += 1;
         if added == 0 || round > MAX_REPAIR {
             rep.failure = Some(format!("{} (after {round} repair rounds)", defects[0].1));
-            return Err(Vec::new());
+            // Refine the leaves at the defects that remain.
+            let mut cells: Vec<u64> = defects
+                .iter()
+                .flat_map(|(v, _)| oct.leaves_at(vs.coords[*v as usize]))
+                .map(|k| tree.leaves[k].cell.key())
+                .collect();
+            cells.sort_unstable();
+            cells.dedup();
+            return Err(cells);
         }
     }
 }
