@@ -61,14 +61,16 @@ pub fn sign_on(f: &dyn Implicit, g: &Grid, c: Cell, face: Option<(usize, u8)>) -
         if let Some(s) = box_sign(f, &g.ibox(lo, hi)) {
             return Some(s);
         }
-        if a.level == 0 {
-            return None;
-        }
-        a = Cell {
-            level: a.level - 1,
-            idx: a.idx.map(|x| x >> 1),
-        };
+        a = parent(a)?;
     }
+}
+
+/// The cell containing `c` one level up (`None` for the root).
+fn parent(c: Cell) -> Option<Cell> {
+    (c.level > 0).then(|| Cell {
+        level: c.level - 1,
+        idx: c.idx.map(|x| x >> 1),
+    })
 }
 
 /// The refinement criterion of adaptive BCSV (module documentation).
@@ -250,13 +252,7 @@ impl Octree {
             if let Some(&i) = self.leaf_of.get(&c.key()) {
                 return Some(i);
             }
-            if c.level == 0 {
-                return None;
-            }
-            c = Cell {
-                level: c.level - 1,
-                idx: c.idx.map(|x| x >> 1),
-            };
+            c = parent(c)?;
         }
     }
 
