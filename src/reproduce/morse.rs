@@ -356,7 +356,7 @@ fn list(v: &[&str]) -> String {
 /// The finding of §1, from the rows.
 fn finding(rep: &Report) -> String {
     let mut s = String::from("\n**Finding.** The chapter says BCSV is \"not meant to provide a geometrically accurate approximation of S, but rather to build a topologically correct approximation using as few elements as possible\".");
-    for (k, label) in [(0, "adaptive"), (1, "uniform")] {
+    for (k, label) in [(0, "Adaptive"), (1, "Uniform")] {
         let (pairs, fewer, faster) = against_pv(rep, k);
         let (lo, hi) = pairs.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
             (a.min(p.1), b.max(p.1))
