@@ -65,7 +65,8 @@ fn bcsv(c: &mut Criterion) {
         let e = catalog::get(name).unwrap();
         let f = e.function();
         for algo in ["bcsv", "pv", "snyder"] {
-            let m: Box<dyn Mesher> = registry::build(algo, 3, &Default::default()).unwrap();
+            // `bcsv/bcsv/*` stays the uniform version measured before the octree.
+            let m: Box<dyn Mesher> = registry::build(algo, 3, &options(algo, false)).unwrap();
             g.bench_function(format!("{algo}/{name}"), |b| {
                 b.iter(|| m.mesh(&f, &e.domain, &NoProgress).unwrap())
             });
@@ -74,5 +75,30 @@ fn bcsv(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, census, sweep, bcsv);
+/// The options of `algo`: for BCSV, the adaptive octree or the uniform Kuhn grid.
+fn options(algo: &str, octree: bool) -> certmesh::MesherOptions {
+    let mut o = certmesh::MesherOptions::default();
+    if algo == "bcsv" {
+        o.extra.insert("octree".into(), octree.to_string());
+    }
+    o
+}
+
+/// Adaptive BCSV (the 2:1-balanced octree with conforming tetrahedra, census
+/// included) on the sphere and the torus; compare with `bcsv/bcsv/*` (uniform).
+fn bcsv_octree(c: &mut Criterion) {
+    let mut g = c.benchmark_group("bcsv-octree");
+    g.sample_size(10);
+    for name in ["sphere", "torus"] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        let m: Box<dyn Mesher> = registry::build("bcsv", 3, &options("bcsv", true)).unwrap();
+        g.bench_function(format!("bcsv/{name}"), |b| {
+            b.iter(|| m.mesh(&f, &e.domain, &NoProgress).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, census, sweep, bcsv, bcsv_octree);
 criterion_main!(benches);

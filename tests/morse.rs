@@ -657,7 +657,13 @@ fn check_bcsv_certificate(name: &str, run: &certmesh::mesher::Run) {
     assert_eq!(Some(t.euler_characteristic), chi, "{name}");
     assert_eq!(s["chi_hat"], t.euler_characteristic, "{name}");
     let n = s["resolution"].as_u64().unwrap() as usize;
-    let (cx, seq) = certmesh::morse::bcsv::w_complex(&e.function(), &e.domain, n).unwrap();
+    let (cx, seq) = if s["octree"] == true {
+        let depth = s["max_depth"].as_u64().unwrap() as u32;
+        certmesh::morse::bcsv::w_complex_octree(&e.function(), &e.domain, n.trailing_zeros(), depth)
+            .unwrap()
+    } else {
+        certmesh::morse::bcsv::w_complex(&e.function(), &e.domain, n).unwrap()
+    };
     assert!(certmesh::morse::bcsv::replay(&cx, &seq).is_ok());
     assert_eq!(certmesh::morse::bcsv::chi_of_s(&cx), t.euler_characteristic);
 }

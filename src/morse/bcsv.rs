@@ -1,16 +1,20 @@
 //! Boissonnat–Cohen-Steiner–Vegter: piecewise-linear interpolation of f (the chapter
 //! "Meshing of Surfaces", §1.5.2, Theorem 8, Figs. 1.23–1.24): `--algo bcsv`.
 //!
-//! **What is built.** T is the Kuhn (Freudenthal) triangulation of a uniform n³ grid
-//! of the domain (6 tetrahedra per cube, conforming). Cubes are excluded by an octree
-//! over the grid (a block with 0 ∉ □f is excluded at once; a single cube also by up
-//! to 64 octant sub-proofs). W is the union of the cubes not excluded, grown by
-//! repair rounds until it is a PL 3-manifold. f̂ is the linear interpolation of values
-//! at the vertices of W: f's proven sign on ∂W, f's midpoint elsewhere (any nonzero
-//! value at an interior vertex whose sign is undecided). Ŝ = f̂⁻¹(0) is extracted
-//! exactly (marching tetrahedra on f̂). Attempts run at n = 4, 8, 16, … up to
-//! `--resolution` (default 64): a uniform refinement, not the chapter's adaptive
-//! octree with 2:1 balancing (not implemented).
+//! **What is built.** Two versions of T. *Adaptive* (default; [`octree`]): the
+//! chapter's octree, refined by a BCSV criterion run by the one subdivision engine
+//! (excluded where 0 ∉ □f; elsewhere split to the attempt's minimum level and on until
+//! proven free of critical points), 2:1 balanced, cut into conforming tetrahedra (Kuhn
+//! where a leaf has no hanging vertex, else a cone from its centre); attempts at
+//! minimum level 2, 3, … up to log2 `--resolution`. *Uniform* (`--set octree=false`):
+//! the Kuhn (Freudenthal) triangulation of a uniform n³ grid of the domain (6
+//! tetrahedra per cube), cubes excluded by an octree over the grid (a block with
+//! 0 ∉ □f at once; a single cube also by up to 64 octant sub-proofs); attempts at
+//! n = 4, 8, 16, … up to `--resolution` (default 64). In both, W is the union of the
+//! boxes not excluded, grown by repair rounds until it is a PL 3-manifold. f̂ is the
+//! linear interpolation of values at the vertices of W: f's proven sign on ∂W, f's
+//! midpoint elsewhere (any nonzero value at an interior vertex whose sign is
+//! undecided). Ŝ = f̂⁻¹(0) is extracted exactly (marching tetrahedra on f̂).
 //!
 //! **What is proven per attempt** (papers/meshing-of-surfaces/bcsv.md states and proves
 //! Theorem B from exactly these):
@@ -42,23 +46,37 @@ use crate::kernel::geom::Aabb;
 use crate::mesh::TriMesh;
 use crate::mesher::options::MesherOptions;
 use crate::mesher::{check_input, Certificate, Claim, Mesh, MeshOutput, Mesher, Progress};
+use crate::morse::octree::{self, Octree};
+use crate::subdivision::{Verdict, DEFAULT_MAX_BOXES};
 use inari::Interval;
 use serde::Serialize;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// The mesher.
 #[derive(Clone, Debug)]
 pub struct Bcsv {
-    /// The finest grid (cells per axis) tried (default 64, `--resolution`).
+    /// Uniform version: the finest grid (cells per axis) tried (default 64,
+    /// `--resolution`). Adaptive version: the finest minimum level tried is
+    /// log2 of it.
     pub max_resolution: usize,
     /// Box budget of the Morse census giving the certified χ(S) (default 20 000 for
     /// ∇f = 0, five times that for the height on S; `--set census-boxes=N`).
     pub census_boxes: usize,
+    /// The adaptive octree (2:1 balanced, conforming tetrahedra; [`octree`]) instead of
+    /// the uniform Kuhn grid (`--set octree=false|true`).
+    pub octree: bool,
+    /// Adaptive version: the depth limit of the octree (default 12, `--max-depth`).
+    pub max_depth: u32,
+    /// Adaptive version: box tests per attempt (default 10⁶, `--max-boxes`).
+    pub max_boxes: u64,
 }
+
+/// Whether `--algo bcsv` is adaptive unless told (`--set octree=`).
+pub const OCTREE_DEFAULT: bool = true;
 
 impl Bcsv {
     pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        o.check_keys("bcsv", &["census-boxes"])?;
+        o.check_keys("bcsv", &["census-boxes", "octree"])?;
         let max_resolution = o.resolution.unwrap_or(64);
         let census_boxes = o.get::<usize>("census-boxes")?.unwrap_or(20_000);
         if census_boxes == 0 {
@@ -71,9 +89,23 @@ impl Bcsv {
                 "bcsv: --resolution {max_resolution} must lie in 4..=256"
             )));
         }
+        let octree = o.get::<bool>("octree")?.unwrap_or(OCTREE_DEFAULT);
+        let max_depth = o.max_depth.unwrap_or(12);
+        if !(2..=16).contains(&max_depth) {
+            return Err(Error::Param(format!(
+                "bcsv: --max-depth {max_depth} must lie in 2..=16"
+            )));
+        }
+        let max_boxes = o.max_boxes.unwrap_or(DEFAULT_MAX_BOXES);
+        if max_boxes == 0 {
+            return Err(Error::Param("bcsv: --max-boxes must be at least 1".into()));
+        }
         Ok(Bcsv {
             max_resolution,
             census_boxes,
+            octree,
+            max_depth,
+            max_boxes,
         })
     }
 }
@@ -228,6 +260,14 @@ fn add_tet(b: &mut Builder, key: (u32, u8), t: [u32; 4], s: [i8; 4]) -> Option<V
 /// Greedy collapse of the complex onto its Ŝ cells: the sequence of (τ, σ) pairs, or
 /// `None` when the greedy search gets stuck (which proves nothing).
 pub fn greedy_collapse(cx: &Complex) -> Option<Vec<(u32, u32)>> {
+    let (seq, alive) = greedy_run(cx);
+    (0..cx.cells.len())
+        .all(|i| alive[i] == cx.cells[i].in_s)
+        .then_some(seq)
+}
+
+/// The greedy search: the sequence found and the cells still alive where it stopped.
+fn greedy_run(cx: &Complex) -> (Vec<(u32, u32)>, Vec<bool>) {
     let n = cx.cells.len();
     let mut cof: Vec<Vec<u32>> = vec![Vec::new(); n];
     for (i, c) in cx.cells.iter().enumerate() {
@@ -278,8 +318,7 @@ pub fn greedy_collapse(cx: &Complex) -> Option<Vec<(u32, u32)>> {
             }
         }
     }
-    let done = (0..n).all(|i| alive[i] == cx.cells[i].in_s);
-    done.then_some(seq)
+    (seq, alive)
 }
 
 /// Replay a collapse sequence on the complex, checking every step from scratch
@@ -368,6 +407,19 @@ pub struct Attempt {
     pub chi_hat: Option<i64>,
     /// `None` when every condition held.
     pub failure: Option<String>,
+    /// Adaptive version: the minimum level of the boxes not excluded (the attempt's
+    /// size condition; `resolution` is then 2^min_level), the leaves of the balanced
+    /// tree and the deepest level.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_level: Option<u32>,
+    pub leaves: usize,
+    pub deepest: u32,
+    /// Adaptive version: rounds of local refinement (where the collapse got stuck, or
+    /// where a leaf a repair round needed was not proven free of critical points).
+    pub local_rounds: usize,
+    /// The tetrahedra where the greedy collapse got stuck (not reported).
+    #[serde(skip)]
+    pub stuck_tets: Vec<u32>,
 }
 
 struct Grid {
@@ -464,7 +516,7 @@ fn proven_regular(f: &dyn Implicit, b: &IBox, depth: u32) -> std::result::Result
 }
 
 /// Octant splits allowed in the per-cube proofs (up to 64 pieces).
-const PROOF_DEPTH: u32 = 2;
+use octree::PROOF_DEPTH;
 
 /// The six Kuhn tetrahedra of the grid cube (i, j, k), as grid vertex ids (the one
 /// table of [`crate::marching::tets`]).
@@ -481,8 +533,13 @@ struct Success {
     mesh: TriMesh,
     complex: Complex,
     seq: Vec<(u32, u32)>,
+    /// Boxes (cubes or leaves) outside W, proven free of S.
     empty_cubes: usize,
+    /// Boxes (cubes or leaves) of W.
     w_cubes: usize,
+    w_tets: usize,
+    /// Boxes in all.
+    leaves: usize,
 }
 
 /// The complex of one tetrahedron with grid vertex ids `t` and signs `s` (±1) cut by
@@ -826,27 +883,48 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
     let mut state = vec![0i8; n * n * n];
     classify(f, &g, [0; 3], [n; 3], &mut state);
     let empty_cubes = state.iter().filter(|&&s| s != 0).count();
-    let (w_cubes, proven, tets) = loop_w(f, &g, &state, rep)?;
+    let (_, proven, tets) = loop_w(f, &g, &state, rep)?;
+    let (mesh, complex, seq) = certify_tets(f, &tets, &|v| g.pos(v), &proven, rep)?;
+    Some(Success {
+        mesh,
+        complex,
+        seq,
+        empty_cubes,
+        w_cubes: rep.w_cubes,
+        w_tets: tets.len(),
+        leaves: n * n * n,
+    })
+}
+
+/// Conditions (3) and (χ)'s χ(Ŝ) on the tetrahedra of W (vertex positions `pos`, the
+/// proven signs of f at the vertices of ∂W `proven`), given (E), (1), (2) and (M): f̂'s
+/// vertex values, the cut complex, its greedy collapse and the replay, and Ŝ as
+/// triangles oriented towards f̂ > 0. Shared by the uniform and the adaptive versions.
+fn certify_tets(
+    f: &dyn Implicit,
+    tets: &[[u32; 4]],
+    pos: &dyn Fn(u32) -> [f64; 3],
+    proven: &HashMap<u32, i8>,
+    rep: &mut Attempt,
+) -> Option<(TriMesh, Complex, Vec<(u32, u32)>)> {
     // f̂'s values at the vertices of W: f's midpoint where its sign is proven (and equal
     // to the proven sign on ∂W); at a vertex of ∂W whose point enclosure straddles 0,
     // the proven sign with a tiny magnitude; at an interior vertex of W with an
     // undecided sign, any nonzero value (Theorem B of bcsv.md does not use f̂ = f
     // there).
     let mut val: HashMap<u32, f64> = HashMap::new();
-    for c in &w_cubes {
-        for corner in 0..8usize {
-            let v = [0, 1, 2].map(|a| c[a] + (corner >> a & 1));
-            let id = g.vid(v[0], v[1], v[2]);
+    for t in tets {
+        for &id in t {
             if val.contains_key(&id) {
                 continue;
             }
-            let e = f.eval_interval(&g.pos(id).map(pt));
+            let e = f.eval_interval(&pos(id).map(pt));
             let mid = 0.5 * (e.inf() + e.sup());
             let x = match (sign(e), proven.get(&id)) {
                 (Some(s), Some(&p)) if s != p => {
                     rep.failure = Some(format!(
                         "the point sign of f at {:?} contradicts a proven cube sign (an internal inconsistency)",
-                        g.pos(id)
+                        pos(id)
                     ));
                     return None;
                 }
@@ -864,7 +942,7 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
                     if !mid.is_finite() {
                         rep.failure = Some(format!(
                             "f has no finite enclosure at the grid vertex {:?}",
-                            g.pos(id)
+                            pos(id)
                         ));
                         return None;
                     }
@@ -882,22 +960,36 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
     // The cut complex and Ŝ.
     let mut bld = Builder::default();
     let mut cuts: Vec<([u32; 4], [i8; 4], Vec<(VKey, VKey)>)> = Vec::new();
-    for &[i, j, k] in &w_cubes {
-        let ci = i + n * (j + n * k);
-        for (pi, t) in kuhn(&g, [i, j, k]).into_iter().enumerate() {
-            let sg = t.map(|v| if val[&v] > 0.0 { 1i8 } else { -1 });
-            if let Some(segs) = add_tet(&mut bld, (ci as u32, pi as u8), t, sg) {
-                cuts.push((t, sg, segs));
-            }
+    for (ti, &t) in tets.iter().enumerate() {
+        let sg = t.map(|v| if val[&v] > 0.0 { 1i8 } else { -1 });
+        if let Some(segs) = add_tet(&mut bld, (ti as u32, 0), t, sg) {
+            cuts.push((t, sg, segs));
         }
     }
     rep.w_tets = tets.len();
     let cx = bld.cx;
     rep.cells = cx.cells.len();
-    let Some(seq) = greedy_collapse(&cx) else {
+    let (seq, alive) = greedy_run(&cx);
+    if (0..cx.cells.len()).any(|i| alive[i] != cx.cells[i].in_s) {
         rep.failure = Some("condition (3): the greedy collapse of W onto the cut surface got stuck (proves nothing; refine)".into());
+        // Where: the tetrahedra with a piece left (the adaptive version refines there).
+        // A tetrahedron is stuck when one of its cells, or of their faces, is left.
+        fn left(cx: &Complex, alive: &[bool], c: u32) -> bool {
+            let cell = &cx.cells[c as usize];
+            (alive[c as usize] && !cell.in_s) || cell.faces.iter().any(|&g| left(cx, alive, g))
+        }
+        rep.stuck_tets = bld
+            .ids
+            .iter()
+            .filter_map(|(k, &c)| match k {
+                CKey::T(t, _, _) if left(&cx, &alive, c) => Some(*t),
+                _ => None,
+            })
+            .collect();
+        rep.stuck_tets.sort_unstable();
+        rep.stuck_tets.dedup();
         return None;
-    };
+    }
     if let Err(e) = replay(&cx, &seq) {
         rep.failure = Some(format!("the collapse sequence failed its replay: {e}"));
         return None;
@@ -912,7 +1004,7 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
             let VKey::Cut(a, b) = key else {
                 unreachable!("cut polygons have cut vertices")
             };
-            let (pa, pb) = (g.pos(a), g.pos(b));
+            let (pa, pb) = (pos(a), pos(b));
             let (fa, fb) = (val[&a], val[&b]);
             let s = fa / (fa - fb);
             mesh.vertices
@@ -951,7 +1043,7 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
                 let VKey::Cut(a, b) = c else {
                     unreachable!("cut polygons have cut vertices")
                 };
-                let (pa, pb) = (g.pos(a), g.pos(b));
+                let (pa, pb) = (pos(a), pos(b));
                 [0, 1, 2].map(|q| 0.5 * (pa[q] + pb[q]))
             })
             .collect();
@@ -960,7 +1052,7 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
             let c = cross(mids[q], mids[(q + 1) % mids.len()]);
             nrm = [0, 1, 2].map(|r| nrm[r] + c[r]);
         }
-        let p = t.map(|v| g.pos(v));
+        let p = t.map(|v| pos(v));
         let e = [1, 2, 3].map(|q| sub(p[q], p[0]));
         let dv = [1, 2, 3].map(|q| f64::from(sg[q] - sg[0]));
         let cr = [cross(e[1], e[2]), cross(e[2], e[0]), cross(e[0], e[1])];
@@ -974,13 +1066,241 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
                 .push(if flip { [tri[0], tri[2], tri[1]] } else { tri });
         }
     }
-    Some(Success {
-        mesh,
-        complex: cx,
-        seq,
-        empty_cubes,
-        w_cubes: rep.w_cubes,
-    })
+    Some((mesh, cx, seq))
+}
+
+/// One attempt of adaptive BCSV: the octree refined by [`octree::criterion`] with every
+/// box not excluded split at least to `min_level` (at most to `max_depth`, within
+/// `max_boxes` box tests), balanced 2:1 and tetrahedralized conformingly; W the leaves
+/// not excluded, grown by repair rounds until a 3-manifold; then the shared conditions
+/// ([`certify_tets`]).
+fn attempt_octree(
+    f: &dyn Implicit,
+    d: &Aabb,
+    min_level: u32,
+    max_depth: u32,
+    max_boxes: u64,
+    rep: &mut Attempt,
+) -> Option<Success> {
+    let mut force = HashSet::new();
+    for round in 0.. {
+        *rep = Attempt {
+            resolution: rep.resolution,
+            min_level: rep.min_level,
+            local_rounds: round,
+            ..Default::default()
+        };
+        match try_octree(f, d, min_level, max_depth, max_boxes, &force, rep) {
+            Ok(s) => return Some(s),
+            Err(cells) if round < LOCAL_ROUNDS && !cells.is_empty() => force.extend(cells),
+            Err(_) => return None,
+        }
+    }
+    unreachable!("the loop returns")
+}
+
+/// Rounds of local refinement per adaptive attempt.
+const LOCAL_ROUNDS: usize = 4;
+
+/// One try of an adaptive attempt, the cells in `force` split once more; `Err` with
+/// the leaves to split where a local refinement may help (none: it fails as is).
+fn try_octree(
+    f: &dyn Implicit,
+    d: &Aabb,
+    min_level: u32,
+    max_depth: u32,
+    max_boxes: u64,
+    force: &HashSet<u64>,
+    rep: &mut Attempt,
+) -> std::result::Result<Success, Vec<u64>> {
+    let oct = Octree::build(f, d, min_level, max_depth, max_boxes, force);
+    let tree = &oct.tree;
+    let grid = tree.grid;
+    rep.leaves = tree.leaves.len();
+    rep.deepest = tree
+        .leaves
+        .iter()
+        .map(|l| l.cell.level as u32)
+        .max()
+        .unwrap_or(0);
+    if let Some(l) = tree
+        .leaves
+        .iter()
+        .find(|l| matches!(l.verdict, Verdict::Failed(_)))
+    {
+        let Verdict::Failed(why) = l.verdict else {
+            unreachable!()
+        };
+        let failed = tree
+            .leaves
+            .iter()
+            .filter(|l| !l.verdict.certified())
+            .count();
+        rep.failure = Some(format!(
+            "the octree refinement stopped{} with {failed} undecided leaves, e.g. at level {} near {:?}: {why}",
+            if tree.refinement_complete {
+                format!(" at the depth limit {max_depth}")
+            } else {
+                " by the box budget (raise --max-boxes)".to_string()
+            },
+            l.cell.level,
+            grid.cell_aabb(l.cell).center()
+        ));
+        return Err(Vec::new());
+    }
+    let nl = tree.leaves.len();
+    let mut inw: Vec<bool> = tree
+        .leaves
+        .iter()
+        .map(|l| l.verdict != Verdict::Empty)
+        .collect();
+    let empty = nl - inw.iter().filter(|&&w| w).count();
+    // The proven sign of f on each excluded leaf (the criterion's proof, repeated).
+    let mut leaf_sign: Vec<i8> = vec![0; nl];
+    for (i, l) in tree.leaves.iter().enumerate() {
+        if !inw[i] {
+            let Some(s) = octree::sign_on(f, &grid, l.cell, None) else {
+                rep.failure =
+                    Some("an excluded leaf lost its proof (an internal inconsistency)".into());
+                return Err(Vec::new());
+            };
+            leaf_sign[i] = s;
+        }
+    }
+    let mut vs = oct.vertices();
+    let mut cache: HashMap<usize, octree::LeafTets> = HashMap::new();
+    let mut round = 0usize;
+    loop {
+        let w: Vec<usize> = (0..nl).filter(|&i| inw[i]).collect();
+        let mut tets: Vec<[u32; 4]> = Vec::new();
+        let mut tet_leaf: Vec<usize> = Vec::new();
+        let mut proven: HashMap<u32, i8> = HashMap::new();
+        for &i in &w {
+            let lt = cache.entry(i).or_insert_with(|| oct.leaf_tets(i, &mut vs));
+            tets.extend_from_slice(&lt.tets);
+            tet_leaf.extend(std::iter::repeat(i).take(lt.tets.len()));
+            let cell = tree.leaves[i].cell;
+            for p in &lt.pieces {
+                // A piece of ∂W: across an excluded leaf (its proven sign), or on ∂D
+                // (the proven sign of f on the leaf's whole face, or on the leaf itself
+                // when a repair round added it).
+                let s = match p.across {
+                    Some(j) if inw[j] => continue,
+                    Some(j) => leaf_sign[j],
+                    None if leaf_sign[i] != 0 => leaf_sign[i],
+                    None => {
+                        match octree::sign_on(f, &grid, cell, Some((p.axis as usize, p.side))) {
+                            Some(s) => s,
+                            None => {
+                                rep.failure = Some(format!(
+                                    "S may meet the domain boundary (0 in the enclosure of f on a boundary face of the W leaf near {:?})",
+                                    grid.cell_aabb(cell).center()
+                                ));
+                                return Err(Vec::new());
+                            }
+                        }
+                    }
+                };
+                for &v in &p.verts {
+                    if *proven.entry(v).or_insert(s) != s {
+                        rep.failure = Some(format!(
+                            "two proven signs of f at the vertex {:?} (an internal inconsistency)",
+                            vs.pos(v)
+                        ));
+                        return Err(Vec::new());
+                    }
+                }
+            }
+        }
+        rep.w_cubes = w.len();
+        rep.repair_rounds = round;
+        let defects = manifold_defects(&tets);
+        if defects.is_empty() {
+            let pos = |v: u32| vs.pos(v);
+            let Some((mesh, complex, seq)) = certify_tets(f, &tets, &pos, &proven, rep) else {
+                // Refine the leaves where the collapse got stuck.
+                let mut cells: Vec<u64> = rep
+                    .stuck_tets
+                    .iter()
+                    .map(|&t| tree.leaves[tet_leaf[t as usize]].cell.key())
+                    .collect();
+                cells.sort_unstable();
+                cells.dedup();
+                return Err(cells);
+            };
+            return Ok(Success {
+                mesh,
+                complex,
+                seq,
+                empty_cubes: empty,
+                w_cubes: w.len(),
+                w_tets: tets.len(),
+                leaves: nl,
+            });
+        }
+        // Repair: add the leaves around each defective vertex. They were excluded
+        // (so (E) and (1) still hold); condition (2) is proven on them here.
+        let mut added = 0;
+        let mut unproven = Vec::new();
+        for (v, _) in &defects {
+            for j in oct.leaves_at(vs.coords[*v as usize]) {
+                if inw[j] {
+                    continue;
+                }
+                let b = grid.cell_ibox(tree.leaves[j].cell);
+                if proven_regular(f, &b, PROOF_DEPTH) != Ok(true) {
+                    rep.failure = Some(format!(
+                        "condition (2) on a leaf added to make W a 3-manifold near {:?}: not proven free of critical points ({})",
+                        grid.cell_aabb(tree.leaves[j].cell).center(),
+                        defects[0].1
+                    ));
+                    // Split it and the leaves of W at the defect: a finer W may not
+                    // need it.
+                    unproven.extend(
+                        oct.leaves_at(vs.coords[*v as usize])
+                            .into_iter()
+                            .map(|k| tree.leaves[k].cell.key()),
+                    );
+                    continue;
+                }
+                inw[j] = true;
+                added += 1;
+            }
+        }
+        if !unproven.is_empty() {
+            // Split those leaves: their parts near the defect may be provable.
+            return Err(unproven);
+        }
+        round += 1;
+        if added == 0 || round > MAX_REPAIR {
+            rep.failure = Some(format!("{} (after {round} repair rounds)", defects[0].1));
+            // Refine the leaves at the defects that remain.
+            let mut cells: Vec<u64> = defects
+                .iter()
+                .flat_map(|(v, _)| oct.leaves_at(vs.coords[*v as usize]))
+                .map(|k| tree.leaves[k].cell.key())
+                .collect();
+            cells.sort_unstable();
+            cells.dedup();
+            return Err(cells);
+        }
+    }
+}
+
+/// One adaptive attempt with minimum level `min_level`: the cut complex of W and its
+/// replayed collapse sequence, or why the attempt failed (for tests and independent
+/// checkers).
+pub fn w_complex_octree(
+    f: &dyn Implicit,
+    domain: &Aabb,
+    min_level: u32,
+    max_depth: u32,
+) -> std::result::Result<(Complex, Vec<(u32, u32)>), String> {
+    let mut rep = Attempt::default();
+    match attempt_octree(f, domain, min_level, max_depth, DEFAULT_MAX_BOXES, &mut rep) {
+        Some(s) => Ok((s.complex, s.seq)),
+        None => Err(rep.failure.unwrap_or_default()),
+    }
 }
 
 impl Mesher for Bcsv {
@@ -1019,11 +1339,22 @@ impl Mesher for Bcsv {
                 resolution: n,
                 ..Default::default()
             };
-            let r = if f.is_rigorous() {
-                attempt(f, domain, n, &mut rep)
-            } else {
+            let r = if !f.is_rigorous() {
                 rep.failure = Some("the oracle's interval methods are not rigorous".into());
                 None
+            } else if self.octree {
+                let level = n.trailing_zeros();
+                rep.min_level = Some(level);
+                attempt_octree(
+                    f,
+                    domain,
+                    level,
+                    self.max_depth.max(level),
+                    self.max_boxes,
+                    &mut rep,
+                )
+            } else {
+                attempt(f, domain, n, &mut rep)
             };
             if let Some(s) = r {
                 if chi_s.is_some() && chi_s == rep.chi_hat {
@@ -1047,7 +1378,12 @@ impl Mesher for Bcsv {
             }
             attempts.push(rep);
             progress.inc(1);
-            if n >= self.max_resolution || !f.is_rigorous() {
+            let last = if self.octree {
+                2 * n > self.max_resolution
+            } else {
+                n >= self.max_resolution
+            };
+            if last || !f.is_rigorous() {
                 break;
             }
             n = (2 * n).min(self.max_resolution);
@@ -1067,7 +1403,12 @@ impl Mesher for Bcsv {
             serde_json::to_value(&chi_reason).expect("serialises"),
         );
         stats.insert("census_seconds".into(), census_seconds.into());
-        let w_statement = "W-certified: Theorem 8's conditions (1) f != 0 on the boundary of W, (2) no critical point of f in W, (3) a subdivision of W collapses onto the PL surface (sequence replayed), W a 3-manifold and S inside W, proven with intervals";
+        let w_statement = if self.octree {
+            "W-certified on the adaptive octree (2:1 balanced, conforming tetrahedra): Theorem 8's conditions"
+        } else {
+            "W-certified on the uniform Kuhn grid: Theorem 8's conditions"
+        };
+        let w_statement = format!("{w_statement} (1) f != 0 on the boundary of W, (2) no critical point of f in W, (3) a subdivision of W collapses onto the PL surface (sequence replayed), W a 3-manifold and S inside W, proven with intervals");
         let isotopic = found.is_some();
         let chosen = found.or(w_found);
         match chosen {
@@ -1075,8 +1416,16 @@ impl Mesher for Bcsv {
                 stats.insert("w_certified".into(), true.into());
                 stats.insert("isotopy_certified".into(), isotopic.into());
                 stats.insert("resolution".into(), n.into());
-                stats.insert("w_tetrahedra".into(), (6 * s.w_cubes).into());
-                stats.insert("tetrahedra".into(), (6 * n * n * n).into());
+                stats.insert("octree".into(), self.octree.into());
+                stats.insert("w_boxes".into(), s.w_cubes.into());
+                stats.insert("w_tetrahedra".into(), s.w_tets.into());
+                if self.octree {
+                    stats.insert("min_level".into(), n.trailing_zeros().into());
+                    stats.insert("max_depth".into(), self.max_depth.into());
+                    stats.insert("leaves".into(), s.leaves.into());
+                } else {
+                    stats.insert("tetrahedra".into(), (6 * n * n * n).into());
+                }
                 stats.insert("complex_cells".into(), s.complex.cells.len().into());
                 stats.insert("collapse_steps".into(), s.seq.len().into());
                 stats.insert("collapse_replayed".into(), true.into());
@@ -1088,7 +1437,7 @@ impl Mesher for Bcsv {
                     },
                     Claim::ExcludedEmpty {
                         empty: s.empty_cubes,
-                        boxes: n * n * n,
+                        boxes: s.leaves,
                     },
                 ];
                 let certificate = if isotopic {

@@ -29,6 +29,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 pub mod bcsv;
+pub mod octree;
 pub mod stander_hart;
 
 /// The budgets and the height direction of a census.

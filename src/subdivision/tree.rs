@@ -414,6 +414,24 @@ impl Tree {
     /// box are re-tested for emptiness only: the SNV condition carries over to sub-boxes
     /// (interval evaluation is inclusion monotone).
     pub fn balance(&mut self, f: &dyn Implicit) {
+        self.balance_with(false, &|g: &Grid, c: Cell, v: Verdict| {
+            if excludes_zero(f.eval_interval(&g.cell_ibox(c))) {
+                Verdict::Empty
+            } else {
+                v
+            }
+        });
+    }
+
+    /// 2:1 balancing with the criterion's own rule for the children of a split leaf
+    /// (`child(grid, cell, parent verdict)`); `all`: split empty leaves too (a fully
+    /// graded tree, every leaf within one level of each neighbour by a face, an edge
+    /// or a corner), else only the leaves that are not empty (Plantinga–Vegter).
+    pub fn balance_with(
+        &mut self,
+        all: bool,
+        child: &(dyn Fn(&Grid, Cell, Verdict) -> Verdict + Sync),
+    ) {
         let dim = self.grid.dim;
         loop {
             let internal = &self.internal;
@@ -421,7 +439,9 @@ impl Tree {
             let need: Vec<bool> = self
                 .leaves
                 .par_iter()
-                .map(|l| l.verdict != Verdict::Empty && needs_split(&grid, internal, l.cell))
+                .map(|l| {
+                    (all || l.verdict != Verdict::Empty) && needs_split(&grid, internal, l.cell)
+                })
                 .collect();
             if !need.iter().any(|&b| b) {
                 break;
@@ -439,16 +459,13 @@ impl Tree {
             let new: Vec<Leaf> = split
                 .par_iter()
                 .flat_map_iter(|l| {
-                    l.cell.children(dim).into_iter().map(move |c| {
-                        let v = if excludes_zero(f.eval_interval(&grid.cell_ibox(c))) {
+                    l.cell.children(dim).into_iter().map(move |c| Leaf {
+                        cell: c,
+                        verdict: if l.verdict == Verdict::Empty {
                             Verdict::Empty
                         } else {
-                            l.verdict
-                        };
-                        Leaf {
-                            cell: c,
-                            verdict: v,
-                        }
+                            child(&grid, c, l.verdict)
+                        },
                     })
                 })
                 .collect();
