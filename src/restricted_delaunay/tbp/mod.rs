@@ -51,7 +51,7 @@ use crate::implicit::ops::{enclose, SegmentBudget};
 use crate::implicit::{IBox, Implicit};
 use crate::kernel::delaunay::{CellId, Delaunay, VertexId};
 use crate::kernel::geom::{cross, dist, dot, Aabb};
-use cover::{cover, no_silhouette, no_tangency, pt, CoverBudget, HalfSpace, Region};
+use cover::{cover, no_silhouette, no_tangency, pt, Cover, CoverBudget, HalfSpace, Region};
 use inari::Interval;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -384,6 +384,28 @@ fn start_boxes(
     starts
 }
 
+/// Try the candidate directions in turn (the first `tries` of them that normalise to
+/// unit vectors, at least one) until `cover_in` covers the face for one; the boxes of
+/// every cover tried are summed. `Ok(boxes)`, or `Err((boxes, centre of the last
+/// failed box))` when none covers.
+fn first_direction_that_covers(
+    cands: Vec<[f64; 3]>,
+    tries: usize,
+    mut cover_in: impl FnMut([f64; 3]) -> Cover,
+) -> Result<u64, (u64, Option<[f64; 3]>)> {
+    let mut boxes = 0u64;
+    let mut last = None;
+    for d in cands.into_iter().filter_map(unit).take(tries.max(1)) {
+        let c = cover_in(d);
+        boxes += c.boxes as u64;
+        if c.ok {
+            return Ok(boxes);
+        }
+        last = c.failed;
+    }
+    Err((boxes, last.map(|x| mid(&x))))
+}
+
 /// Faces per batch of [`start_boxes`] (and per parallel task).
 const CHUNK: usize = 64;
 
@@ -446,29 +468,24 @@ fn check_facet(
         cands.push(cross(n, e));
     }
     let smooth = f.regularity(&start) == crate::implicit::Regularity::Smooth;
-    let mut boxes = 0u64;
-    let mut last = None;
-    for w in cands.into_iter().filter_map(unit).take(o.directions.max(1)) {
+    let tried = first_direction_that_covers(cands, o.directions, |w| {
         // d = w × (q − p) is exactly in the bisector plane; enclose it.
         let d = icross(&w.map(pt), &ni);
-        let c = cover(start, &region, o.cover, |x, _| {
+        cover(start, &region, o.cover, |x, _| {
             no_tangency(f, x, &d, smooth)
-        });
-        boxes += c.boxes as u64;
-        if c.ok {
-            return FaceResult {
-                failure: None,
-                boxes,
-            };
-        }
-        last = c.failed;
+        })
+    });
+    match tried {
+        Ok(boxes) => FaceResult {
+            failure: None,
+            boxes,
+        },
+        Err((boxes, last)) => fail(
+            last.unwrap_or_else(|| mid(&start)),
+            "Voronoi facet: a point of S with its tangent in every tried direction of the facet's plane (a closed curve, or S tangent to the plane) is not excluded".into(),
+            boxes,
+        ),
     }
-    let m = last.map(|x| mid(&x)).unwrap_or_else(|| mid(&start));
-    fail(
-        m,
-        "Voronoi facet: a point of S with its tangent in every tried direction of the facet's plane (a closed curve, or S tangent to the plane) is not excluded".into(),
-        boxes,
-    )
 }
 
 fn check_cell(
@@ -513,29 +530,24 @@ fn check_cell(
     let mut cands = vec![f.grad(pp).g, f.grad(mid(&start)).g];
     cands.extend([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
     let smooth = f.regularity(&start) == crate::implicit::Regularity::Smooth;
-    let mut boxes = 0u64;
-    let mut last = None;
-    for d in cands.into_iter().filter_map(unit).take(o.directions.max(1)) {
+    let tried = first_direction_that_covers(cands, o.directions, |d| {
         let d2 = transverse(d).map(pt);
         let di = d.map(pt);
-        let c = cover(start, &region, o.cover, |x, place| {
+        cover(start, &region, o.cover, |x, place| {
             no_silhouette(f, x, place, &di, &d2, smooth)
-        });
-        boxes += c.boxes as u64;
-        if c.ok {
-            return FaceResult {
-                failure: None,
-                boxes,
-            };
-        }
-        last = c.failed;
+        })
+    });
+    match tried {
+        Ok(boxes) => FaceResult {
+            failure: None,
+            boxes,
+        },
+        Err((boxes, last)) => fail(
+            last.unwrap_or(pp),
+            "Voronoi cell: a silhouette point of S (normal perpendicular to d) is not excluded in the cell: a handle, a second sheet or a small component may be there".into(),
+            boxes,
+        ),
     }
-    let m = last.map(|x| mid(&x)).unwrap_or(pp);
-    fail(
-        m,
-        "Voronoi cell: a silhouette point of S (normal perpendicular to d) is not excluded in the cell: a handle, a second sheet or a small component may be there".into(),
-        boxes,
-    )
 }
 
 /// Run the checks on the kernel's triangulation `t` (see the module documentation).
