@@ -152,7 +152,7 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             "bcsv",
             3,
             false,
-            "Boissonnat–Cohen-Steiner–Vegter PL interpolation on the tetrahedra of an adaptive 2:1 octree (--set octree=false: a uniform Kuhn grid): isotopic when Thm 8's conditions hold, W is a 3-manifold and the certified chi(S) equals chi(S-hat) (Theorem B, bcsv.md); else W-certified at most",
+            "Boissonnat–Cohen-Steiner–Vegter PL interpolation on a uniform Kuhn grid (--set octree=true: the tetrahedra of an adaptive 2:1 octree): isotopic when Thm 8's conditions hold, W is a 3-manifold and the certified chi(S) equals chi(S-hat) (Theorem B, bcsv.md); else W-certified at most",
             crate::morse::bcsv::Bcsv,
             &["resolution", "max-depth", "max-boxes"]
         ),

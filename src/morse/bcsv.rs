@@ -1,12 +1,12 @@
 //! Boissonnat–Cohen-Steiner–Vegter: piecewise-linear interpolation of f (the chapter
 //! "Meshing of Surfaces", §1.5.2, Theorem 8, Figs. 1.23–1.24): `--algo bcsv`.
 //!
-//! **What is built.** Two versions of T. *Adaptive* (default; [`octree`]): the
+//! **What is built.** Two versions of T. *Adaptive* (`--set octree=true`; [`octree`]): the
 //! chapter's octree, refined by a BCSV criterion run by the one subdivision engine
 //! (excluded where 0 ∉ □f; elsewhere split to the attempt's minimum level and on until
 //! proven free of critical points), 2:1 balanced, cut into conforming tetrahedra (Kuhn
 //! where a leaf has no hanging vertex, else a cone from its centre); attempts at
-//! minimum level 2, 3, … up to log2 `--resolution`. *Uniform* (`--set octree=false`):
+//! minimum level 2, 3, … up to log2 `--resolution`. *Uniform* (the default):
 //! the Kuhn (Freudenthal) triangulation of a uniform n³ grid of the domain (6
 //! tetrahedra per cube), cubes excluded by an octree over the grid (a block with
 //! 0 ∉ □f at once; a single cube also by up to 64 octant sub-proofs); attempts at
@@ -71,8 +71,12 @@ pub struct Bcsv {
     pub max_boxes: u64,
 }
 
-/// Whether `--algo bcsv` is adaptive unless told (`--set octree=`).
-pub const OCTREE_DEFAULT: bool = true;
+/// Whether `--algo bcsv` is adaptive unless told (`--set octree=`). Uniform: the
+/// adaptive version certifies every smooth catalog surface at default settings (the
+/// uniform one needs `--resolution 256` for two-spheres and thin-torus), but its
+/// failed local tries make it up to 100× slower (tanglecube, release build, quiet
+/// machine: 65 s against 0.65 s; bcsv.md).
+pub const OCTREE_DEFAULT: bool = false;
 
 impl Bcsv {
     pub fn from_options(o: &MesherOptions) -> Result<Self> {
