@@ -738,3 +738,40 @@ fn hausdorff_only_fidelity_keeps_the_hausdorff_fields() {
         );
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// The report's histogram-free angle summary (atan2 only where an extreme or a
+    /// triangle's smallest angle is not proven) equals the full summary bit for bit:
+    /// on integer lattice points (right, isosceles and equilateral-like ties, repeated
+    /// and collinear corners), scaled to tiny and huge coordinates, and on random reals.
+    #[test]
+    fn triangle_ranges_equal_the_full_summary(
+        lattice in prop::collection::vec(prop::array::uniform3(prop::array::uniform3(-2i32..3)), 1..40),
+        reals in prop::collection::vec(prop::array::uniform3(prop::array::uniform3(-3.0f64..3.0)), 0..20),
+        scale in prop::sample::select(vec![1.0, 1e-150, 3.0e150, 0.1]),
+    ) {
+        let mut m = TriMesh::default();
+        let tris = lattice
+            .iter()
+            .map(|t| t.map(|p| p.map(|x| x as f64 * scale)))
+            .chain(reals.iter().copied());
+        for t in tris {
+            let i = m.vertices.len() as u32;
+            m.vertices.extend_from_slice(&t);
+            m.triangles.push([i, i + 1, i + 2]);
+        }
+        // A repeated index too (degenerate by combinatorics).
+        m.triangles.push([0, 0, 1]);
+        let full = angles::triangle_summary(&m, 5.0).unwrap();
+        let fast = angles::triangle_ranges(&m).unwrap();
+        let bits = |x: Option<f64>| x.map(f64::to_bits);
+        prop_assert_eq!(fast.degenerate, full.degenerate);
+        prop_assert_eq!(bits(fast.min_angle_deg), bits(full.min_angle_deg));
+        prop_assert_eq!(bits(fast.max_angle_deg), bits(full.max_angle_deg));
+        prop_assert_eq!(bits(fast.mean_min_angle_deg), bits(full.mean_min_angle_deg));
+        prop_assert_eq!(bits(fast.min_edge_ratio), bits(full.min_edge_ratio));
+        prop_assert_eq!(bits(fast.max_edge_ratio), bits(full.max_edge_ratio));
+    }
+}

@@ -145,7 +145,7 @@ pub fn stats_and_topology(
         || analyze(mesh),
         || {
             rayon::join(
-                || angles::triangle_summary(mesh, ANGLE_BIN_DEG),
+                || angles::triangle_ranges(mesh),
                 || {
                     f.map(|f| fidelity::surface_fidelity(mesh, f, params))
                         .transpose()
@@ -221,7 +221,7 @@ pub fn tet_stats(
     let topo = analyze_tets(mesh)?;
     let ang = angles::tet_summary(mesh, ANGLE_BIN_DEG)?;
     let surf = mesh.boundary();
-    let bang = angles::triangle_summary(&surf, ANGLE_BIN_DEG)?;
+    let bang = angles::triangle_ranges(&surf)?;
     let fidelity = match f {
         Some(f) => Some(fidelity::surface_fidelity(&surf, f, params)?),
         None => None,

@@ -2,6 +2,7 @@
 //! angles, plane angles of every tetrahedron face, plane angles of the exposed
 //! (boundary) triangles, and inverted-tetrahedron counts (exact `orient3d`).
 use crate::kernel::geom::{cross, dot, norm, sub};
+use crate::metrics::angles::{angle_pair, Extremes};
 use crate::mesh::{TetMesh, TriMesh};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -28,13 +29,6 @@ fn dihedral_pairs(p: [[f64; 3]; 4]) -> [(f64, f64); 6] {
     })
 }
 
-/// The angle at `b` of the triangle `a b c` as the pair of [`angle_deg`]: atan2 of it
-/// is the angle (the same operations, so the same bits).
-fn angle_pair(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> (f64, f64) {
-    let (u, v) = (sub(a, b), sub(c, b));
-    (norm(cross(u, v)), dot(u, v))
-}
-
 /// The angle of a pair, in degrees.
 fn deg((y, x): (f64, f64)) -> f64 {
     y.atan2(x).to_degrees()
@@ -54,50 +48,6 @@ fn plane_angle_pairs(p: [[f64; 3]; 4]) -> [(f64, f64); 12] {
         }
     }
     out
-}
-
-/// A running minimum and maximum of angles given as atan2 pairs (y ≥ 0), computing
-/// atan2 only for a pair that may beat the current extremes: with (cos m, sin m) of
-/// the current minimum m, cos m · y − sin m · x = |(x, y)| sin(θ − m), so a value above
-/// 10⁻⁹ (|x| + |y|) proves θ > m + 10⁻⁹ rad, far beyond the rounding of atan2 and of
-/// the test (about 10⁻¹⁶ relative); likewise for the maximum. The extremes are
-/// therefore those of atan2 over every pair, bit for bit.
-#[derive(Clone, Copy, Debug)]
-struct Extremes {
-    min: f64,
-    max: f64,
-    // (cos, sin) of the current extremes; (0, 0) before the first value, so that the
-    // first pair is always computed.
-    min_dir: [f64; 2],
-    max_dir: [f64; 2],
-}
-
-impl Extremes {
-    const EMPTY: Extremes = Extremes {
-        min: f64::INFINITY,
-        max: f64::NEG_INFINITY,
-        min_dir: [0.0; 2],
-        max_dir: [0.0; 2],
-    };
-    #[inline]
-    fn offer(&mut self, (y, x): (f64, f64)) {
-        let r = 1e-9 * (y.abs() + x.abs());
-        let above_min = self.min_dir[0] * y - self.min_dir[1] * x > r;
-        let below_max = self.max_dir[0] * y - self.max_dir[1] * x < -r;
-        if above_min && below_max {
-            return;
-        }
-        let t = y.atan2(x);
-        let a = t.to_degrees();
-        if a < self.min {
-            self.min = a;
-            self.min_dir = [t.cos(), t.sin()];
-        }
-        if a > self.max {
-            self.max = a;
-            self.max_dir = [t.cos(), t.sin()];
-        }
-    }
 }
 
 /// Extreme angles of a tetrahedral mesh and its boundary.
@@ -136,12 +86,7 @@ pub fn summarize(tets: &TetMesh, boundary: &TriMesh) -> AngleSummary {
     let none: Acc = (Extremes::EMPTY, Extremes::EMPTY, Extremes::EMPTY, 0);
     let merge = |mut a: Acc, b: Acc| {
         for (x, y) in [(&mut a.0, b.0), (&mut a.1, b.1), (&mut a.2, b.2)] {
-            if y.min < x.min {
-                (x.min, x.min_dir) = (y.min, y.min_dir);
-            }
-            if y.max > x.max {
-                (x.max, x.max_dir) = (y.max, y.max_dir);
-            }
+            x.merge(y);
         }
         a.3 += b.3;
         a
