@@ -175,6 +175,42 @@ fn general_link_is_disk_or_sphere(
 /// Links of at most this many faces are checked on the stack ([`small_link_is_disk_or_sphere`]).
 const SMALL_LINK: usize = 24;
 
+/// The common case of [`small_link_is_disk_or_sphere`], decided fast: the link
+/// edges (a, b) of a consistently oriented interior vertex (each face v a b gives the
+/// link edge a → b) form one directed cycle. When the sources are distinct, the
+/// targets are distinct and following a → b from the first edge returns to it after
+/// exactly all n edges, every link vertex ends at most two edges and the link is
+/// connected, so the general check would say true. Anything else (a boundary vertex,
+/// a flipped face, a pinch) is left to the general check: `false` here decides nothing.
+#[inline]
+fn is_one_directed_cycle(ends: &[(u32, u32)]) -> bool {
+    let n = ends.len();
+    for i in 0..n {
+        for j in i + 1..n {
+            if ends[i].0 == ends[j].0 || ends[i].1 == ends[j].1 {
+                return false;
+            }
+        }
+    }
+    let (mut at, mut steps) = (0usize, 0usize);
+    loop {
+        let x = ends[at].1;
+        match ends.iter().position(|e| e.0 == x) {
+            Some(j) => {
+                steps += 1;
+                if j == 0 {
+                    return steps == n;
+                }
+                if steps >= n {
+                    return false;
+                }
+                at = j;
+            }
+            None => return false,
+        }
+    }
+}
+
 /// [`link_is_disk_or_sphere`] for a small link, without sorting or allocation: the
 /// link edges must be connected (a search over edges sharing an end, quadratic in the
 /// valence) and no link vertex may end more than two of them.
@@ -187,6 +223,9 @@ fn small_link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]]) -> boo
         *e = (t[(k + 1) % 3], t[(k + 2) % 3]);
     }
     let ends = &ends[..n];
+    if is_one_directed_cycle(ends) {
+        return true;
+    }
     for &(a, b) in ends {
         for x in [a, b] {
             let d: usize = ends
@@ -217,45 +256,109 @@ fn small_link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]]) -> boo
     count == n
 }
 
-/// A half-edge in [`edge_buckets`]: the edge's larger vertex, the face, and whether
-/// the face traverses the edge from the smaller vertex to the larger.
-pub(crate) type HalfEdge = (u32, u32, bool);
-
-/// The edges of the non-degenerate faces with the faces on them, in linear time:
-/// bucket `lo` holds a [`HalfEdge`] `(hi, face, lo -> hi)` for every face edge
-/// {lo < hi}, sorted by `(hi, face)`, so each undirected edge is one run
-/// ([`Buckets::runs`] by `.0`) with its faces ascending.
-pub(crate) fn edge_buckets(nv: usize, tris: &[[u32; 3]], degenerate: &[bool]) -> Buckets<HalfEdge> {
-    let mut b = Buckets::build(nv, |emit| {
+/// Every vertex's non-degenerate faces, in face order: the stars of [`stars_of`].
+fn star_buckets(nv: usize, tris: &[[u32; 3]], degenerate: &[bool]) -> Buckets<u32> {
+    Buckets::build(nv, |emit| {
         for (f, t) in tris.iter().enumerate() {
-            if degenerate[f] {
-                continue;
-            }
-            for k in 0..3 {
-                let (a, b) = (t[k], t[(k + 1) % 3]);
-                emit(a.min(b), (a.max(b), f as u32, a < b));
+            if !degenerate[f] {
+                for &v in t {
+                    emit(v, f as u32);
+                }
             }
         }
-    });
-    b.sort_each_by_key(|&(hi, f, _)| (hi, f));
-    b
+    })
 }
 
-/// Faces with the same vertex set as an earlier face (either orientation), counted in
-/// linear time (bucketed by the smallest vertex).
-fn duplicate_faces(nv: usize, tris: &[[u32; 3]]) -> usize {
-    let mut b = Buckets::build(nv, |emit| {
-        for t in tris {
-            let mut k = *t;
-            k.sort_unstable();
-            emit(k[0], (k[1], k[2]));
+/// Vertices per task of the star pass of [`analyze`].
+const STAR_CHUNK: usize = 2048;
+
+/// What the star of one vertex v tells, about the edges {v, u} with u > v (so each
+/// edge is seen once) and v's link.
+#[derive(Clone, Copy, Default)]
+struct StarCounts {
+    edges: u32,
+    boundary_edges: u32,
+    non_manifold_edges: u32,
+    bad_link: bool,
+}
+
+/// The stars of a range of vertices (see [`stars_of`]).
+struct Stars {
+    first: usize,
+    at: Vec<StarCounts>,
+    /// Boundary edges (v, u), ascending.
+    boundary: Vec<(u32, u32)>,
+    /// Manifold edges' faces (f < g) and whether they traverse the edge the same way.
+    adjacent: Vec<(u32, u32, bool)>,
+    inconsistent_edges: usize,
+    /// Faces whose vertex set equals an earlier face's, counted at their smallest vertex.
+    duplicate_faces: usize,
+}
+
+/// The star pass of [`analyze`] over `range`: for each vertex v, its faces' edges
+/// {v, u} with u > v as (u, face, traversed from v to u), sorted by (u, face): one run
+/// per edge, with its faces ascending (what a global sort of the half-edges by (lo, hi,
+/// face) gives, edge by edge); v's link; and the vertex sets of the faces whose
+/// smallest vertex is v.
+fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &Buckets<u32>) -> Stars {
+    let mut out = Stars {
+        first: range.start,
+        at: vec![StarCounts::default(); range.len()],
+        boundary: Vec::new(),
+        adjacent: Vec::new(),
+        inconsistent_edges: 0,
+        duplicate_faces: 0,
+    };
+    let mut half: Vec<(u32, u32, bool)> = Vec::new();
+    let mut sets: Vec<(u32, u32)> = Vec::new();
+    let mut scratch = LinkScratch::default();
+    for (k, v) in range.enumerate() {
+        let fs = vfaces.bucket(v);
+        if fs.is_empty() {
+            continue;
         }
-    });
-    b.sort_each_by_key(|&k| k);
-    (0..nv)
-        .into_par_iter()
-        .map(|v| b.runs(v, |&k| k).map(|r| r.len() - 1).sum::<usize>())
-        .sum()
+        let v32 = v as u32;
+        half.clear();
+        sets.clear();
+        for &f in fs {
+            let t = tris[f as usize];
+            let i = t.iter().position(|&x| x == v32).unwrap_or(0);
+            // The face runs v -> a and b -> v.
+            let (a, b) = (t[(i + 1) % 3], t[(i + 2) % 3]);
+            if a > v32 {
+                half.push((a, f, true));
+            }
+            if b > v32 {
+                half.push((b, f, false));
+            }
+            if a > v32 && b > v32 {
+                sets.push((a.min(b), a.max(b)));
+            }
+        }
+        half.sort_unstable_by_key(|&(u, f, _)| (u, f));
+        let at = &mut out.at[k];
+        for run in half.chunk_by(|x, y| x.0 == y.0) {
+            at.edges += 1;
+            match run.len() {
+                1 => {
+                    out.boundary.push((v32, run[0].0));
+                    at.boundary_edges += 1;
+                }
+                2 => {
+                    let same = run[0].2 == run[1].2;
+                    out.inconsistent_edges += same as usize;
+                    out.adjacent.push((run[0].1, run[1].1, same));
+                }
+                _ => at.non_manifold_edges += 1,
+            }
+        }
+        if sets.len() > 1 {
+            sets.sort_unstable();
+            out.duplicate_faces += sets.windows(2).filter(|w| w[0] == w[1]).count();
+        }
+        at.bad_link = !link_is_disk_or_sphere(v32, fs, tris, &mut scratch);
+    }
+    out
 }
 
 impl TopologyReport {
@@ -277,10 +380,12 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         .map(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
         .collect();
 
-    // Components (union the vertices of every face) beside the edges (the half-edges
-    // grouped by undirected edge, linear time, no global sort): both serial, on two
-    // threads.
-    let ((used, root, comp_of_root, ncomp), eb) = rayon::join(
+    // Every vertex's faces (the non-degenerate ones, in face order): its star.
+    let vfaces = star_buckets(nv, tris, &degenerate);
+    // Components (union the vertices of every face) beside one parallel pass over the
+    // stars, which finds every edge at its smaller vertex, the link of every vertex and
+    // the duplicate faces at their smallest vertex.
+    let ((used, root, comp_of_root, ncomp), stars) = rayon::join(
         || {
             let mut uf = UnionFind::new(nv);
             let mut used = vec![false; nv];
@@ -302,8 +407,14 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
             }
             (used, root, comp_of_root, ncomp)
         },
-        || edge_buckets(nv, tris, &degenerate),
+        || {
+            (0..nv.div_ceil(STAR_CHUNK))
+                .into_par_iter()
+                .map(|c| stars_of(c * STAR_CHUNK..((c + 1) * STAR_CHUNK).min(nv), tris, &vfaces))
+                .collect::<Vec<Stars>>()
+        },
     );
+    drop(vfaces);
     let comp = |v: u32| comp_of_root[root[v as usize] as usize] as usize;
 
     let mut c_edges = vec![0usize; ncomp];
@@ -313,37 +424,49 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
     let mut c_bad = vec![false; ncomp]; // non-manifold somewhere
     let mut c_nonorientable = vec![false; ncomp];
     let mut edges = 0usize;
-    let mut boundary: Vec<(u32, u32)> = Vec::new();
     let mut non_manifold_edges = 0usize;
     let mut inconsistent_edges = 0usize;
+    let mut duplicate_faces = 0usize;
+    let mut non_manifold_vertices = 0;
+    // The stars' results, in vertex order (so the boundary edges and the face
+    // adjacencies come ascending by edge, as a sort of the edges would give them).
+    let mut boundary: Vec<(u32, u32)> = Vec::new();
     // Face adjacency over manifold edges: (f, g, same direction).
     let mut adj_pairs: Vec<(u32, u32, bool)> = Vec::new();
-    for lo in 0..nv {
-        for run in eb.runs(lo, |e| e.0) {
-            let (lo, hi) = (lo as u32, run[0].0);
-            let c = comp(lo);
-            edges += 1;
-            c_edges[c] += 1;
-            match run.len() {
-                1 => {
-                    boundary.push((lo, hi));
-                    c_bedges[c] += 1;
-                }
-                2 => {
-                    let same = run[0].2 == run[1].2;
-                    if same {
-                        inconsistent_edges += 1;
-                    }
-                    adj_pairs.push((run[0].1, run[1].1, same));
-                }
-                _ => {
-                    non_manifold_edges += 1;
-                    c_bad[c] = true;
-                }
+    for st in stars {
+        for (k, at) in st.at.iter().enumerate() {
+            if !used[st.first + k] {
+                continue;
             }
+            let c = comp((st.first + k) as u32);
+            c_edges[c] += at.edges as usize;
+            c_bedges[c] += at.boundary_edges as usize;
+            if at.non_manifold_edges > 0 || at.bad_link {
+                c_bad[c] = true;
+            }
+            non_manifold_vertices += at.bad_link as usize;
+            edges += at.edges as usize;
+            non_manifold_edges += at.non_manifold_edges as usize;
         }
+        inconsistent_edges += st.inconsistent_edges;
+        duplicate_faces += st.duplicate_faces;
+        boundary.extend_from_slice(&st.boundary);
+        adj_pairs.extend_from_slice(&st.adjacent);
     }
-    drop(eb);
+    // Degenerate faces have no star: their duplicates are counted among themselves
+    // (a repeated index keeps them apart from every non-degenerate face's vertex set).
+    let mut degenerate_sets: Vec<[u32; 3]> = tris
+        .iter()
+        .zip(&degenerate)
+        .filter(|(_, &d)| d)
+        .map(|(t, _)| {
+            let mut k = *t;
+            k.sort_unstable();
+            k
+        })
+        .collect();
+    degenerate_sets.sort_unstable();
+    duplicate_faces += degenerate_sets.windows(2).filter(|w| w[0] == w[1]).count();
     for (f, t) in tris.iter().enumerate() {
         let c = comp(t[0]);
         if degenerate[f] {
@@ -358,9 +481,8 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         }
     }
 
-    // Orientability (two-colour faces by "flipped or not" along manifold edges), beside
-    // the vertex links and the duplicate faces.
-    let orient = || {
+    // Orientability (two-colour faces by "flipped or not" along manifold edges).
+    let nonorientable = {
         let mut nonorientable = Vec::new();
         let mut start = vec![0u32; nf + 1];
         for &(f, g, _) in &adj_pairs {
@@ -402,36 +524,8 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         }
         nonorientable
     };
-    // Non-manifold vertices, from each vertex's link.
-    let links = || {
-        let vfaces = Buckets::build(nv, |emit| {
-            for (f, t) in tris.iter().enumerate() {
-                if !degenerate[f] {
-                    for &v in t {
-                        emit(v, f as u32);
-                    }
-                }
-            }
-        });
-        (0..nv)
-            .into_par_iter()
-            .map_init(LinkScratch::default, |s, v| {
-                let fs = vfaces.bucket(v);
-                !fs.is_empty() && !link_is_disk_or_sphere(v as u32, fs, tris, s)
-            })
-            .collect::<Vec<bool>>()
-    };
-    let (nonorientable, (bad_vertex, duplicate_faces)) =
-        rayon::join(orient, || rayon::join(links, || duplicate_faces(nv, tris)));
     for f in nonorientable {
         c_nonorientable[comp(tris[f as usize][0])] = true;
-    }
-    let mut non_manifold_vertices = 0;
-    for v in 0..nv {
-        if bad_vertex[v] {
-            non_manifold_vertices += 1;
-            c_bad[comp(v as u32)] = true;
-        }
     }
 
     // Boundary loops: cycle rank of the boundary graph, per component.
@@ -901,21 +995,6 @@ mod tests {
             .collect()
     }
 
-    fn edges_by_buckets(
-        nv: usize,
-        tris: &[[u32; 3]],
-        degenerate: &[bool],
-    ) -> Vec<(u32, u32, Vec<(u32, bool)>)> {
-        let eb = edge_buckets(nv, tris, degenerate);
-        (0..nv)
-            .flat_map(|lo| {
-                eb.runs(lo, |e| e.0)
-                    .map(|r| (lo as u32, r[0].0, r.iter().map(|h| (h.1, h.2)).collect()))
-                    .collect::<Vec<_>>()
-            })
-            .collect()
-    }
-
     /// Tetrahedron faces as the former `analyze_tets` grouped them.
     fn tet_faces_by_sort(tets: &[[u32; 4]]) -> Vec<Vec<([u32; 3], [u32; 3])>> {
         let mut faces = Vec::new();
@@ -958,16 +1037,77 @@ mod tests {
             prop_assert_eq!(small, general, "fan {:?}", fan);
         }
 
+        /// The same on fans that are (nearly) cycles, where the directed-cycle fast
+        /// path decides: a cycle of distinct link vertices, with some faces flipped,
+        /// one face dropped (a path), or a second cycle through a shared vertex (a pinch) or
+        /// apart from the first (a bow-tie).
         #[test]
-        fn edge_incidence_equals_sorted(tris in soup::<3>(10, 40)) {
+        fn small_link_check_on_cycles_equals_general(
+            ring in prop::sample::subsequence((1u32..40).collect::<Vec<_>>(), 3..12).prop_shuffle(),
+            flips in prop::collection::vec(any::<bool>(), 12),
+            drop_one in any::<bool>(),
+            pinch in prop::option::of(prop::sample::subsequence((40u32..60).collect::<Vec<_>>(), 3..6)),
+            shared in any::<bool>(),
+        ) {
+            let k = ring.len();
+            let mut tris: Vec<[u32; 3]> = (0..k)
+                .map(|i| {
+                    let (a, b) = (ring[i], ring[(i + 1) % k]);
+                    if flips[i % 12] && flips[(i + 5) % 12] { [0, b, a] } else { [0, a, b] }
+                })
+                .collect();
+            if drop_one {
+                tris.pop();
+            }
+            if let Some(p) = pinch {
+                // Through ring[0] (a pinched link) or apart (a bow-tie of two cones).
+                let cyc: Vec<u32> = if shared { std::iter::once(ring[0]).chain(p).collect() } else { p };
+                let m = cyc.len();
+                for i in 0..m {
+                    tris.push([0, cyc[i], cyc[(i + 1) % m]]);
+                }
+            }
+            tris.truncate(SMALL_LINK);
+            let faces: Vec<u32> = (0..tris.len() as u32).collect();
+            let small = small_link_is_disk_or_sphere(0, &faces, &tris);
+            let mut s = LinkScratch::default();
+            let general = general_link_is_disk_or_sphere(0, &faces, &tris, &mut s);
+            prop_assert_eq!(small, general, "fan {:?}", tris);
+        }
+
+        /// The star pass finds the edges a global sort of the half-edges finds, in the
+        /// same order (boundary edges, and the faces of manifold edges with their
+        /// directions), and `analyze` counts edges, boundary, non-manifold and
+        /// inconsistent edges and duplicate faces as the sort does.
+        #[test]
+        fn star_pass_equals_sorted_edges(tris in soup::<3>(10, 40)) {
             let degenerate: Vec<bool> = tris
                 .iter()
                 .map(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
                 .collect();
-            prop_assert_eq!(edges_by_buckets(10, &tris, &degenerate), edges_by_sort(&tris, &degenerate));
+            let sorted = edges_by_sort(&tris, &degenerate);
+            let vfaces = star_buckets(10, &tris, &degenerate);
+            let st = stars_of(0..10, &tris, &vfaces);
+            let boundary: Vec<(u32, u32)> =
+                sorted.iter().filter(|e| e.2.len() == 1).map(|e| (e.0, e.1)).collect();
+            let adjacent: Vec<(u32, u32, bool)> = sorted
+                .iter()
+                .filter(|e| e.2.len() == 2)
+                .map(|e| (e.2[0].0, e.2[1].0, e.2[0].1 == e.2[1].1))
+                .collect();
+            prop_assert_eq!(&st.boundary, &boundary);
+            prop_assert_eq!(&st.adjacent, &adjacent);
+            let per_vertex: Vec<u32> = (0..10).map(|v| sorted.iter().filter(|e| e.0 == v).count() as u32).collect();
+            prop_assert_eq!(st.at.iter().map(|a| a.edges).collect::<Vec<_>>(), per_vertex);
+            let m = TriMesh { vertices: vec![[0.0; 3]; 10], triangles: tris.clone() };
+            let r = analyze(&m).unwrap();
+            prop_assert_eq!(r.edges, sorted.len());
+            prop_assert_eq!(r.boundary_edges, boundary.len());
+            prop_assert_eq!(r.non_manifold_edges, sorted.iter().filter(|e| e.2.len() > 2).count());
+            prop_assert_eq!(r.inconsistent_edges, adjacent.iter().filter(|a| a.2).count());
             let mut keys: Vec<[u32; 3]> = tris.iter().map(|t| { let mut k = *t; k.sort_unstable(); k }).collect();
             keys.sort_unstable();
-            prop_assert_eq!(duplicate_faces(10, &tris), keys.windows(2).filter(|w| w[0] == w[1]).count());
+            prop_assert_eq!(r.duplicate_faces, keys.windows(2).filter(|w| w[0] == w[1]).count());
         }
 
         #[test]
