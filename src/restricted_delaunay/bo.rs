@@ -463,7 +463,8 @@ impl<'a> Run<'a> {
             Ok(v) => v,
             Err(InsertError::Duplicate(_))
             | Err(InsertError::OutsideDomain)
-            | Err(InsertError::NonFinite) => {
+            | Err(InsertError::NonFinite)
+            | Err(InsertError::TooMany) => {
                 self.stats.refused += 1;
                 return false;
             }

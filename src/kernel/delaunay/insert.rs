@@ -1,13 +1,21 @@
 //! Bowyer–Watson insertion (Bowyer, "Computing Dirichlet tessellations", 1981; Watson,
 //! "Computing the n-dimensional Delaunay tessellation with application to Voronoi
 //! polytopes", 1981): the cavity of cells whose (perturbed) circumsphere contains the
-//! new point is grown breadth-first from a cell in conflict, its boundary facets are
+//! new point is grown breadth-first from a cell in conflict (visited cells marked by two
+//! spare bits of their own record, no hash set or stamp array), its boundary facets are
 //! recorded, the cavity cells are freed, and each boundary facet is joined to the new
 //! point. New cells are glued to each other through a small open-addressing table
 //! keyed by the boundary edge they share; cavity, boundary and table are scratch
 //! arrays reused across insertions.
 use super::predicates::{insphere_sos, orient3d};
 use super::{Boundary, Cell, Delaunay, InsertError, Slot, DEAD, NONE};
+
+/// Cavity-search marks in the top bits of a cell's `v[3]` (vertex ids are below 2³⁰,
+/// [`super::MAX_VERTICES`]): set while one insertion runs, cleared before it returns —
+/// cavity cells die, boundary-outer cells are unmarked when glued to the new cells.
+const IN_CAVITY: u32 = 1 << 31;
+const NOT_IN_CONFLICT: u32 = 1 << 30;
+const FLAGS: u32 = IN_CAVITY | NOT_IN_CONFLICT;
 
 impl Delaunay {
     /// Triangulate the 8 far corners: the perturbed Delaunay tetrahedra of 8 points are
@@ -73,7 +81,6 @@ impl Delaunay {
             id
         } else {
             self.cells.push(c);
-            self.stamp.push(0);
             (self.cells.len() - 1) as u32
         }
     }
@@ -102,39 +109,33 @@ impl Delaunay {
     /// Insert vertex `v` whose point is in conflict with cell `c` (and is no vertex).
     pub(crate) fn dig(&mut self, v: u32, c: u32) {
         let p = self.pts[v as usize];
-        self.epoch = self.epoch.wrapping_add(1);
-        if self.epoch >= (1 << 31) {
-            self.stamp.iter_mut().for_each(|s| *s = 0);
-            self.epoch = 1;
-        }
-        let inside = self.epoch * 2;
-        let outside = inside + 1;
         let mut cavity = std::mem::take(&mut self.cavity);
         let mut bnd = std::mem::take(&mut self.bnd);
         cavity.clear();
         bnd.clear();
         cavity.push(c);
-        self.stamp[c as usize] = inside;
+        self.cells[c as usize].v[3] |= IN_CAVITY;
         let mut k = 0;
         while k < cavity.len() {
             let cc = cavity[k];
             k += 1;
-            let cell = self.cells[cc as usize];
+            let mut cell = self.cells[cc as usize];
+            cell.v[3] &= !FLAGS;
             for i in 0..4 {
                 let n = cell.n[i];
                 if n != NONE {
-                    let d = n >> 2;
-                    let s = self.stamp[d as usize];
-                    if s == inside {
+                    let d = (n >> 2) as usize;
+                    let w3 = self.cells[d].v[3];
+                    if w3 & IN_CAVITY != 0 {
                         continue;
                     }
-                    if s != outside {
-                        if self.in_conflict(d, p) {
-                            self.stamp[d as usize] = inside;
-                            cavity.push(d);
+                    if w3 & NOT_IN_CONFLICT == 0 {
+                        if self.in_conflict(d as u32, p) {
+                            self.cells[d].v[3] = w3 | IN_CAVITY;
+                            cavity.push(d as u32);
                             continue;
                         }
-                        self.stamp[d as usize] = outside;
+                        self.cells[d].v[3] = w3 | NOT_IN_CONFLICT;
                     }
                 }
                 let mut nv = cell.v;
@@ -148,7 +149,9 @@ impl Delaunay {
         }
         // Free the cavity.
         for &cc in &cavity {
-            self.cells[cc as usize].v[0] = DEAD;
+            let dead = &mut self.cells[cc as usize].v;
+            dead[0] = DEAD;
+            dead[3] &= !FLAGS;
             self.free.push(cc);
         }
         self.live -= cavity.len();
@@ -177,7 +180,9 @@ impl Delaunay {
             let idu = id as usize;
             self.cells[idu].n[i] = b.outer;
             if b.outer != NONE {
-                self.cells[(b.outer >> 2) as usize].n[(b.outer & 3) as usize] = id * 4 + i as u32;
+                let o = &mut self.cells[(b.outer >> 2) as usize];
+                o.n[(b.outer & 3) as usize] = id * 4 + i as u32;
+                o.v[3] &= !FLAGS; // the outer cell survives: clear its mark
             }
             for j in 0..4 {
                 if j == i {

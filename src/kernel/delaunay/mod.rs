@@ -21,7 +21,9 @@
 //!   go on a free list and are reused. As in HXT (Marot, Pellerin and Remacle, "One
 //!   machine, one minute, three billion tetrahedra", 2019), the cavity, its boundary
 //!   and the small hash table that glues the new cells are scratch arrays reused
-//!   across insertions: an insertion allocates nothing once they have grown.
+//!   across insertions: an insertion allocates nothing once they have grown. The
+//!   "visited" marks of the cavity search are two spare bits of the cell record itself
+//!   (as HXT does), so testing a neighbour touches one cache line, not two.
 //! * **Exact, perturbed predicates** ([`predicates`]): a static float filter in front
 //!   of Shewchuk's adaptive predicates, and the symbolic perturbation of Devillers and
 //!   Teillaud ("Perturbations for Delaunay and weighted Delaunay 3D triangulations",
@@ -61,6 +63,10 @@ pub type CellId = u32;
 pub const NONE: u32 = u32::MAX;
 /// Number of far vertices.
 pub const FAR: u32 = 8;
+/// Vertex ids stay below 2³⁰: the top two bits of a cell's `v[3]` are the cavity
+/// search's "in the cavity" / "tested, not in conflict" flags during one insertion
+/// (cleared before it returns, so no caller ever sees them).
+pub const MAX_VERTICES: u32 = 1 << 30;
 
 /// One tetrahedron: vertices (positively oriented) and neighbour codes
 /// (`cell * 4 + facet`, or [`NONE`] across the far box's hull).
@@ -82,6 +88,9 @@ pub enum InsertError {
     NonFinite,
     /// The point is not strictly inside the far box.
     OutsideDomain,
+    /// The triangulation already holds 2³⁰ vertices (ids keep two spare bits for the
+    /// insertion's cavity flags).
+    TooMany,
 }
 
 impl std::fmt::Display for InsertError {
@@ -90,6 +99,7 @@ impl std::fmt::Display for InsertError {
             InsertError::Duplicate(v) => write!(f, "duplicate of vertex {v}"),
             InsertError::NonFinite => write!(f, "coordinate is not finite"),
             InsertError::OutsideDomain => write!(f, "point is outside the far box"),
+            InsertError::TooMany => write!(f, "too many vertices (2^30)"),
         }
     }
 }
@@ -117,8 +127,6 @@ pub struct Delaunay {
     pub(crate) free: Vec<u32>,
     /// Per vertex, a live cell incident to it, or NONE when not inserted.
     pub(crate) vcell: Vec<u32>,
-    pub(crate) stamp: Vec<u32>,
-    pub(crate) epoch: u32,
     pub(crate) cavity: Vec<u32>,
     pub(crate) bnd: Vec<Boundary>,
     pub(crate) table: Vec<Slot>,
@@ -170,8 +178,6 @@ impl Delaunay {
             cells: Vec::new(),
             free: Vec::new(),
             vcell: Vec::new(),
-            stamp: Vec::new(),
-            epoch: 0,
             cavity: Vec::new(),
             bnd: Vec::new(),
             table: Vec::new(),
@@ -218,7 +224,7 @@ impl Delaunay {
             lo = [0.0; 3];
             hi = [0.0; 3];
         }
-        if points.len() as u64 + FAR as u64 >= (1u64 << 30) {
+        if points.len() as u64 + FAR as u64 >= MAX_VERTICES as u64 {
             return Err(crate::error::Error::TooLarge(format!(
                 "{} points",
                 points.len()
@@ -236,7 +242,6 @@ impl Delaunay {
         t.input_of = order;
         // About 6.5 cells per vertex for random points.
         t.cells.reserve(points.len() * 13 / 2 + 64);
-        t.stamp.reserve(points.len() * 13 / 2 + 64);
         let mut bulk = Bulk::default();
         for r in 0..points.len() as u32 {
             let v = FAR + r;
@@ -312,6 +317,9 @@ impl Delaunay {
         }
         if (0..3).any(|k| !(p[k] > self.lo[k] && p[k] < self.hi[k])) {
             return Err(InsertError::OutsideDomain);
+        }
+        if self.pts.len() as u64 >= MAX_VERTICES as u64 {
+            return Err(InsertError::TooMany);
         }
         let v = self.pts.len() as u32;
         self.pts.push(p);
@@ -454,7 +462,6 @@ impl Delaunay {
     pub fn memory_bytes(&self) -> usize {
         self.pts.capacity() * 24
             + self.cells.capacity() * std::mem::size_of::<Cell>()
-            + self.stamp.capacity() * 4
             + self.vcell.capacity() * 4
             + self.free.capacity() * 4
             + self.input_of.capacity() * 4
