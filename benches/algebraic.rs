@@ -16,25 +16,6 @@ fn sq(h: f64) -> Aabb {
     }
 }
 
-/// A dense polynomial of total degree `d` with coefficients in [−10, 10] (LCG).
-fn dense(d: usize, seed: u64) -> BiPoly {
-    let mut s = seed;
-    let mut t = Vec::new();
-    for i in 0..=d {
-        for j in 0..=d - i {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let mut c = ((s >> 33) % 21) as i64 - 10;
-            if i + j == d && j == d && c == 0 {
-                c = 1;
-            }
-            t.push((c, i, j));
-        }
-    }
-    BiPoly::from_terms(&t)
-}
-
 fn sweep(c: &mut Criterion) {
     let mut g = c.benchmark_group("gvn");
     g.sample_size(10);
@@ -59,7 +40,7 @@ fn sweep(c: &mut Criterion) {
         .map(|(n, f, h)| (n.to_string(), from_formula(f).unwrap(), sq(*h)))
         .collect();
     for d in [4, 5, 6, 7, 8] {
-        inputs.push((format!("dense-d{d}"), dense(d, 7 + d as u64), sq(2.0)));
+        inputs.push((format!("dense-d{d}"), BiPoly::dense_random(d, 7 + d as u64), sq(2.0)));
     }
     // `CERTMESH_GVN_BENCH=lemniscate,t4` restricts the inputs (the first, untimed run
     // of each input happens before criterion's own filter applies).

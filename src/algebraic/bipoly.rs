@@ -34,6 +34,26 @@ impl BiPoly {
         }
         Self::from_map(&m)
     }
+    /// A dense polynomial of total degree `d` with coefficients in [−10, 10] drawn by a
+    /// linear congruential generator from `seed` (the benches' and the CGAL script's
+    /// dense random curves; the coefficient of y^d is made non-zero).
+    pub fn dense_random(d: usize, seed: u64) -> Self {
+        let mut s = seed;
+        let mut t = Vec::new();
+        for i in 0..=d {
+            for j in 0..=d - i {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let mut c = ((s >> 33) % 21) as i64 - 10;
+                if i + j == d && j == d && c == 0 {
+                    c = 1;
+                }
+                t.push((c, i, j));
+            }
+        }
+        Self::from_terms(&t)
+    }
     fn from_map(m: &BTreeMap<(usize, usize), BigInt>) -> Self {
         let dy = m.keys().map(|k| k.1).max().map_or(0, |d| d + 1);
         let mut c = vec![Vec::<BigInt>::new(); dy];

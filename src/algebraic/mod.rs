@@ -9,6 +9,7 @@ pub mod algnum;
 pub mod bipoly;
 pub mod check;
 pub mod fint;
+pub mod modgcd;
 pub mod subres;
 pub mod sweep;
 pub mod upoly;

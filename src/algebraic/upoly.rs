@@ -188,8 +188,25 @@ impl UPoly {
         }
         Some(Self::new(q))
     }
-    /// Primitive gcd (positive leading coefficient) by the primitive remainder sequence.
+    /// Primitive gcd (positive leading coefficient), by the modular method
+    /// (`modgcd`: images mod word-size primes, Chinese remaindering, verified by trial
+    /// division, so exact), falling back to the primitive remainder sequence.
     pub fn gcd(&self, o: &Self) -> Self {
+        let (a, b) = (self.primitive(), o.primitive());
+        if a.is_zero() {
+            return b;
+        }
+        if b.is_zero() {
+            return a;
+        }
+        if a.deg() == 0 || b.deg() == 0 {
+            return Self::constant(BigInt::one());
+        }
+        super::modgcd::gcd_primitive(&a, &b).unwrap_or_else(|| a.gcd_prs(&b))
+    }
+    /// Primitive gcd (positive leading coefficient) by the primitive remainder sequence
+    /// (the reference the modular gcd is tested against, and its fallback).
+    pub fn gcd_prs(&self, o: &Self) -> Self {
         let (mut a, mut b) = (self.primitive(), o.primitive());
         if a.is_zero() {
             return b;
