@@ -100,6 +100,20 @@ pub fn enclose(f: &dyn Implicit, b: &IBox) -> (Interval, [Interval; 3]) {
 /// The natural enclosure `d.v` intersected with the mean-value form built from the
 /// gradient enclosure `d.g` (see [`enclose`]).
 pub fn mean_value(f: &dyn Implicit, b: &IBox, d: &crate::implicit::Dual<Interval>) -> Interval {
+    mean_value_if(f, b, d, || f.regularity(b) >= Regularity::Continuous)
+}
+
+/// [`mean_value`] with the continuity question answered by `continuous` (asked only
+/// when the mean-value form tightens): a caller that has proven f C¹ on a box
+/// containing `b` (regularity is inclusion-monotone) passes `|| true` and saves the
+/// decorated evaluation. The result is [`mean_value`]'s whenever `continuous()` equals
+/// `f.regularity(b) >= Continuous`.
+pub fn mean_value_if(
+    f: &dyn Implicit,
+    b: &IBox,
+    d: &crate::implicit::Dual<Interval>,
+    continuous: impl FnOnce() -> bool,
+) -> Interval {
     let c = [0, 1, 2].map(|k| b[k].mid());
     let cb = c.map(|x| Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE));
     // Summed in the fast interval type (inari's bounds, bit for bit).
@@ -115,7 +129,7 @@ pub fn mean_value(f: &dyn Implicit, b: &IBox, d: &crate::implicit::Dual<Interval
     // The mean-value form is an enclosure only for a continuous f whose derivative
     // enclosures are slopes (C¹, or Lipschitz through |·|, min, max): across a pole or
     // a gap of the domain it may exclude values f takes. Ask only when it tightens.
-    if v.is_empty() || v == d.v || f.regularity(b) < Regularity::Continuous {
+    if v.is_empty() || v == d.v || !continuous() {
         d.v
     } else {
         v

@@ -10,7 +10,7 @@
 //! region and is dropped. Covering more than the region is harmless: every test is
 //! then stronger than needed.
 use crate::implicit::directed::Iv;
-use crate::implicit::ops::enclose;
+use crate::implicit::ops::mean_value_if;
 use crate::implicit::{IBox, Implicit, Regularity};
 use inari::Interval;
 
@@ -243,13 +243,26 @@ pub(crate) fn excl(i: Interval) -> bool {
 /// `smooth`: f is already proven C^∞ on a box containing `x` (regularity is
 /// inclusion-monotone), so it is not asked again.
 pub fn no_tangency(f: &dyn Implicit, x: &IBox, d: &[Interval; 3], smooth: bool) -> Verdict {
-    let (fv, g) = enclose(f, x);
+    // The verdict is: Accept iff 0 ∉ □f (the natural enclosure intersected with the
+    // mean-value form, [`crate::implicit::ops::enclose`]) or (f C^∞ and 0 ∉ □(∇f·d)). It is computed in the
+    // cheapest order: the natural enclosure comes with the gradient and contains the
+    // intersected one (excluding 0 there excludes it from the tighter one), the
+    // mean-value form costs one more evaluation and, without `smooth`, a decorated one.
+    let dv = f.grad_interval(x);
+    if excl(dv.v) {
+        return Verdict::Accept;
+    }
+    let tangent_free = || excl(idot(&ivs(&dv.g), &ivs(d)).to_interval());
+    if smooth && tangent_free() {
+        return Verdict::Accept;
+    }
+    let fv = mean_value_if(f, x, &dv, || {
+        smooth || f.regularity(x) >= Regularity::Continuous
+    });
     if excl(fv) {
         return Verdict::Accept;
     }
-    if excl(idot(&ivs(&g), &ivs(d)).to_interval())
-        && (smooth || f.regularity(x) == Regularity::Smooth)
-    {
+    if !smooth && tangent_free() && f.regularity(x) == Regularity::Smooth {
         return Verdict::Accept;
     }
     Verdict::Split
@@ -312,6 +325,64 @@ mod tests {
         };
         assert_eq!(r2.place(&b([0., 0., 0.], [0.5, 1., 1.])), Place::Outside);
         assert_eq!(r2.place(&b([0.9, 0., 0.], [1.1, 1., 1.])), Place::Straddles);
+    }
+
+    /// The criterion as it was first written (one [`enclose`], then the direction):
+    /// the reference the reordered [`no_tangency`] must agree with, box for box.
+    fn no_tangency_reference(
+        f: &dyn Implicit,
+        x: &IBox,
+        d: &[Interval; 3],
+        smooth: bool,
+    ) -> Verdict {
+        let (fv, g) = crate::implicit::ops::enclose(f, x);
+        if excl(fv) {
+            return Verdict::Accept;
+        }
+        if excl(idot(&ivs(&g), &ivs(d)).to_interval())
+            && (smooth || f.regularity(x) == Regularity::Smooth)
+        {
+            return Verdict::Accept;
+        }
+        Verdict::Split
+    }
+
+    proptest::proptest! {
+        /// On random sub-boxes of random boxes (f smooth, merely continuous, or with a
+        /// pole), with the caller's `smooth` taken from the outer box as the covers do,
+        /// the reordered criterion gives the reference verdict.
+        #[test]
+        fn no_tangency_equals_its_reference(
+            which in 0usize..4,
+            lo in proptest::array::uniform3(-1.5f64..1.4),
+            w in proptest::array::uniform3(0.001f64..1.0),
+            t0 in proptest::array::uniform3(0.0f64..1.0),
+            t1 in proptest::array::uniform3(0.0f64..1.0),
+            d in proptest::array::uniform3(-1.0f64..1.0),
+        ) {
+            use crate::implicit::Formula;
+            let text = [
+                "z^2 + 0.5*(x^2/1.44 + y^2/0.64 - 1)*((x - 0.55)^2 + y^2 - 0.09)*((x + 0.55)^2 + y^2 - 0.09)",
+                "sqrt(x^2 + y^2) - 0.5 + 0.3*z",
+                "abs(x) + y^2 - z^2 - 0.1",
+                "1/(x - 0.2) + y + z",
+            ][which];
+            let f = Formula::with_dim(text, 3).unwrap();
+            let outer = b(lo, std::array::from_fn(|k| lo[k] + w[k]));
+            // A sub-box of the outer box (a box of the cover below its start box).
+            let x: IBox = std::array::from_fn(|k| {
+                let (a, c) = (t0[k].min(t1[k]), t0[k].max(t1[k]));
+                Interval::try_from((lo[k] + a * w[k], lo[k] + c * w[k])).unwrap()
+            });
+            let smooth = f.regularity(&outer) == Regularity::Smooth;
+            let di = d.map(pt);
+            for s in [smooth, false] {
+                proptest::prop_assert_eq!(
+                    no_tangency(&f, &x, &di, s),
+                    no_tangency_reference(&f, &x, &di, s)
+                );
+            }
+        }
     }
 
     #[test]
