@@ -236,6 +236,22 @@ fn check_gradients(f: &dyn Implicit, pts: &[[f64; 3]]) -> Result<(), TestCaseErr
             );
         }
     }
+    // Kept where f is exactly 0 (decided by the first round's value), projected
+    // elsewhere: the same as evaluating f first.
+    let or_on = ops::project_batch_or_on(f, pts, 8, 1e-10);
+    for (p, q) in pts.iter().zip(&or_on) {
+        let want = if f.eval(*p) == 0.0 {
+            Some(*p)
+        } else {
+            ops::project(f, *p, 8, 1e-10)
+        };
+        let same = match (q, want) {
+            (None, None) => true,
+            (Some(a), Some(b)) => (0..3).all(|k| same_f64(a[k], b[k])),
+            _ => false,
+        };
+        prop_assert!(same, "{}: projection or on S of {:?}: {:?} against {:?}", f.describe(), p, q, want);
+    }
     let proj = ops::project_batch(f, pts, 8, 1e-10);
     for (p, q) in pts.iter().zip(&proj) {
         let want = ops::project(f, *p, 8, 1e-10);

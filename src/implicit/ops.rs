@@ -490,6 +490,34 @@ pub fn project_batch(
     out
 }
 
+/// [`project_batch`], except that a point where f is exactly 0 is kept as it is (also
+/// where ∇f vanishes there, e.g. f ≡ 0, where `project` gives up): its first round's
+/// value decides it, with no separate evaluation of f. Bit for bit the points of
+/// evaluating f first and projecting the others.
+pub fn project_batch_or_on(
+    f: &dyn Implicit,
+    pts: &[[f64; 3]],
+    steps: usize,
+    tol: f64,
+) -> Vec<Option<[f64; 3]>> {
+    let mut out = vec![None; pts.len()];
+    let mut first = vec![true; pts.len()];
+    batch_rounds(f, pts, steps.max(1), |i, p, d| {
+        if std::mem::take(&mut first[i]) && d.v == 0.0 {
+            out[i] = Some(p);
+            return None;
+        }
+        let (r, len) = newton_step(f, p, d)?;
+        if len <= tol {
+            out[i] = Some(r);
+            None
+        } else {
+            Some(r)
+        }
+    });
+    out
+}
+
 /// Exactly `steps` Newton steps (fewer if f vanishes exactly), as GradNormal's
 /// Algorithm 2, line 6 prescribes: the point, and whether every step had a usable
 /// gradient (if not, the point where it stopped). One gradient evaluation per step.

@@ -142,19 +142,19 @@ impl<'a> TriGrid<'a> {
             .max()
             .unwrap_or(0);
         let mut best = f64::INFINITY;
-        let scan = |c: [i64; 3], best: &mut f64| {
-            if (0..3).any(|k| c[k] < 0 || c[k] >= n[k]) {
-                return;
-            }
+        // The squared distance from p to the slab of cells at offset d from p's cell
+        // along axis k, the cells grown by the slack (0 inside p's own slab): the same
+        // per-axis terms as the cell box bound below, so a cell, a row or a plane of
+        // cells can be skipped on a partial sum.
+        let gap2 = |k: usize, c: i64| {
+            let lo = self.min[k] + c as f64 * self.h[k] - self.slack;
+            let d = (lo - p[k])
+                .max(p[k] - (lo + self.h[k] + 2.0 * self.slack))
+                .max(0.0);
+            d * d
+        };
+        let scan = |c: [i64; 3], lb: f64, best: &mut f64| {
             // The cell's box is a lower bound for what it lists (each triangle meets it).
-            let mut lb = 0.0;
-            for k in 0..3 {
-                let lo = self.min[k] + c[k] as f64 * self.h[k] - self.slack;
-                let d = (lo - p[k])
-                    .max(p[k] - (lo + self.h[k] + 2.0 * self.slack))
-                    .max(0.0);
-                lb += d * d;
-            }
             if lb > *best {
                 return;
             }
@@ -173,11 +173,30 @@ impl<'a> TriGrid<'a> {
                 break;
             }
             for dz in -r..=r {
+                let z = c0[2] + dz;
+                if z < 0 || z >= n[2] {
+                    continue;
+                }
+                let gz = gap2(2, z);
+                if gz > best {
+                    continue;
+                }
                 for dy in -r..=r {
+                    let y = c0[1] + dy;
+                    if y < 0 || y >= n[1] {
+                        continue;
+                    }
+                    let gy = gz + gap2(1, y);
+                    if gy > best {
+                        continue;
+                    }
                     let shell = dz.abs() == r || dy.abs() == r;
                     let mut dx = -r;
                     while dx <= r {
-                        scan([c0[0] + dx, c0[1] + dy, c0[2] + dz], &mut best);
+                        let x = c0[0] + dx;
+                        if x >= 0 && x < n[0] {
+                            scan([x, y, z], gy + gap2(0, x), &mut best);
+                        }
                         dx += if shell || r == 0 { 1 } else { 2 * r };
                     }
                 }

@@ -228,30 +228,7 @@ fn project_samples(
     tol: f64,
 ) -> Vec<Option<[f64; 3]>> {
     pts.par_chunks(BATCH)
-        .flat_map_iter(|c| {
-            let cols: [Vec<f64>; 3] = [0, 1, 2].map(|k| c.iter().map(|p| p[k]).collect());
-            let mut v = vec![0.0; c.len()];
-            f.eval_batch([&cols[0], &cols[1], &cols[2]], &mut v);
-            let moving: Vec<[f64; 3]> = c
-                .iter()
-                .zip(&v)
-                .filter(|(_, &v)| v != 0.0)
-                .map(|(&p, _)| p)
-                .collect();
-            let mut moved = project_batch(f, &moving, steps, tol).into_iter();
-            let out: Vec<Option<[f64; 3]>> = c
-                .iter()
-                .zip(&v)
-                .map(|(&p, &v)| {
-                    if v == 0.0 {
-                        Some(p)
-                    } else {
-                        moved.next().unwrap()
-                    }
-                })
-                .collect();
-            out
-        })
+        .flat_map_iter(|c| crate::implicit::ops::project_batch_or_on(f, c, steps, tol))
         .collect()
 }
 
