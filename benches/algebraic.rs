@@ -40,7 +40,11 @@ fn sweep(c: &mut Criterion) {
         .map(|(n, f, h)| (n.to_string(), from_formula(f).unwrap(), sq(*h)))
         .collect();
     for d in [4, 5, 6, 7, 8] {
-        inputs.push((format!("dense-d{d}"), BiPoly::dense_random(d, 7 + d as u64), sq(2.0)));
+        inputs.push((
+            format!("dense-d{d}"),
+            BiPoly::dense_random(d, 7 + d as u64),
+            sq(2.0),
+        ));
     }
     // `CERTMESH_GVN_BENCH=lemniscate,t4` restricts the inputs (the first, untimed run
     // of each input happens before criterion's own filter applies).

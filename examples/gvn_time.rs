@@ -19,12 +19,18 @@ fn main() {
         std::process::exit(2);
     }
     let f = if let Some(ds) = a[1].strip_prefix("dense:") {
-        let v: Vec<u64> = ds.split(':').map(|t| t.parse().expect("dense:D:SEED")).collect();
+        let v: Vec<u64> = ds
+            .split(':')
+            .map(|t| t.parse().expect("dense:D:SEED"))
+            .collect();
         BiPoly::dense_random(v[0] as usize, v[1])
     } else {
         from_formula(&a[1]).unwrap_or_else(|e| panic!("{e}"))
     };
-    let d: Vec<f64> = a[2].split(',').map(|t| t.parse().expect("domain")).collect();
+    let d: Vec<f64> = a[2]
+        .split(',')
+        .map(|t| t.parse().expect("domain"))
+        .collect();
     let dom = Aabb {
         min: [d[0], d[1], 0.0],
         max: [d[2], d[3], 0.0],
@@ -45,6 +51,9 @@ fn main() {
     }
     ms.sort_by(f64::total_cmp);
     println!("shear {}", r.shear);
-    println!("critical_events {}", r.events.iter().filter(|e| e.critical).count());
+    println!(
+        "critical_events {}",
+        r.events.iter().filter(|e| e.critical).count()
+    );
     println!("median_ms {:.3}", ms[ms.len() / 2]);
 }

@@ -232,7 +232,13 @@ mod tests {
     #[test]
     fn reduction_mod_p_matches_bigint_remainder() {
         let p = primes()[0];
-        for s in ["0", "1", "-1", "123456789012345678901234567890", "-98765432109876543210987654321098765"] {
+        for s in [
+            "0",
+            "1",
+            "-1",
+            "123456789012345678901234567890",
+            "-98765432109876543210987654321098765",
+        ] {
             let a: BigInt = s.parse().unwrap();
             let want = a.mod_floor(&BigInt::from(p));
             assert_eq!(BigInt::from(redm(&a, p)), want, "{s}");
