@@ -476,18 +476,7 @@ pub fn project_batch(
     steps: usize,
     tol: f64,
 ) -> Vec<Option<[f64; 3]>> {
-    let mut out = vec![None; pts.len()];
-    batch_rounds(f, pts, steps.max(1), |i, p, d| {
-        // A point whose gradient vanishes or is not finite is dropped (None).
-        let (r, len) = newton_step(f, p, d)?;
-        if len <= tol {
-            out[i] = Some(r);
-            None
-        } else {
-            Some(r)
-        }
-    });
-    out
+    project_rounds(f, pts, steps, tol, false)
 }
 
 /// [`project_batch`], except that a point where f is exactly 0 is kept as it is (also
@@ -500,13 +489,25 @@ pub fn project_batch_or_on(
     steps: usize,
     tol: f64,
 ) -> Vec<Option<[f64; 3]>> {
+    project_rounds(f, pts, steps, tol, true)
+}
+
+/// The Newton rounds of [`project_batch`] (`keep_on_s`: and of [`project_batch_or_on`]).
+fn project_rounds(
+    f: &dyn Implicit,
+    pts: &[[f64; 3]],
+    steps: usize,
+    tol: f64,
+    keep_on_s: bool,
+) -> Vec<Option<[f64; 3]>> {
     let mut out = vec![None; pts.len()];
-    let mut first = vec![true; pts.len()];
+    let mut first = vec![keep_on_s; pts.len()];
     batch_rounds(f, pts, steps.max(1), |i, p, d| {
         if std::mem::take(&mut first[i]) && d.v == 0.0 {
             out[i] = Some(p);
             return None;
         }
+        // A point whose gradient vanishes or is not finite is dropped (None).
         let (r, len) = newton_step(f, p, d)?;
         if len <= tol {
             out[i] = Some(r);
