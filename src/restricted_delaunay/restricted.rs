@@ -167,7 +167,10 @@ pub fn far_lemma(t: &Delaunay, domain: &Aabb) -> bool {
         return false;
     }
     let d = domain.intervals();
-    let w: [Interval; 3] = [0, 1, 2].map(|k| d[k] - d[k]); // ⊇ coordinate differences
+    // The interval difference d − d = [lo − hi, hi − lo] ⊇ every coordinate difference
+    // inside the box (not 0: the two operands are independent points).
+    #[allow(clippy::eq_op)]
+    let w: [Interval; 3] = [0, 1, 2].map(|k| d[k] - d[k]);
     let diam2 = w[0].sqr() + w[1].sqr() + w[2].sqr();
     (0..crate::kernel::delaunay::FAR).all(|q| {
         let p = t.point(q);
