@@ -30,6 +30,8 @@ use std::collections::BTreeMap;
 
 pub mod bcsv;
 pub mod octree;
+pub mod patch;
+pub mod remedy;
 pub mod stander_hart;
 
 /// The budgets and the height direction of a census.
@@ -42,6 +44,11 @@ pub struct MorseOptions {
     pub surface: Budget,
     /// The height direction (`None`: [`critical::DEFAULT_DIRECTION`]).
     pub direction: Option<[f64; 3]>,
+    /// Count the critical points of g = f·h instead of f (the chapter's remedy for
+    /// degenerate critical points, [`remedy`]); `None`: f itself. Explicit only, and
+    /// reported ([`MorseReport::transformation`]).
+    #[serde(skip)]
+    pub remedy: Option<remedy::Remedy>,
 }
 
 impl Default for MorseOptions {
@@ -53,6 +60,7 @@ impl Default for MorseOptions {
             },
             surface: Budget::default(),
             direction: None,
+            remedy: None,
         }
     }
 }
@@ -213,7 +221,38 @@ pub struct MorseReport {
     /// Both certified and different: an internal inconsistency (a bug), never silent.
     pub inconsistent: bool,
     pub mesh: Option<MeshCheck>,
+    /// The transformation whose critical points the f census counts, when one was
+    /// asked for (`--remedy`): the gradient census and χ({f ≤ 0}) are then those of g.
+    pub transformation: Option<Transformation>,
     pub seconds: f64,
+}
+
+/// What the census of a transformed function proves about f (see [`remedy`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Transformation {
+    /// `smooth` (h = a + |x − b|²) or `chapter` (h = a + |x − b|).
+    pub kind: String,
+    pub a: f64,
+    pub b: [f64; 3],
+    /// g written out.
+    pub g: String,
+    /// Why its census is f's.
+    pub statement: String,
+}
+
+impl Transformation {
+    fn of(r: &remedy::Remedy, f: &dyn Implicit) -> Self {
+        Transformation {
+            kind: match r.kind {
+                remedy::RemedyKind::Smooth => "smooth".into(),
+                remedy::RemedyKind::Chapter => "chapter".into(),
+            },
+            a: r.a,
+            b: r.b,
+            g: r.describe(&f.describe()),
+            statement: "h > 0 everywhere (a > 0), so g has the sign of f: {g <= 0} = {f <= 0} and g = 0 is S; the critical points, values and indices listed are g's, and chi({g <= 0}) is chi({f <= 0})".into(),
+        }
+    }
 }
 
 fn kind_of(index: MorseIndex, on_surface: bool) -> String {
@@ -297,8 +336,13 @@ pub fn gradient_census(f: &dyn Implicit, r: &CriticalReport) -> GradientCensus {
 /// input (a curve, a degenerate box) gives a report that certifies nothing.
 pub fn analyze(f: &dyn Implicit, domain: Bx, opts: &MorseOptions) -> MorseReport {
     let t0 = std::time::Instant::now();
-    let sub = critical::sublevel_euler_characteristic(f, domain, opts.gradient);
-    let gradient = gradient_census(f, &sub.gradient);
+    let remedied = opts.remedy.map(|r| r.apply(f));
+    let g: &dyn Implicit = match &remedied {
+        Some(g) => g,
+        None => f,
+    };
+    let sub = critical::sublevel_euler_characteristic(g, domain, opts.gradient);
+    let gradient = gradient_census(g, &sub.gradient);
     let sublevel = SublevelChi {
         chi_sublevel: sub.chi_sublevel,
         chi_surface: sub.chi_surface,
@@ -351,6 +395,7 @@ pub fn analyze(f: &dyn Implicit, domain: Bx, opts: &MorseOptions) -> MorseReport
         sublevel,
         height,
         mesh: None,
+        transformation: opts.remedy.map(|r| Transformation::of(&r, f)),
         seconds: t0.elapsed().as_secs_f64(),
     }
 }
@@ -457,6 +502,13 @@ impl MorseReport {
     /// The readable report, one line per entry; at most `max_points` points per list.
     pub fn text(&self, max_points: usize) -> Vec<String> {
         let mut o = Vec::new();
+        if let Some(t) = &self.transformation {
+            o.push(format!(
+                "transformation ({} remedy, asked for): the f census below is that of g = {}",
+                t.kind, t.g
+            ));
+            o.push(format!("  {}", t.statement));
+        }
         let g = &self.gradient;
         o.push(format!(
             "critical points of f (grad f = 0): {} isolated, search {} ({} boxes, {:.1} ms)",

@@ -25,22 +25,28 @@
 //!    happens is *not* determined by critical data (Fig. 1.23): not claimed.
 //! 4. **Level meshes**: each level f = a_k is meshed by Plantinga–Vegter (its own
 //!    certificate, reported per level); the mesh of f = 0 is the last level and the
-//!    output. The chapter's patching of the previous mesh (ray-shot triangle removal
-//!    and a cylinder for a new handle, a cut and two caps for a pinch) is not
-//!    offered: every level is meshed afresh, so the animation of the sweep is the
-//!    sequence of level meshes (`--set levels-dir=DIR`, each with its own certificate;
-//!    `--set steps=N` for more frames) and the slices of `certmesh reproduce morse`; a
-//!    patched mesh would be uncertified and add nothing those frames lack.
+//!    output. Every level is meshed afresh, so the sequence of level meshes
+//!    (`--set levels-dir=DIR`, each with its own certificate; `--set steps=N` for more
+//!    frames) animates the sweep. The chapter's patching of the previous mesh
+//!    (ray-shot triangle removal and a cylinder for a new handle, a cut and two caps
+//!    for a pinch) is offered beside it for animations, `--set patch=true`
+//!    ([`crate::morse::patch`]): uncertified, reported per level with its χ against
+//!    the Morse prediction; it never replaces the certified output.
 //!
 //! **Certificate.** Certified when the critical data are certified and the last
 //! level's Plantinga–Vegter run is: the claims are then PV's isotopy claims for the
 //! output; the stats (`stander_hart`) state the critical values, indices, the levels
 //! and each level's own certificate. Otherwise uncertified, with why (e.g. the
 //! torus: f is not proven Morse, its circle of minima). The chapter's remedy for
-//! degenerate critical points (multiply f by a + ‖x − b‖) is not offered: it changes
-//! every level set but f = 0, and is not smooth at b, where the certified interval
-//! Hessian of the index proof does not apply; non-Morse inputs are reported as such
-//! (`papers/meshing-of-surfaces/morse.md`, §3).
+//! degenerate critical points (multiply f by a + ‖x − b‖) is offered only when asked
+//! for, `--set remedy=smooth|chapter[:A[:BX,BY,BZ]]` ([`crate::morse::remedy`]): the
+//! sweep then runs through the levels of g = f·h, which has the sign of f, so its
+//! level 0 is S and {g ≤ 0} = {f ≤ 0}; the report states the transformation
+//! (`stander_hart.transformation`) and that the intermediate levels are g's, not f's.
+//! The chapter's own h is not smooth at b, where the certified interval Hessian does
+//! not apply (boxes around b stay undecided unless f > 0 there); `smooth`,
+//! h = a + ‖x − b‖², is our variant that certifies the torus, the thin torus and the
+//! superquadric (`papers/meshing-of-surfaces/morse.md`, §3).
 use crate::error::{Error, Result};
 use crate::implicit::critical::{self, Budget, Bx, MorseIndex, Side};
 use crate::implicit::number::{Dual, Hyper};
@@ -54,7 +60,7 @@ use serde::Serialize;
 use serde_json::json;
 
 /// The `--set` keys of `stander-hart` (all other keys go to Plantinga–Vegter).
-pub const SETTINGS: &[&str] = &["steps", "levels-dir", "gradient-boxes"];
+pub const SETTINGS: &[&str] = &["steps", "levels-dir", "gradient-boxes", "remedy", "patch", "gradient-depth"];
 
 /// f − a: the level set f = a as the zero set of an oracle.
 pub struct Level<'a> {
@@ -126,6 +132,18 @@ pub struct StanderHart {
     /// Box budget of the search for ∇f = 0 (default 50 000, `--set gradient-boxes=N`;
     /// a degenerate critical set spends it, and the sweep is then uncertified).
     pub gradient_boxes: usize,
+    /// Bisection depth of that search (default 30, `--set gradient-depth=D`, 1..=200;
+    /// a nearly degenerate critical point, such as the thin torus's through the
+    /// remedy, needs 45).
+    pub gradient_depth: u32,
+    /// Sweep the levels of g = f·h instead of f (`--set remedy=...`, see
+    /// [`crate::morse::remedy`]); kept as text until the domain is known.
+    pub remedy: Option<String>,
+    /// Also run the chapter's patching of the previous mesh from the empty mesh
+    /// (`--set patch=true`, [`crate::morse::patch`]): uncertified, for animations;
+    /// reported per level (`stander_hart.patched`), written as `patched-KK.obj` with
+    /// `levels-dir`.
+    pub patch: bool,
 }
 
 impl StanderHart {
@@ -160,11 +178,27 @@ impl StanderHart {
                 )));
             }
         }
+        let patch = o.get::<bool>("patch")?.unwrap_or(false);
+        let gradient_depth = o.get::<u32>("gradient-depth")?.unwrap_or(30);
+        if !(1..=200).contains(&gradient_depth) {
+            return Err(Error::Param(format!(
+                "--set gradient-depth={gradient_depth}: must lie in 1..=200"
+            )));
+        }
+        let remedy = o.extra.get("remedy").cloned();
+        if let Some(r) = &remedy {
+            // Refuse a malformed transformation before any work (the domain only moves
+            // the default b).
+            crate::morse::remedy::Remedy::parse(r, Bx::from(Aabb::cube(1.0)))?;
+        }
         Ok(StanderHart {
             pv,
             steps,
             levels_dir,
             gradient_boxes,
+            gradient_depth,
+            remedy,
+            patch,
         })
     }
 }
@@ -253,6 +287,71 @@ pub fn clusters(points: &[critical::CriticalPoint]) -> Vec<Cluster> {
     out
 }
 
+impl StanderHart {
+    /// The chapter's sweep by patching (see [`crate::morse::patch`]): from the empty
+    /// mesh, patch at every critical point below each level and move onto it.
+    fn patched_sweep(
+        &self,
+        f: &dyn Implicit,
+        domain: &Aabb,
+        points: &[critical::CriticalPoint],
+        levels: &[(f64, Option<i64>)],
+    ) -> Result<Vec<crate::morse::patch::PatchedLevel>> {
+        use crate::morse::patch::{self, Crossing, PatchedLevel};
+        let mut below: Vec<(f64, Crossing)> = points
+            .iter()
+            .filter(|p| critical::side(p.value) == Side::Below)
+            .filter_map(|p| {
+                p.index.index().map(|i| {
+                    (
+                        0.5 * (p.value[0] + p.value[1]),
+                        Crossing {
+                            point: p.point,
+                            index: i,
+                        },
+                    )
+                })
+            })
+            .collect();
+        below.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut m = crate::mesh::TriMesh::default();
+        let mut out = Vec::new();
+        let mut prev = f64::NEG_INFINITY;
+        let max_step = 0.05 * domain.diagonal();
+        for (k, &(a, chi_predicted)) in levels.iter().enumerate() {
+            let cross: Vec<Crossing> = below
+                .iter()
+                .filter(|(v, _)| *v > prev && *v < a)
+                .map(|(_, c)| *c)
+                .collect();
+            let (applied, failed, max_residual) = patch::advance(&mut m, f, &cross, a, max_step);
+            let (chi, closed_manifold) = patch::shape(&m);
+            let file = match &self.levels_dir {
+                Some(d) if !m.triangles.is_empty() => {
+                    let p = d.join(format!("patched-{k:02}.obj"));
+                    crate::io::write_tri(&p, &m)?;
+                    Some(p.display().to_string())
+                }
+                _ => None,
+            };
+            out.push(PatchedLevel {
+                a,
+                applied,
+                failed,
+                vertices: m.vertices.len(),
+                triangles: m.triangles.len(),
+                chi,
+                chi_predicted,
+                closed_manifold,
+                max_residual,
+                file,
+            });
+            prev = a;
+        }
+        Ok(out)
+    }
+}
+
 impl Mesher for StanderHart {
     fn name(&self) -> &'static str {
         "stander-hart"
@@ -264,11 +363,22 @@ impl Mesher for StanderHart {
         check_input(f, domain, 3, "stander-hart")?;
         let t0 = std::time::Instant::now();
         let budget = Budget {
-            max_depth: 30,
+            max_depth: self.gradient_depth,
             max_boxes: self.gradient_boxes,
             ..Budget::default()
         };
-        let counted = Counted::new(f);
+        let remedy = match &self.remedy {
+            Some(r) => Some(crate::morse::remedy::Remedy::parse(r, Bx::from(*domain))?),
+            None => None,
+        };
+        let remedied = remedy.map(|r| r.apply(f));
+        // The swept function: f, or g = f·h when the remedy was asked for (same sign
+        // everywhere, so the same zero set and sublevel set {≤ 0}).
+        let swept: &dyn Implicit = match &remedied {
+            Some(g) => g,
+            None => f,
+        };
+        let counted = Counted::new(swept);
         let sub = critical::sublevel_euler_characteristic(&counted, Bx::from(*domain), budget);
         let critical_evals = counted.counts().total();
         let critical_seconds = t0.elapsed().as_secs_f64();
@@ -300,7 +410,12 @@ impl Mesher for StanderHart {
         let mut runs: Vec<LevelRun> = Vec::new();
         let mut last: Option<MeshOutput> = None;
         for (k, &(a, chi_predicted)) in levels.iter().enumerate() {
-            let lf = Level { inner: f, a };
+            // Levels a < 0 of the swept function; the last level a = 0 of f itself (the
+            // same set: g = 0 iff f = 0), so the output is Plantinga–Vegter's mesh of f.
+            let lf = Level {
+                inner: if a == 0.0 { f } else { swept },
+                a,
+            };
             let c = Counted::new(&lf);
             let t = std::time::Instant::now();
             let out = self.pv.mesh(&c, domain, &crate::mesher::NoProgress)?;
@@ -333,6 +448,11 @@ impl Mesher for StanderHart {
             last = Some(out);
         }
         progress.finish();
+        let patched = if self.patch && morse_ok {
+            self.patched_sweep(swept, domain, &sub.gradient.points, &levels)?
+        } else {
+            Vec::new()
+        };
         let pv_out = last.expect("at least the level 0");
         let mismatches: Vec<f64> = runs
             .iter()
@@ -385,6 +505,15 @@ impl Mesher for StanderHart {
         stats.insert(
             "stander_hart".into(),
             json!({
+                "transformation": remedy.map(|r| json!({
+                    "kind": r.kind, "a": r.a, "b": r.b, "g": r.describe(&f.describe()),
+                    "statement": "h > 0, so g = f*h has the sign of f: {g <= 0} = {f <= 0} and g = 0 is S; the critical data and the intermediate levels (a < 0) are g's, the last level (a = 0) is f = 0",
+                })),
+                "patched": if self.patch {
+                    if morse_ok { json!(patched) } else { json!("not run: the critical data are not certified") }
+                } else {
+                    serde_json::Value::Null
+                },
                 "critical_data_certified": morse_ok,
                 "critical_data_reason": sub.reason,
                 "critical_points": points,
@@ -406,8 +535,12 @@ impl Mesher for StanderHart {
                 ],
                 "not_certified": [
                     "which reading of an index-1 or index-2 transition happens (join vs tunnel; the chapter's Fig. 1.23)",
-                    "patched meshes: the chapter's ray-shot patching is not offered; every level is meshed afresh (levels-dir writes the sequence)",
-                    "the a + |x - b| remedy for degenerate critical points is not offered (not smooth at b; changes every level but 0)",
+                    "patched meshes (--set patch=true): the chapter's ray-shot patching, for animations only; the output is level 0 meshed afresh",
+                    if remedy.is_some() {
+                        "the levels a < 0 as level sets of f: with the remedy they are g's (only a = 0 is shared)"
+                    } else {
+                        "the remedy for degenerate critical points (--set remedy=smooth or chapter) was not asked for"
+                    },
                 ],
             }),
         );

@@ -144,10 +144,15 @@ enum Cmd {
     /// #min - #saddle + #max of the height <n, x> on S (--height), which is chi(S)
     /// when that search is complete, every index certified and S away from the
     /// boundary. Every claim says certified or uncertified, with why. --mesh prints
-    /// a mesh's chi beside the certified one.
+    /// a mesh's chi beside the certified one. --remedy counts the critical points
+    /// of g = f·(a + |x - b|^2) (or the chapter's a + |x - b|) instead: same sign as
+    /// f, so the same S and {f <= 0}, and a degenerate critical set of f (the
+    /// torus's circle) generically becomes isolated Morse points of g; the report
+    /// states the transformation.
     ///
     /// Examples:
     ///   certmesh morse tanglecube
+    ///   certmesh morse torus --remedy smooth
     ///   certmesh morse torus --max-boxes 20000 --json
     ///   certmesh morse --formula "x^2 + y^2 + z^2 - 1" --height 0,0,1
     ///   certmesh morse torus --max-boxes 20000 --mesh torus.obj

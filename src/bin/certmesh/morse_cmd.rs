@@ -52,6 +52,17 @@ pub(crate) struct MorseArgs {
     /// undecided there is reported (possibly degenerate, or depth limit).
     #[arg(long, value_name = "D")]
     pub(crate) max_depth: Option<u32>,
+    /// Count the critical points of g = f·h instead of f, the chapter's remedy for
+    /// degenerate critical points (§1.5.1), as an explicit transformation that the
+    /// report states: `smooth` is h = a + |x - b|² (C^∞), `chapter` is h = a + |x - b|
+    /// as the chapter writes it (not differentiable at b: nothing is certified in a
+    /// box around b unless f > 0 there). a > 0 (default 1); b defaults to a fixed
+    /// generic point of the domain. Since h > 0, {g <= 0} = {f <= 0} and g = 0 is S,
+    /// so the certified chi is f's; the listed critical points are g's. Example:
+    /// `--remedy smooth` certifies chi(torus) = 0 from critical points (f's circle of
+    /// minima becomes a minimum and a saddle of g).
+    #[arg(long, value_name = "KIND[:A[:BX,BY,BZ]]")]
+    pub(crate) remedy: Option<String>,
     /// Critical points listed per search in the text report (JSON lists all).
     #[arg(long, default_value_t = 30, value_name = "N")]
     pub(crate) list: usize,
@@ -125,6 +136,9 @@ pub(crate) fn morse_cmd(a: MorseArgs, quiet: bool) -> CliResult<()> {
     let bar = Bar::new(quiet);
     bar.phase("critical points");
     let domain = Bx::from(t.domain);
+    if let Some(r) = &a.remedy {
+        opts.remedy = Some(morse::remedy::Remedy::parse(r, domain)?);
+    }
     let mut report = morse::analyze(t.f.as_ref(), domain, &opts);
     if let (Some(m), Some(p)) = (&mesh, &a.mesh) {
         report.with_mesh(&p.display().to_string(), m)?;

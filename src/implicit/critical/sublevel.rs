@@ -152,10 +152,7 @@ pub fn from_gradient(
     let mut blocking_reasons: Vec<String> = Vec::new();
     for u in &gradient.undecided {
         let b = u.region.to_ibox();
-        let harmless = f.regularity(&b) >= Regularity::Continuous && {
-            let (v, _) = crate::implicit::ops::enclose(f, &b);
-            excludes_zero(v) && v.inf() > 0.0
-        };
+        let harmless = positive_on(f, &b, POSITIVE_SPLITS);
         if harmless {
             undecided_above += 1;
         } else {
@@ -215,4 +212,29 @@ pub fn from_gradient(
         boundary_positive,
         gradient,
     }
+}
+
+/// Bisection depth with which [`positive_on`] tries to prove f > 0 on an undecided box
+/// (at most 2^9 = 512 sub-boxes, stopping at the first that fails).
+const POSITIVE_SPLITS: u32 = 9;
+
+/// f > 0 proven on the closed box `b`: f continuous there and the enclosure above 0,
+/// on `b` itself or on every half of a bisection, `splits` levels deep (the halves
+/// cover `b`). An undecided box of the gradient search on which this holds lies in
+/// {f > 0} and cannot hide a critical point of {f <= 0}: e.g. the box around the kink
+/// of the chapter's remedy a + |x - b| when f(b) > 0, whose natural enclosure at the
+/// search's depth is too wide.
+fn positive_on(f: &dyn Implicit, b: &crate::implicit::IBox, splits: u32) -> bool {
+    if f.regularity(b) < Regularity::Continuous {
+        return false;
+    }
+    let (v, _) = crate::implicit::ops::enclose(f, b);
+    if excludes_zero(v) && v.inf() > 0.0 {
+        return true;
+    }
+    if splits == 0 || v.sup() <= 0.0 {
+        return false;
+    }
+    let (l, r) = bisect(b);
+    positive_on(f, &l, splits - 1) && positive_on(f, &r, splits - 1)
 }
