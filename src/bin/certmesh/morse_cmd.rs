@@ -58,9 +58,10 @@ pub(crate) struct MorseArgs {
     /// as the chapter writes it (not differentiable at b: nothing is certified in a
     /// box around b unless f > 0 there). a > 0 (default 1); b defaults to a fixed
     /// generic point of the domain. Since h > 0, {g <= 0} = {f <= 0} and g = 0 is S,
-    /// so the certified chi is f's; the listed critical points are g's. Example:
+    /// so the certified chi is f's; the listed critical points are g's. For instance,
     /// `--remedy smooth` certifies chi(torus) = 0 from critical points (f's circle of
-    /// minima becomes a minimum and a saddle of g).
+    /// minima becomes a minimum and a saddle of g; the thin torus, whose are nearly
+    /// degenerate, also needs --max-depth 45).
     #[arg(long, value_name = "KIND[:A[:BX,BY,BZ]]")]
     pub(crate) remedy: Option<String>,
     /// Critical points listed per search in the text report (JSON lists all).
