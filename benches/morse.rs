@@ -56,6 +56,42 @@ fn sweep(c: &mut Criterion) {
     g.finish();
 }
 
+/// The census through the smooth remedy g = f·(1 + |x − b|²) on the surfaces whose f
+/// is not Morse (torus, superquadric; the thin torus at depth 45), and Stander–Hart on
+/// the torus with it, against the plain census that gives up.
+fn remedy(c: &mut Criterion) {
+    use certmesh::morse::{self, remedy::Remedy, MorseOptions};
+    let mut g = c.benchmark_group("remedy");
+    g.sample_size(10);
+    for (name, depth) in [("torus", 30), ("thin-torus", 45), ("superquadric", 30)] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        let d: Bx = e.domain.into();
+        let mut o = MorseOptions {
+            remedy: Some(Remedy::parse("smooth", d).unwrap()),
+            ..MorseOptions::default()
+        };
+        o.gradient.max_depth = depth;
+        let r = morse::analyze(&f, d, &o);
+        eprintln!(
+            "{name}: remedy smooth: chi {:?}, {} boxes",
+            r.sublevel.chi_surface, r.gradient.stats.boxes
+        );
+        g.bench_function(format!("census-smooth/{name}"), |b| {
+            b.iter(|| morse::analyze(&f, d, &o))
+        });
+    }
+    let e = catalog::get("torus").unwrap();
+    let f = e.function();
+    let mut o = certmesh::MesherOptions::default();
+    o.extra.insert("remedy".into(), "smooth".into());
+    let m = registry::build("stander-hart", 3, &o).unwrap();
+    g.bench_function("stander-hart-smooth/torus", |b| {
+        b.iter(|| m.mesh(&f, &e.domain, &NoProgress).unwrap())
+    });
+    g.finish();
+}
+
 /// BCSV (isotopy by Theorem B, census included) against Plantinga–Vegter and Snyder
 /// on surfaces where BCSV certifies at the default resolution.
 fn bcsv(c: &mut Criterion) {
@@ -100,5 +136,5 @@ fn bcsv_octree(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, census, sweep, bcsv, bcsv_octree);
+criterion_group!(benches, census, sweep, remedy, bcsv, bcsv_octree);
 criterion_main!(benches);

@@ -509,9 +509,11 @@ impl MorseReport {
             ));
             o.push(format!("  {}", t.statement));
         }
+        // With a transformation the listed points, values and the Morse property are g's.
+        let fname = if self.transformation.is_some() { "g" } else { "f" };
         let g = &self.gradient;
         o.push(format!(
-            "critical points of f (grad f = 0): {} isolated, search {} ({} boxes, {:.1} ms)",
+            "critical points of {fname} (grad {fname} = 0): {} isolated, search {} ({} boxes, {:.1} ms)",
             g.points.len(),
             if g.complete { "complete" } else { "incomplete" },
             g.stats.boxes,
@@ -519,7 +521,7 @@ impl MorseReport {
         ));
         for (i, p) in g.points.iter().enumerate().take(max_points) {
             o.push(format!(
-                "  {:>3}  {}  f = {}  {}  {}",
+                "  {:>3}  {}  {fname} = {}  {}  {}",
                 i + 1,
                 fmt_p(p.point),
                 fmt_v(p.value),
@@ -548,8 +550,8 @@ impl MorseReport {
             }
         ));
         match &g.not_morse_reason {
-            None => o.push("f is Morse on the domain: certified (every critical point isolated, every index certified)".into()),
-            Some(r) => o.push(format!("f is NOT proven Morse on the domain: {r}")),
+            None => o.push(format!("{fname} is Morse on the domain: certified (every critical point isolated, every index certified)")),
+            Some(r) => o.push(format!("{fname} is NOT proven Morse on the domain: {r}")),
         }
         let s = &self.sublevel;
         let k = s.counted;
