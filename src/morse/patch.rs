@@ -75,67 +75,6 @@ fn eigen(f: &dyn Implicit, p: [f64; 3]) -> [(f64, [f64; 3]); 3] {
     [out[0], out[1], out[2]]
 }
 
-/// A unit icosphere (one subdivision: 42 vertices, 80 triangles), outward oriented.
-fn icosphere() -> TriMesh {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut v: Vec<[f64; 3]> = vec![
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ];
-    let faces: [[u32; 3]; 20] = [
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
-    let mut tris = Vec::new();
-    let mut m = |a: u32, b: u32, v: &mut Vec<[f64; 3]>| -> u32 {
-        let k = (a.min(b), a.max(b));
-        *mid.entry(k).or_insert_with(|| {
-            v.push(scale(add(v[a as usize], v[b as usize]), 0.5));
-            (v.len() - 1) as u32
-        })
-    };
-    for [a, b, c] in faces {
-        let ab = m(a, b, &mut v);
-        let bc = m(b, c, &mut v);
-        let ca = m(c, a, &mut v);
-        tris.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-    }
-    for p in &mut v {
-        let n = norm(*p);
-        *p = scale(*p, 1.0 / n);
-    }
-    TriMesh::new(v, tris)
-}
-
 /// Möller–Trumbore: the ray parameter t > 0 at which o + t·d meets triangle (a, b, c).
 fn ray_hit(o: [f64; 3], d: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> Option<f64> {
     let e1 = sub(b, a);
@@ -177,7 +116,7 @@ fn birth(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3], a: f64) -> Result<(), S
     if e.iter().any(|(l, _)| *l <= 0.0) || rise <= 0.0 {
         return Err("the Hessian is not positive definite there, or the level is not above f(p)".into());
     }
-    let s = icosphere();
+    let s = crate::mesh::icosphere(1);
     let base = m.vertices.len() as u32;
     for q in &s.vertices {
         let mut x = p;

@@ -66,70 +66,10 @@ pub fn torus(n: u32, m: u32) -> TriMesh {
     TriMesh::new(v, t)
 }
 
-/// Icosahedron subdivided `level` times, projected on the unit sphere; outward.
+/// Icosahedron subdivided `level` times, projected on the unit sphere; outward
+/// (`certmesh::mesh::icosphere`).
 pub fn icosphere(level: u32) -> TriMesh {
-    let p = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut v: Vec<[f64; 3]> = vec![
-        [-1.0, p, 0.0],
-        [1.0, p, 0.0],
-        [-1.0, -p, 0.0],
-        [1.0, -p, 0.0],
-        [0.0, -1.0, p],
-        [0.0, 1.0, p],
-        [0.0, -1.0, -p],
-        [0.0, 1.0, -p],
-        [p, 0.0, -1.0],
-        [p, 0.0, 1.0],
-        [-p, 0.0, -1.0],
-        [-p, 0.0, 1.0],
-    ]
-    .into_iter()
-    .map(geom::normalize)
-    .collect();
-    let mut t: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..level {
-        let mut mid = std::collections::HashMap::new();
-        let mut m = |a: u32, b: u32, v: &mut Vec<[f64; 3]>| {
-            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                v.push(geom::normalize(geom::lerp(
-                    v[a as usize],
-                    v[b as usize],
-                    0.5,
-                )));
-                v.len() as u32 - 1
-            })
-        };
-        let mut nt = Vec::new();
-        for [a, b, c] in t {
-            let ab = m(a, b, &mut v);
-            let bc = m(b, c, &mut v);
-            let ca = m(c, a, &mut v);
-            nt.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        t = nt;
-    }
-    TriMesh::new(v, t)
+    certmesh::mesh::icosphere(level)
 }
 
 pub fn sphere_topology() -> Topology {
