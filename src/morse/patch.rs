@@ -59,12 +59,18 @@ pub struct PatchedLevel {
     pub file: Option<String>,
 }
 
-/// The Hessian's eigenpairs at p, ascending.
-fn eigen(f: &dyn Implicit, p: [f64; 3]) -> [(f64, [f64; 3]); 3] {
+/// The Hessian's eigenpairs at p, ascending (bounded iterations: a Hessian that is not
+/// finite, or an eigensolver that does not converge, is an error, never a hang).
+fn eigen(f: &dyn Implicit, p: [f64; 3]) -> Result<[(f64, [f64; 3]); 3], String> {
     let h = f.hessian(p).h;
+    if h.iter().any(|v| !v.is_finite()) {
+        return Err("the Hessian is not finite there".into());
+    }
     let idx = [[0, 1, 2], [1, 3, 4], [2, 4, 5]];
     let m = nalgebra::Matrix3::from_fn(|i, j| h[idx[i][j]]);
-    let e = m.symmetric_eigen();
+    let e = m
+        .try_symmetric_eigen(1e-14, 1000)
+        .ok_or("the eigensolver did not converge")?;
     let mut out: Vec<(f64, [f64; 3])> = (0..3)
         .map(|k| {
             let v = e.eigenvectors.column(k);
@@ -72,7 +78,7 @@ fn eigen(f: &dyn Implicit, p: [f64; 3]) -> [(f64, [f64; 3]); 3] {
         })
         .collect();
     out.sort_by(|a, b| a.0.total_cmp(&b.0));
-    [out[0], out[1], out[2]]
+    Ok([out[0], out[1], out[2]])
 }
 
 /// Möller–Trumbore: the ray parameter t > 0 at which o + t·d meets triangle (a, b, c).
@@ -111,7 +117,7 @@ fn fmt(p: [f64; 3]) -> String {
 
 /// Index 0: an ellipsoid around p from the quadratic model at level a.
 fn birth(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3], a: f64) -> Result<(), String> {
-    let e = eigen(f, p);
+    let e = eigen(f, p)?;
     let rise = (a - f.eval(p)).max(0.0);
     if e.iter().any(|(l, _)| *l <= 0.0) || rise <= 0.0 {
         return Err("the Hessian is not positive definite there, or the level is not above f(p)".into());
@@ -136,7 +142,7 @@ fn birth(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3], a: f64) -> Result<(), S
 
 /// Index 1: remove the triangles hit by rays along ±v and join them by a cylinder.
 fn handle(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3]) -> Result<(), String> {
-    let v = eigen(f, p)[0].1;
+    let v = eigen(f, p)?[0].1;
     let t1 = nearest_hit(m, p, v).ok_or("the ray along +v hit no triangle")?;
     let t2 = nearest_hit(m, p, scale(v, -1.0)).ok_or("the ray along -v hit no triangle")?;
     if t1 == t2 {
@@ -179,7 +185,7 @@ fn handle(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3]) -> Result<(), String> 
 /// Index 2: cut the ring of triangles the plane through p normal to u crosses near p,
 /// cap the two loops.
 fn pinch(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3]) -> Result<(), String> {
-    let u = eigen(f, p)[2].1;
+    let u = eigen(f, p)?[2].1;
     let side: Vec<bool> = m.vertices.iter().map(|x| dot(sub(*x, p), u) >= 0.0).collect();
     let crosses = |t: &[u32; 3]| {
         let s = t.map(|i| side[i as usize]);
