@@ -6,7 +6,8 @@
 //! methods of `Formula` and `Counted` agree with their scalar methods likewise. The
 //! batch gradient (`Implicit::grad_batch`, on `Dual<Lanes>`) equals `Implicit::grad`
 //! bit for bit, and the batch Newton projection (`ops::project_batch`) equals
-//! `ops::project` point by point.
+//! `ops::project` point by point. The sparse interval gradient of polynomial tapes
+//! (`implicit::sparse`) equals dense forward mode on `Dual<Iv>`.
 use certmesh::catalog;
 use certmesh::implicit::batch::{BatchScratch, LANES};
 use certmesh::implicit::{ops, Counted, Dual, Formula, FromGeneric, GenericFn, Implicit, Iv, Num};
@@ -82,6 +83,63 @@ fn arb_box() -> impl Strategy<Value = [Iv; 3]> {
         1 => Just(Iv::from_interval(Interval::EMPTY)),
     ];
     [iv.clone(), iv.clone(), iv]
+}
+
+/// Random polynomial formula text (the operations of the sparse gradient program,
+/// `implicit::sparse`): sums, differences, products, squares, cubes, constants exact
+/// and inexact, division by a constant.
+fn arb_poly_formula() -> impl Strategy<Value = String> {
+    let leaf = prop_oneof![
+        Just("x".to_string()),
+        Just("y".to_string()),
+        Just("z".to_string()),
+        Just("0.1".to_string()),
+        Just("1.44".to_string()),
+        Just("(-3)".to_string()),
+        Just("0".to_string()),
+        Just("1e200".to_string()),
+    ];
+    leaf.prop_recursive(6, 64, 2, |inner| {
+        prop_oneof![
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} + {b})")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} - {b})")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} * {b})")),
+            inner.clone().prop_map(|a| format!("({a} * 0.3)")),
+            inner.clone().prop_map(|a| format!("({a} / 1.44)")),
+            inner.clone().prop_map(|a| format!("({a} / (-0.7))")),
+            inner.clone().prop_map(|a| format!("(0.1 - {a})")),
+            inner.clone().prop_map(|a| format!("({a} - 0.55)")),
+            inner.clone().prop_map(|a| format!("({a} + 0.1)")),
+            inner.clone().prop_map(|a| format!("(-{a})")),
+            inner.clone().prop_map(|a| format!("({a})^2")),
+            inner.clone().prop_map(|a| format!("({a})^3")),
+            inner.clone().prop_map(|a| format!("({a})^4")),
+        ]
+    })
+}
+
+/// `Implicit::grad_interval` (the sparse program on polynomial tapes) against dense
+/// forward mode on `Dual<Iv>`: the same enclosures, bound for bound (signed zeros
+/// compare equal, empty is empty in both).
+fn check_interval_gradients(f: &Formula, boxes: &[[Iv; 3]]) -> Result<(), TestCaseError> {
+    for b in boxes {
+        let ib = b.map(Iv::to_interval);
+        let got = f.grad_interval(&ib);
+        let want = f.grad_interval_dense(&ib);
+        let same = |x: Interval, y: Iv| {
+            let y = y.to_interval();
+            x == y || (x.is_empty() && y.is_empty())
+        };
+        prop_assert!(
+            same(got.v, want.v) && (0..3).all(|k| same(got.g[k], want.g[k])),
+            "{}: over {:?} sparse {:?} dense {:?}",
+            f.text(),
+            b,
+            got,
+            want
+        );
+    }
+    Ok(())
 }
 
 fn scalar_f64(f: &Formula, p: [f64; 3]) -> f64 {
@@ -250,7 +308,14 @@ fn check_gradients(f: &dyn Implicit, pts: &[[f64; 3]]) -> Result<(), TestCaseErr
             (Some(a), Some(b)) => (0..3).all(|k| same_f64(a[k], b[k])),
             _ => false,
         };
-        prop_assert!(same, "{}: projection or on S of {:?}: {:?} against {:?}", f.describe(), p, q, want);
+        prop_assert!(
+            same,
+            "{}: projection or on S of {:?}: {:?} against {:?}",
+            f.describe(),
+            p,
+            q,
+            want
+        );
     }
     let proj = ops::project_batch(f, pts, 8, 1e-10);
     for (p, q) in pts.iter().zip(&proj) {
@@ -328,6 +393,34 @@ proptest! {
         check_boxes(&f, &boxes)?;
     }
 
+    #[test]
+    fn sparse_interval_gradient_equals_dense(
+        text in arb_poly_formula(),
+        boxes in prop::collection::vec(arb_box(), 1..12),
+    ) {
+        let f = Formula::surface(&text).unwrap();
+        // Only a division of two constant subexpressions (not fused into `DivC`) takes
+        // the dense path among these operations.
+        let div = f.tape().ops().iter().any(|o| matches!(o, certmesh::implicit::tape::Op::Div(..)));
+        prop_assert!(f.sparse_gradient().is_some() || div, "{} has no sparse program", text);
+        check_interval_gradients(&f, &boxes)?;
+    }
+
+    /// Every formula: the sparse path where the tape is polynomial, the dense one
+    /// otherwise; the catalog's surfaces likewise.
+    #[test]
+    fn interval_gradient_on_any_formula_equals_dense(
+        text in arb_formula(),
+        pick in 0usize..64,
+        boxes in prop::collection::vec(arb_box(), 1..12),
+    ) {
+        let f = Formula::surface(&text).unwrap();
+        check_interval_gradients(&f, &boxes)?;
+        let entries = catalog::surfaces();
+        let e = &entries[pick % entries.len()];
+        check_interval_gradients(&Formula::surface(e.formula).unwrap(), &boxes)?;
+    }
+
     /// The catalog's surfaces (the benchmarks' workloads among them).
     #[test]
     fn batch_on_catalog_surfaces(
@@ -340,6 +433,27 @@ proptest! {
         let f = Formula::surface(e.formula).unwrap();
         check_points(&f, &pts)?;
         check_boxes(&f, &boxes)?;
+    }
+}
+
+/// The smooth polynomial surfaces of the catalog (the `certify` bench's genus2 among
+/// them) get the sparse interval gradient program.
+#[test]
+fn polynomial_catalog_surfaces_have_a_sparse_gradient() {
+    for name in [
+        "sphere",
+        "torus",
+        "genus2",
+        "genus5",
+        "tanglecube",
+        "two-spheres",
+    ] {
+        let f = catalog::get(name).unwrap().function();
+        let s = f
+            .sparse_gradient()
+            .unwrap_or_else(|| panic!("{name}: no sparse program"));
+        // Fewer interval operations than dense forward mode (4 per instruction).
+        assert!(s.len() < 4 * f.tape().len(), "{name}: {} ops", s.len());
     }
 }
 

@@ -122,6 +122,21 @@ fn var01(q: &UPoly) -> usize {
     q.reverse().taylor_shift1().sign_variations()
 }
 
+/// q divided by the largest power of two dividing all its coefficients. Descartes'
+/// subdivision only needs the signs of q's transforms and its zero at 1, which a
+/// positive factor leaves alone; the powers of two its own scalings 2ⁿq(x/2) introduce
+/// are the content that grows, and shifting them out costs no big-integer gcd (the
+/// full primitive part did, a third of the isolation's time).
+fn drop_pow2(mut q: UPoly) -> UPoly {
+    let tz = q.c.iter().filter_map(|a| a.trailing_zeros()).min().unwrap_or(0);
+    if tz > 0 {
+        for a in q.c.iter_mut() {
+            *a >>= tz;
+        }
+    }
+    q
+}
+
 /// Isolate the roots of q in (0, 1); pushes (c, h, exact): the interval
 /// (c/2^h, (c+1)/2^h), or the exact root c/2^h.
 fn descartes01(q: &UPoly, out: &mut Vec<(BigInt, u64, bool)>, budget: &mut usize) -> Result<()> {
@@ -153,9 +168,9 @@ fn descartes01(q: &UPoly, out: &mut Vec<(BigInt, u64, bool)>, budget: &mut usize
         }
         // When the midpoint was a root, left was divided by (x − 1), so the right half
         // left(x + 1) has no root at its end 0 either.
-        let right = left.taylor_shift1().primitive();
+        let right = drop_pow2(left.taylor_shift1());
         stack.push((right, &c2 + 1, h + 1));
-        stack.push((left.primitive(), c2, h + 1));
+        stack.push((drop_pow2(left), c2, h + 1));
     }
     Ok(())
 }
@@ -209,6 +224,20 @@ impl RealAlg {
     /// signs, N squared on success, halved with a bisection on failure. Endpoints stay
     /// dyadic when they are.
     pub fn refine_to(&mut self, w: &BigRational) {
+        if self.is_exact() || &self.width() <= w {
+            return;
+        }
+        if let Some((a, b, h)) = dyadic_pair(&self.lo, &self.hi) {
+            self.refine_dyadic(a, b, h, w);
+            return;
+        }
+        // Not dyadic: quadratic refinement needs dyadic ends, so this bisects (and the
+        // ends stay non-dyadic: a midpoint of a non-dyadic and a dyadic end is not).
+        self.refine_to_q(w);
+    }
+    /// [`RealAlg::refine_to`] in rationals (the reference of its proptest, and the
+    /// path for non-dyadic ends).
+    pub fn refine_to_q(&mut self, w: &BigRational) {
         let mut n_log = 4u64;
         while !self.is_exact() && &self.width() > w {
             if self.qir_step(n_log) {
@@ -217,6 +246,74 @@ impl RealAlg {
                 self.bisect();
                 n_log = (n_log / 2).max(2);
             }
+        }
+    }
+    /// [`RealAlg::refine_to`] on dyadic ends lo = a/2^h, hi = b/2^h, in integers: the
+    /// same steps, the same guesses and the same intervals as [`RealAlg::qir_step`]
+    /// and [`RealAlg::bisect`] on rationals (the secant's cell index and every sign
+    /// are invariant under the positive factors 2^(n·t) of an unreduced h), with the
+    /// values p(lo), p(hi) carried from one step to the next instead of re-evaluated
+    /// and no rational gcd per step.
+    fn refine_dyadic(&mut self, mut a: BigInt, mut b: BigInt, mut h: u64, w: &BigRational) {
+        let n = self.p.c.len().saturating_sub(1) as u64;
+        let ev = |x: &BigInt, h: u64| self.p.eval_hom(x, &(BigInt::one() << h));
+        let (mut pa, mut pb) = (ev(&a, h), ev(&b, h));
+        let mut n_log = 4u64;
+        let mut exact: Option<(BigInt, u64)> = None;
+        // width > w ⇔ (b − a)·den(w) > num(w)·2^h (w in lowest terms, den > 0).
+        while (&b - &a) * w.denom() > (w.numer() << h) {
+            let (sa, sb) = (sign(&pa), sign(&pb));
+            let mut ok = false;
+            if sa != 0 && sb != 0 && sa != sb {
+                let nn = BigInt::one() << n_log;
+                let j = ((&nn * &pa) / (&pa - &pb)).clamp(BigInt::one(), &nn - 1);
+                let step = &b - &a;
+                let base = &a << n_log;
+                let (lo, hi) = (&base + (&j - 1) * &step, &base + (&j + 1) * &step);
+                let h2 = h + n_log;
+                let (vl, vh) = (ev(&lo, h2), ev(&hi, h2));
+                let (sl, sh) = (sign(&vl), sign(&vh));
+                if sl == 0 {
+                    exact = Some((lo, h2));
+                    break;
+                } else if sh == 0 {
+                    exact = Some((hi, h2));
+                    break;
+                } else if sl != sh {
+                    (a, b, h, pa, pb) = (lo, hi, h2, vl, vh);
+                    ok = true;
+                }
+            }
+            if ok {
+                n_log = (n_log * 2).min(1 << 12);
+                continue;
+            }
+            // Bisection at (a + b)/2^(h+1); p at the old ends rescales by 2^n.
+            let m = &a + &b;
+            let vm = ev(&m, h + 1);
+            let sm = sign(&vm);
+            if sm == 0 {
+                exact = Some((m, h + 1));
+                break;
+            }
+            if sm == sign(&pa) {
+                (a, pa) = (m, vm);
+                b <<= 1u32;
+                pb <<= n;
+            } else {
+                (b, pb) = (m, vm);
+                a <<= 1u32;
+                pa <<= n;
+            }
+            h += 1;
+            n_log = (n_log / 2).max(2);
+        }
+        if let Some((x, hx)) = exact {
+            self.lo = dyadic_q(x, hx);
+            self.hi = self.lo.clone();
+        } else {
+            self.lo = dyadic_q(a, h);
+            self.hi = dyadic_q(b, h);
         }
     }
     /// One step of quadratic interval refinement with N = 2^n_log cells; false when the
@@ -443,6 +540,16 @@ pub fn exact_interval_sign(q: &UPoly, lo: &BigRational, hi: &BigRational) -> Opt
     }
 }
 
+/// x/2^h in lowest terms, built without a gcd (the same value and representation as
+/// `BigRational::new(x, 2^h)`).
+pub fn dyadic_q(x: BigInt, h: u64) -> BigRational {
+    let Some(tz) = x.trailing_zeros() else {
+        return BigRational::zero();
+    };
+    let t = tz.min(h);
+    BigRational::new_raw(x >> t, BigInt::one() << (h - t))
+}
+
 /// (A, B, H) with lo = A/2^H and hi = B/2^H, when both are dyadic.
 pub fn dyadic_pair(lo: &BigRational, hi: &BigRational) -> Option<(BigInt, BigInt, u64)> {
     let pow2_exp = |d: &BigInt| {
@@ -499,4 +606,36 @@ pub fn q_to_f64(x: &BigRational) -> f64 {
 /// The sign of a product of signs (helper).
 pub fn sgn(a: &BigInt) -> i32 {
     sign(a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+        /// Refinement in integers on dyadic ends gives exactly the intervals of the
+        /// rational quadratic refinement, for every root and several target widths
+        /// (rational roots hit exactly included: the factor (3x − 1)).
+        #[test]
+        fn refine_dyadic_equals_rational(
+            v in prop::collection::vec(-30i64..=30, 2..=8), lin in any::<bool>(),
+            wexp in 1u32..120, wnum in 1i64..7,
+        ) {
+            let mut p = UPoly::from_i64(&v);
+            if lin {
+                p = p.mul(&UPoly::from_i64(&[-1, 3]));
+            }
+            prop_assume!(p.deg() >= 1);
+            let w = BigRational::new(BigInt::from(wnum), BigInt::one() << wexp);
+            for r in isolate(&p).unwrap() {
+                let (mut a, mut b) = (r.clone(), r.clone());
+                a.refine_to(&w);
+                b.refine_to_q(&w);
+                prop_assert_eq!(&a, &b);
+                prop_assert!(a.is_exact() || a.width() <= w);
+            }
+        }
+    }
 }

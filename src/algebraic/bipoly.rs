@@ -149,7 +149,92 @@ impl BiPoly {
     }
     /// f(x0 + x1·t, y0 + y1·t) as a primitive integer polynomial in t (up to a positive
     /// rational factor). Zero when f vanishes on the line.
+    ///
+    /// In integers: with x0 + x1·t = (A0 + A1·t)/Dx and y0 + y1·t = (B0 + B1·t)/Dy
+    /// (Dx, Dy > 0 the lcm of the denominators), Dx^DX·Dy^DY·f(…) (DX, DY the degrees
+    /// in x and y) by homogeneous Horner, then its primitive part: the same
+    /// polynomial as [`BiPoly::on_line_q`] (the primitive part with a positive leading
+    /// coefficient is unique), without a rational gcd per operation.
     pub fn on_line(
+        &self,
+        x0: &BigRational,
+        x1: &BigRational,
+        y0: &BigRational,
+        y1: &BigRational,
+    ) -> UPoly {
+        if self.c.is_empty() {
+            return UPoly::zero();
+        }
+        let dx = x0.denom().lcm(x1.denom());
+        let dy = y0.denom().lcm(y1.denom());
+        let num = |v: &BigRational, d: &BigInt| v.numer() * (d / v.denom());
+        let lx = [num(x0, &dx), num(x1, &dx)];
+        let ly = [num(y0, &dy), num(y1, &dy)];
+        let big_dx = self.deg_x().max(0) as usize;
+        let big_dy = self.c.len() - 1;
+        let pows = |d: &BigInt, n: usize| {
+            let mut v = vec![BigInt::one()];
+            for _ in 0..n {
+                let t = v.last().unwrap() * d;
+                v.push(t);
+            }
+            v
+        };
+        let (dxp, dyp) = (pows(&dx, big_dx), pows(&dy, big_dy));
+        // Σ_i c_i·l^i·D^(n−i) by Horner: acc ← acc·l + c_i·D^(n−i).
+        fn mul_lin(a: &[BigInt], l: &[BigInt; 2]) -> Vec<BigInt> {
+            let mut r = vec![BigInt::zero(); a.len() + 1];
+            for (i, x) in a.iter().enumerate() {
+                if x.is_zero() {
+                    continue;
+                }
+                if !l[0].is_zero() {
+                    r[i] += x * &l[0];
+                }
+                if !l[1].is_zero() {
+                    r[i + 1] += x * &l[1];
+                }
+            }
+            r
+        }
+        fn add_const(a: &mut Vec<BigInt>, c: BigInt) {
+            if a.is_empty() {
+                a.push(c);
+            } else {
+                a[0] += c;
+            }
+        }
+        let mut acc: Vec<BigInt> = Vec::new();
+        for (j, p) in self.c.iter().enumerate().rev() {
+            // px = D_x^DX·p(lx/D_x)
+            let mut px: Vec<BigInt> = Vec::new();
+            let n = p.c.len();
+            for (i, a) in p.c.iter().enumerate().rev() {
+                px = mul_lin(&px, &lx);
+                if !a.is_zero() {
+                    add_const(&mut px, a * &dxp[n - 1 - i]);
+                }
+            }
+            if n > 0 && n - 1 < big_dx {
+                let f = &dxp[big_dx - (n - 1)];
+                for x in px.iter_mut() {
+                    *x *= f;
+                }
+            }
+            // acc ← acc·ly + px·Dy^(DY−j)
+            acc = mul_lin(&acc, &ly);
+            let f = &dyp[big_dy - j];
+            if acc.len() < px.len() {
+                acc.resize(px.len(), BigInt::zero());
+            }
+            for (t, x) in px.into_iter().enumerate() {
+                acc[t] += x * f;
+            }
+        }
+        UPoly::new(acc).primitive()
+    }
+    /// [`BiPoly::on_line`] in rational arithmetic (the reference of its proptest).
+    pub fn on_line_q(
         &self,
         x0: &BigRational,
         x1: &BigRational,
@@ -522,4 +607,35 @@ pub fn from_expr(e: &Expr) -> Result<BiPoly> {
 /// The polynomial of a curve formula given as text.
 pub fn from_formula(text: &str) -> Result<BiPoly> {
     from_expr(&crate::implicit::expr::parse(text, 2)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn arb_bi(d: usize, r: i64) -> impl Strategy<Value = BiPoly> {
+        prop::collection::vec(prop::collection::vec(-r..=r, 1..=d + 1), 1..=d + 1).prop_map(
+            |rows| BiPoly::new(rows.iter().map(|v| UPoly::from_i64(v)).collect()),
+        )
+    }
+    fn arb_q() -> impl Strategy<Value = BigRational> {
+        (-40i64..=40, 1i64..=12).prop_map(|(a, b)| BigRational::new(a.into(), b.into()))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+        /// The integer `on_line` equals the rational reference on every line, the
+        /// fibres x = q (`at_x`) and lines through zeros of f included.
+        #[test]
+        fn on_line_integer_equals_rational(
+            f in arb_bi(5, 9), x0 in arb_q(), x1 in arb_q(), y0 in arb_q(), y1 in arb_q(),
+        ) {
+            prop_assert_eq!(f.on_line(&x0, &x1, &y0, &y1), f.on_line_q(&x0, &x1, &y0, &y1));
+            let z = BigRational::zero();
+            let o = BigRational::one();
+            prop_assert_eq!(f.on_line(&x0, &z, &z, &o), f.on_line_q(&x0, &z, &z, &o));
+            prop_assert_eq!(f.on_line(&z, &o, &y0, &z), f.on_line_q(&z, &o, &y0, &z));
+        }
+    }
 }

@@ -16,7 +16,7 @@
 use super::algnum::{eval_interval, exact_interval_sign, root_bound_log2, RealAlg};
 use super::bipoly::BiPoly;
 use super::subres;
-use super::sweep::{at_beta, genericity_condition, sk_poly, Label};
+use super::sweep::{genericity_holds, is_root_at_beta, sk_poly, Label};
 use super::upoly::{sign, sturm_count, UPoly};
 use crate::error::{Error, Result};
 use num_bigint::BigInt;
@@ -536,7 +536,7 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
             }
             let sk: Vec<UPoly> = subres::lower_of(&chain, k);
             let generic = (0..k.saturating_sub(1))
-                .all(|i| a.is_root_of(&genericity_condition(&sres[k], &sk, k, i)));
+                .all(|i| genericity_holds(&a, &sres[k], &sk, k, i));
             if e.generic != Some(generic) {
                 return Err(bad(format!("event {ei}: the genericity claim is wrong")));
             }
@@ -785,7 +785,7 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
             if l == 0 && r == 0 {
                 Label::Isolated
             } else if mode == 1 {
-                if a.is_root_of(&at_beta(&gx, &num, &den, d)) {
+                if is_root_at_beta(&a, &gx, &num, &den, d) {
                     Label::Singular
                 } else if l == 0 || r == 0 {
                     Label::XExtreme

@@ -148,6 +148,135 @@ fn gcd_mod(mut a: Vec<u64>, mut b: Vec<u64>, p: u64) -> Vec<u64> {
     a
 }
 
+/// Arithmetic in (Z/q)\[u\]/(p̄) for a prime q not dividing lc(p): the images of
+/// polynomials built from big factors (at_beta, the genericity conditions) without
+/// building them over Z.
+pub(crate) struct ModRing {
+    pub(crate) q: u64,
+    /// p mod q, made monic.
+    p: Vec<u64>,
+}
+
+impl ModRing {
+    fn new(p: &UPoly, q: u64) -> Option<Self> {
+        let l = redm(&p.lc(), q);
+        if p.deg() < 1 || l == 0 {
+            return None;
+        }
+        let inv = invm(l, q);
+        Some(ModRing {
+            q,
+            p: p.c.iter().map(|x| mulm(redm(x, q), inv, q)).collect(),
+        })
+    }
+    /// a mod p̄ (in place).
+    fn reduce(&self, mut a: Vec<u64>) -> Vec<u64> {
+        let q = self.q;
+        let dp = self.p.len() - 1;
+        trim(&mut a);
+        while a.len() > dp {
+            let k = a.len() - 1 - dp;
+            let c = a[a.len() - 1];
+            if c != 0 {
+                for (j, &pj) in self.p.iter().enumerate() {
+                    let t = mulm(c, pj, q);
+                    let x = &mut a[j + k];
+                    *x = if *x >= t { *x - t } else { *x + (q - t) };
+                }
+            }
+            a.pop();
+            trim(&mut a);
+        }
+        a
+    }
+    /// The image of an integer polynomial.
+    pub(crate) fn img(&self, a: &UPoly) -> Vec<u64> {
+        self.reduce(a.c.iter().map(|x| redm(x, self.q)).collect())
+    }
+    pub(crate) fn int(&self, a: &BigInt) -> u64 {
+        redm(a, self.q)
+    }
+    pub(crate) fn mul(&self, a: &[u64], b: &[u64]) -> Vec<u64> {
+        if a.is_empty() || b.is_empty() {
+            return Vec::new();
+        }
+        let q = self.q;
+        let mut r = vec![0u128; a.len() + b.len() - 1];
+        for (i, &x) in a.iter().enumerate() {
+            if x == 0 {
+                continue;
+            }
+            for (j, &y) in b.iter().enumerate() {
+                // Sums of products < 2^124 each: reduce every step to stay in u128.
+                r[i + j] = (r[i + j] + x as u128 * y as u128) % q as u128;
+            }
+        }
+        self.reduce(r.into_iter().map(|x| x as u64).collect())
+    }
+    pub(crate) fn add(&self, a: &[u64], b: &[u64]) -> Vec<u64> {
+        let q = self.q;
+        let n = a.len().max(b.len());
+        let mut r: Vec<u64> = (0..n)
+            .map(|i| {
+                let (x, y) = (a.get(i).copied().unwrap_or(0), b.get(i).copied().unwrap_or(0));
+                let s = x as u128 + y as u128;
+                (s % q as u128) as u64
+            })
+            .collect();
+        trim(&mut r);
+        r
+    }
+    pub(crate) fn scale(&self, a: &[u64], k: u64) -> Vec<u64> {
+        let mut r: Vec<u64> = a.iter().map(|&x| mulm(x, k, self.q)).collect();
+        trim(&mut r);
+        r
+    }
+    pub(crate) fn neg(&self, a: &[u64]) -> Vec<u64> {
+        a.iter()
+            .map(|&x| if x == 0 { 0 } else { self.q - x })
+            .collect()
+    }
+    pub(crate) fn pow(&self, a: &[u64], e: u32) -> Vec<u64> {
+        let mut r = vec![1u64];
+        for _ in 0..e {
+            r = self.mul(&r, a);
+        }
+        r
+    }
+}
+
+/// A proof that gcd(p, H) = 1 in Z\[u\] (so H vanishes at no root of p), from the
+/// image of H in (Z/q)\[u\]/(p̄) given by `image` for one of the first `tries` primes
+/// q ∤ lc(p): p = G·p′ and H = G·H′ with G = gcd(p, H); q ∤ lc(p) gives q ∤ lc(G), so
+/// Ḡ keeps its degree and divides both p̄ and H̄, hence gcd(p̄, H̄ mod p̄) has degree
+/// ≥ deg G (when H = 0, H̄ = 0 and the gcd is p̄ itself, of degree deg p ≥ 1). An
+/// image gcd of degree 0 therefore proves deg G = 0. `false` proves nothing (the
+/// caller then decides exactly).
+pub(crate) fn coprime_by_image(
+    p: &UPoly,
+    tries: usize,
+    image: impl Fn(&ModRing) -> Vec<u64>,
+) -> bool {
+    let mut n = 0;
+    for &q in primes() {
+        if n >= tries {
+            break;
+        }
+        let Some(r) = ModRing::new(p, q) else {
+            continue;
+        };
+        n += 1;
+        let h = image(&r);
+        if h.is_empty() {
+            continue;
+        }
+        if gcd_mod(r.p.clone(), h, q).len() == 1 {
+            return true;
+        }
+    }
+    false
+}
+
 /// The primitive gcd (positive leading coefficient) of two *primitive* polynomials of
 /// degree ≥ 1; `None` if the primes run out (the caller then uses the remainder
 /// sequence).

@@ -25,6 +25,7 @@ use super::algnum::{eval_interval, isolate, q_to_f64, RealAlg};
 use super::bipoly::BiPoly;
 use super::check::{CertEvent, CertFibre, CertInterval, CertRoot, CurveCert};
 use super::fint;
+use super::modgcd::{coprime_by_image, ModRing};
 use super::subres;
 use super::upoly::{sign, UPoly};
 use crate::error::{Error, Result};
@@ -179,6 +180,65 @@ pub fn genericity_condition(sres_k: &UPoly, sk: &[UPoly], k: usize, i: usize) ->
     let lhs = sk[i].mul(&ksk.pow((k - i) as u32));
     let rhs = sres_k.mul(&sk[k - 1].pow((k - i) as u32)).scale(&binom);
     lhs.sub(&rhs)
+}
+
+/// The image of [`genericity_condition`] in (Z/q)\[u\]/(p̄), built from the images of
+/// its factors (a ring homomorphism, so the same polynomial's image).
+fn genericity_image(r: &ModRing, sres_k: &UPoly, sk: &[UPoly], k: usize, i: usize) -> Vec<u64> {
+    let mut binom = BigInt::one();
+    for t in 0..i {
+        binom = binom * BigInt::from(k - t) / BigInt::from(t + 1);
+    }
+    let s = r.img(sres_k);
+    let ks = r.scale(&s, r.int(&BigInt::from(k)));
+    let lhs = r.mul(&r.img(&sk[i]), &r.pow(&ks, (k - i) as u32));
+    let rhs = r.scale(
+        &r.mul(&s, &r.pow(&r.img(&sk[k - 1]), (k - i) as u32)),
+        r.int(&binom),
+    );
+    r.add(&lhs, &r.neg(&rhs))
+}
+
+/// Does the i-th genericity condition vanish at α? Exactly as
+/// `α.is_root_of(&genericity_condition(…))`, after a modular proof that it does not
+/// (`modgcd::coprime_by_image`), which avoids building the condition over Z.
+pub fn genericity_holds(a: &RealAlg, sres_k: &UPoly, sk: &[UPoly], k: usize, i: usize) -> bool {
+    if !a.is_exact()
+        && coprime_by_image(&a.p, 2, |r| genericity_image(r, sres_k, sk, k, i))
+    {
+        return false;
+    }
+    a.is_root_of(&genericity_condition(sres_k, sk, k, i))
+}
+
+/// The image of [`at_beta`] in (Z/q)\[u\]/(p̄), by the same homogeneous Horner.
+fn at_beta_image(r: &ModRing, h: &BiPoly, num: &UPoly, den: &UPoly, d: usize) -> Vec<u64> {
+    let n = h.c.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let (nu, de) = (r.img(num), r.img(den));
+    let mut dpow = vec![r.pow(&de, (d + 1 - n) as u32)];
+    for _ in 1..n {
+        let next = r.mul(dpow.last().unwrap(), &de);
+        dpow.push(next);
+    }
+    let mut acc = r.mul(&r.img(&h.c[n - 1]), &dpow[0]);
+    for j in (0..n - 1).rev() {
+        acc = r.add(&r.mul(&acc, &nu), &r.mul(&r.img(&h.c[j]), &dpow[n - 1 - j]));
+    }
+    acc
+}
+
+/// Is h(α, β(α)) = 0, i.e. α a root of [`at_beta`]? Exactly as
+/// `α.is_root_of(&at_beta(…))`, after a modular proof that it is not
+/// (`modgcd::coprime_by_image`): at an x-extreme the answer comes from one prime,
+/// without building den^d·h(u, num/den) over Z.
+pub fn is_root_at_beta(a: &RealAlg, h: &BiPoly, num: &UPoly, den: &UPoly, d: usize) -> bool {
+    if !a.is_exact() && coprime_by_image(&a.p, 2, |r| at_beta_image(r, h, num, den, d)) {
+        return false;
+    }
+    a.is_root_of(&at_beta(h, num, den, d))
 }
 
 /// S_k as a polynomial in v: coefficients `sk` (v⁰ … v^(k−1)) and sres_k.
@@ -773,7 +833,7 @@ fn critical_data(
         .or_insert_with(|| subres::lower_of(chain, k));
     // Genericity: S_k(α, v) = sres_k(α)·(v − β)^k.
     let generic =
-        (0..k.saturating_sub(1)).all(|i| u.is_root_of(&genericity_condition(&sres[k], sk, k, i)));
+        (0..k.saturating_sub(1)).all(|i| genericity_holds(u, &sres[k], sk, k, i));
     let mut c = Crit {
         signs,
         k,
@@ -1430,7 +1490,7 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
                     Label::Isolated
                 } else if generic {
                     // Singular iff g_u(α, β(α)) = 0.
-                    if ev.u.is_root_of(&at_beta(&gx, &num, &den, d)) {
+                    if is_root_at_beta(&ev.u, &gx, &num, &den, d) {
                         Label::Singular
                     } else if a == 0 || b == 0 {
                         Label::XExtreme

@@ -17,6 +17,7 @@ pub mod ops;
 pub mod reach;
 pub mod regularity;
 pub mod sdf;
+pub mod sparse;
 pub mod tape;
 
 pub use directed::Iv;
@@ -168,6 +169,8 @@ pub struct Formula {
     text: String,
     expr: Expr,
     tape: Tape,
+    /// The tape compiled for sparse interval gradients (polynomial tapes only).
+    sparse: Option<sparse::GradTape>,
     dim: usize,
 }
 
@@ -199,6 +202,7 @@ impl Formula {
         Ok(Formula {
             text: text.to_string(),
             expr,
+            sparse: sparse::GradTape::compile(&tape),
             tape,
             dim,
         })
@@ -211,6 +215,21 @@ impl Formula {
     }
     pub fn tape(&self) -> &Tape {
         &self.tape
+    }
+    /// The sparse gradient program, when the tape is polynomial.
+    pub fn sparse_gradient(&self) -> Option<&sparse::GradTape> {
+        self.sparse.as_ref()
+    }
+    /// [`Implicit::grad_interval`] by dense forward mode on `Dual<Iv>` (every partial
+    /// computed): the reference the sparse path is tested against.
+    pub fn grad_interval_dense(&self, b: &IBox) -> Dual<Iv> {
+        let v = [0, 1, 2].map(|k| Dual::var(Iv::from_interval(b[k]), k));
+        if self.tape.len() <= STACK_REGS {
+            let mut regs = [MaybeUninit::<Dual<Iv>>::uninit(); STACK_REGS];
+            self.tape.eval_in(&v, &mut regs)
+        } else {
+            S_DI.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
+        }
     }
 }
 
@@ -258,14 +277,19 @@ impl Implicit for Formula {
         S_DF.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
     }
     fn grad_interval(&self, b: &IBox) -> Dual<Interval> {
-        // Derivatives over the fast kernel `Iv` (same bounds as inari, see `directed`).
-        let v = [0, 1, 2].map(|k| Dual::var(Iv::from_interval(b[k]), k));
-        let d = if self.tape.len() <= STACK_REGS {
-            let mut regs = [MaybeUninit::<Dual<Iv>>::uninit(); STACK_REGS];
-            self.tape.eval_in(&v, &mut regs)
-        } else {
-            S_DI.with(|s| self.tape.eval(&v, &mut s.borrow_mut()))
-        };
+        // Derivatives over the fast kernel `Iv` (same bounds as inari, see `directed`);
+        // polynomial tapes skip the structurally zero partials (`sparse`, same values).
+        if let Some(d) = self
+            .sparse
+            .as_ref()
+            .and_then(|s| s.eval(b.map(Iv::from_interval)))
+        {
+            return Dual {
+                v: d.v.to_interval(),
+                g: d.g.map(Iv::to_interval),
+            };
+        }
+        let d = self.grad_interval_dense(b);
         Dual {
             v: d.v.to_interval(),
             g: d.g.map(Iv::to_interval),

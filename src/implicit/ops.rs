@@ -641,9 +641,12 @@ pub fn isolate_segment(
     inside: Option<&IBox>,
     budget: SegmentBudget,
 ) -> SegmentRoots {
-    let dir: IBox = [0, 1, 2].map(|k| eb[k] - ea[k]);
-    let at = |t: Interval| -> IBox { [0, 1, 2].map(|k| ea[k] + t * dir[k]) };
-    let pt = |t: f64| Interval::try_from((t, t)).unwrap_or(Interval::ENTIRE);
+    // Arithmetic in the fast interval type `Iv`: inari's bounds, bit for bit.
+    use crate::implicit::directed::Iv;
+    let (iva, ivb) = (ea.map(Iv::from_interval), eb.map(Iv::from_interval));
+    let dir: [Iv; 3] = [0, 1, 2].map(|k| ivb[k] - iva[k]);
+    let at = |t: Iv| -> IBox { [0, 1, 2].map(|k| (iva[k] + t * dir[k]).to_interval()) };
+    let pt = |t: f64| Iv::from_interval(Interval::try_from((t, t)).unwrap_or(Interval::ENTIRE));
     let sign = |t: f64| segment_sign(f, ea, eb, t);
     let mut out = SegmentRoots::default();
     // Stack of pieces (t0, t1, sign at t0, sign at t1, depth); the right half is pushed
@@ -655,7 +658,7 @@ pub fn isolate_segment(
             continue;
         }
         out.pieces += 1;
-        let tt = hull(t0, t1);
+        let tt = Iv::from_interval(hull(t0, t1));
         let x = at(tt);
         let mut within = true;
         if let Some(d) = inside {
@@ -669,10 +672,12 @@ pub fn isolate_segment(
         let mut enc = d.v;
         let mut dg = Interval::ENTIRE;
         if reg == Regularity::Smooth {
-            dg = d.g[0] * dir[0] + d.g[1] * dir[1] + d.g[2] * dir[2];
+            let g = d.g.map(Iv::from_interval);
+            let dgi = g[0] * dir[0] + g[1] * dir[1] + g[2] * dir[2];
+            dg = dgi.to_interval();
             let m = 0.5 * (t0 + t1);
-            let mv = f.eval_interval(&at(pt(m))) + dg * (tt - pt(m));
-            let both = enc.intersection(mv);
+            let mv = Iv::from_interval(f.eval_interval(&at(pt(m)))) + dgi * (tt - pt(m));
+            let both = enc.intersection(mv.to_interval());
             if !both.is_empty() {
                 enc = both;
             }
@@ -712,8 +717,11 @@ pub fn isolate_segment(
 /// The sign of f at parameter t of the boxed segment of [`isolate_segment`], proven
 /// for every a ∈ `ea`, b ∈ `eb` (true: f > 0), or `None` when 0 is in the enclosure.
 pub fn segment_sign(f: &dyn Implicit, ea: &IBox, eb: &IBox, t: f64) -> Option<bool> {
-    let tt = Interval::try_from((t, t)).ok()?;
-    let x: IBox = [0, 1, 2].map(|k| ea[k] + tt * (eb[k] - ea[k]));
+    use crate::implicit::directed::Iv;
+    let tt = Iv::from_interval(Interval::try_from((t, t)).ok()?);
+    let iv = Iv::from_interval;
+    // In `Iv`: inari's bounds, bit for bit.
+    let x: IBox = [0, 1, 2].map(|k| (iv(ea[k]) + tt * (iv(eb[k]) - iv(ea[k]))).to_interval());
     let v = f.eval_interval(&x);
     if v.is_empty() {
         None

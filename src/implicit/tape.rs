@@ -133,7 +133,7 @@ macro_rules! interpret_copy {
 /// # Safety
 /// `p` points to an initialised `Iv`.
 #[inline(always)]
-unsafe fn load_iv(p: *const Iv) -> Iv {
+pub(crate) unsafe fn load_iv(p: *const Iv) -> Iv {
     Iv {
         lo: std::ptr::read_volatile(std::ptr::addr_of!((*p).lo)),
         hi: std::ptr::read_volatile(std::ptr::addr_of!((*p).hi)),

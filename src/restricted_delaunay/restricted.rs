@@ -207,17 +207,17 @@ impl Ends for Interval {
 /// (the same formula as [`circumcentre`], in outward-rounded arithmetic), or `None`
 /// when the enclosure of the determinant contains 0 (a sliver too flat to enclose).
 pub fn circumcentre_interval(p: [[f64; 3]; 4]) -> Option<IBox> {
-    let q = p.map(point_box);
-    let d: [[Interval; 3]; 3] =
-        std::array::from_fn(|i| std::array::from_fn(|k| q[i + 1][k] - q[0][k]));
-    let (l, [c12, c20, c01], det) =
-        crate::kernel::delaunay::circumcentre_terms(d, |x: Interval| x.sqr());
-    if !(det.inf() > 0.0 || det.sup() < 0.0) {
+    // In the fast interval type `Iv`: inari's bounds, bit for bit.
+    use crate::implicit::directed::Iv;
+    let q = p.map(|x| point_box(x).map(Iv::from_interval));
+    let d: [[Iv; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|k| q[i + 1][k] - q[0][k]));
+    let (l, [c12, c20, c01], det) = crate::kernel::delaunay::circumcentre_terms(d, |x: Iv| x.sqr());
+    if !(det.lo > 0.0 || det.hi < 0.0) {
         return None;
     }
-    let two = Interval::try_from((2.0, 2.0)).unwrap();
+    let two = Iv::point(2.0);
     let c: IBox = std::array::from_fn(|k| {
-        q[0][k] + (l[0] * c12[k] + l[1] * c20[k] + l[2] * c01[k]) / (two * det)
+        (q[0][k] + (l[0] * c12[k] + l[1] * c20[k] + l[2] * c01[k]) / (two * det)).to_interval()
     });
     c.iter()
         .all(|x| x.inf().is_finite() && x.sup().is_finite())

@@ -135,8 +135,9 @@ pub struct TbpReport {
     pub boxes: u64,
     /// Tests not run because an earlier one failed (`stop_early`).
     pub skipped: Vec<Test>,
-    /// Seconds: set-up (boundary, exact Delaunay check), (1) edges, (2) manifold,
-    /// (3) facets, (4) cells.
+    /// Seconds: the exact Delaunay check, (1) edges, (2) manifold, (3) facets, (4)
+    /// cells. The check runs beside (1) and (2) beside (3) (unless `stop_early`): the
+    /// entries of (1) and (3) are the wall time of both together.
     pub seconds: [f64; 5],
 }
 
@@ -202,13 +203,23 @@ fn face_key(t: &Delaunay, sites: &[VertexId], cells: &[CellId]) -> Vec<u32> {
 /// each vertex.
 struct Adjacency {
     cells_of: Vec<Vec<CellId>>,
-    edges: Vec<((VertexId, VertexId), Vec<CellId>)>,
+    /// The edges (a < b), sorted; the cells around edge i are
+    /// `rings[start[i]..start[i + 1]]`, in the kernel's cell order.
+    edges: Vec<(VertexId, VertexId)>,
+    start: Vec<usize>,
+    rings: Vec<CellId>,
+}
+
+impl Adjacency {
+    fn ring(&self, i: usize) -> &[CellId] {
+        &self.rings[self.start[i]..self.start[i + 1]]
+    }
 }
 
 fn adjacency(t: &Delaunay) -> Adjacency {
     let n = t.points().len();
     let mut cells_of: Vec<Vec<CellId>> = vec![Vec::new(); n];
-    let mut edges: HashMap<(VertexId, VertexId), Vec<CellId>> = HashMap::new();
+    let mut pairs: Vec<((VertexId, VertexId), CellId)> = Vec::new();
     for c in t.cells() {
         let v = t.cell_vertices(c);
         for &a in &v {
@@ -218,14 +229,30 @@ fn adjacency(t: &Delaunay) -> Adjacency {
             for j in i + 1..4 {
                 let (a, b) = (v[i].min(v[j]), v[i].max(v[j]));
                 if !t.is_far(a) && !t.is_far(b) {
-                    edges.entry((a, b)).or_default().push(c);
+                    pairs.push(((a, b), c));
                 }
             }
         }
     }
-    let mut edges: Vec<_> = edges.into_iter().collect();
-    edges.sort_unstable_by_key(|e| e.0);
-    Adjacency { cells_of, edges }
+    // A stable sort by edge keeps each ring in the kernel's cell order.
+    pairs.par_sort_by_key(|x| x.0);
+    let mut edges = Vec::new();
+    let mut start = Vec::new();
+    let mut rings = Vec::with_capacity(pairs.len());
+    for (k, &(e, c)) in pairs.iter().enumerate() {
+        if k == 0 || pairs[k - 1].0 != e {
+            edges.push(e);
+            start.push(k);
+        }
+        rings.push(c);
+    }
+    start.push(rings.len());
+    Adjacency {
+        cells_of,
+        edges,
+        start,
+        rings,
+    }
 }
 
 fn hull(boxes: &[IBox]) -> IBox {
@@ -603,18 +630,32 @@ pub fn check_cached(
             d
         }
     };
-    r.delaunay_valid = t.check().valid;
+    // The exact check of the triangulation and the adjacency of the Voronoi faces run
+    // beside (0)+(1) (they are serial; the scan is parallel): the same results as one
+    // after the other.
+    let ((valid, check_seconds, adj), (cc, rdt)) = rayon::join(
+        || {
+            let clock = std::time::Instant::now();
+            let valid = t.check().valid;
+            let seconds = clock.elapsed().as_secs_f64();
+            (valid, seconds, adjacency(t))
+        },
+        || {
+            // (0)+(1): every dual segment.
+            // The interval circumcentres, shared by (1) and the covers of (3) and (4).
+            let cc = restricted::certified_circumcentres(t);
+            let rdt = restricted::scan_certified(t, f, domain, &cc, o.segment);
+            (cc, rdt)
+        },
+    );
+    r.delaunay_valid = valid;
     if !r.delaunay_valid {
         setup(
             &mut failures,
             "the Delaunay triangulation failed its exact check",
         );
     }
-    r.seconds[0] = lap();
-    // (0)+(1): every dual segment.
-    // The interval circumcentres, shared by (1) and the covers of (3) and (4).
-    let cc = restricted::certified_circumcentres(t);
-    let rdt = restricted::scan_certified(t, f, domain, &cc, o.segment);
+    r.seconds[0] = check_seconds;
     r.far_lemma = rdt.far_lemma;
     if !rdt.far_lemma {
         setup(
@@ -658,7 +699,6 @@ pub fn check_cached(
     }
     let stop = |failures: &Vec<Failure>| o.stop_early && !failures.is_empty();
     r.seconds[1] = lap();
-    let adj = adjacency(t);
     r.voronoi_facets = adj.edges.len();
     r.voronoi_cells = (crate::kernel::delaunay::FAR..t.points().len() as u32)
         .filter(|&v| t.is_inserted(v))
@@ -667,84 +707,106 @@ pub fn check_cached(
         r.skipped = vec![Test::Manifold, Test::Facet, Test::Cell];
         return finish(r, rdt, failures);
     }
-    // (2): restricted edges in 0 or 2 facets, links single cycles.
-    let mut edge_count: HashMap<(VertexId, VertexId), u32> = HashMap::new();
-    let mut star: HashMap<VertexId, Vec<usize>> = HashMap::new();
-    for (k, fct) in rdt.facets.iter().enumerate() {
-        for e in 0..3 {
-            let (a, b) = (fct.v[e], fct.v[(e + 1) % 3]);
-            *edge_count.entry((a.min(b), a.max(b))).or_default() += 1;
-            star.entry(fct.v[e]).or_default().push(k);
+    // (2) and (3): the manifold check (serial) runs beside the covers of the Voronoi
+    // facets (parallel), unless a failing (2) has to stop the checks (`stop_early`).
+    // Its failures are listed before those of (3), as when run one after the other.
+    let manifold = || -> (Vec<Failure>, f64) {
+        let clock = std::time::Instant::now();
+        let mut failures = Vec::new();
+        // (2): restricted edges in 0 or 2 facets, links single cycles.
+        let mut edge_count: HashMap<(VertexId, VertexId), u32> = HashMap::new();
+        let mut star: HashMap<VertexId, Vec<usize>> = HashMap::new();
+        for (k, fct) in rdt.facets.iter().enumerate() {
+            for e in 0..3 {
+                let (a, b) = (fct.v[e], fct.v[(e + 1) % 3]);
+                *edge_count.entry((a.min(b), a.max(b))).or_default() += 1;
+                star.entry(fct.v[e]).or_default().push(k);
+            }
         }
-    }
-    let farthest = |p: VertexId| -> [f64; 3] {
-        let pp = t.point(p);
-        star.get(&p)
-            .into_iter()
-            .flatten()
-            .flat_map(|&k| rdt.facets[k].test.crossings.iter().map(|x| x.point))
-            .max_by(|a, b| dist(*a, pp).total_cmp(&dist(*b, pp)))
-            .unwrap_or(pp)
-    };
-    let mut bad_edges: Vec<_> = edge_count.iter().filter(|(_, &n)| n != 2).collect();
-    bad_edges.sort_unstable();
-    for (&(a, b), &n) in bad_edges {
-        failures.push(Failure {
-            test: Test::Manifold,
-            sites: vec![a, b],
-            point: farthest(a),
-            reason: format!("restricted edge in {n} restricted facets (2 needed)"),
-            alternatives: Vec::new(),
-        });
-    }
-    let mut verts: Vec<_> = star.keys().copied().collect();
-    verts.sort_unstable();
-    for v in verts {
-        if !super::bo::is_disk(v, &star[&v], &rdt) {
+        let farthest = |p: VertexId| -> [f64; 3] {
+            let pp = t.point(p);
+            star.get(&p)
+                .into_iter()
+                .flatten()
+                .flat_map(|&k| rdt.facets[k].test.crossings.iter().map(|x| x.point))
+                .max_by(|a, b| dist(*a, pp).total_cmp(&dist(*b, pp)))
+                .unwrap_or(pp)
+        };
+        let mut bad_edges: Vec<_> = edge_count.iter().filter(|(_, &n)| n != 2).collect();
+        bad_edges.sort_unstable();
+        for (&(a, b), &n) in bad_edges {
             failures.push(Failure {
                 test: Test::Manifold,
-                sites: vec![v],
-                point: farthest(v),
-                reason: "the restricted facets around the vertex do not form one disk".into(),
+                sites: vec![a, b],
+                point: farthest(a),
+                reason: format!("restricted edge in {n} restricted facets (2 needed)"),
                 alternatives: Vec::new(),
             });
         }
-    }
-    r.seconds[2] = lap();
-    if stop(&failures) {
-        r.skipped = vec![Test::Facet, Test::Cell];
-        return finish(r, rdt, failures);
-    }
-    // (3) and (4): covers with interval circumcentres as the faces' vertices.
-    let mut crossings: HashMap<(VertexId, VertexId), Vec<[f64; 3]>> = HashMap::new();
-    for fct in &rdt.facets {
-        for e in 0..3 {
-            let (a, b) = (fct.v[e], fct.v[(e + 1) % 3]);
-            let x = crossings.entry((a.min(b), a.max(b))).or_default();
-            x.extend(fct.test.crossings.iter().map(|c| c.point));
+        let mut verts: Vec<_> = star.keys().copied().collect();
+        verts.sort_unstable();
+        for v in verts {
+            if !super::bo::is_disk(v, &star[&v], &rdt) {
+                failures.push(Failure {
+                    test: Test::Manifold,
+                    sites: vec![v],
+                    point: farthest(v),
+                    reason: "the restricted facets around the vertex do not form one disk".into(),
+                    alternatives: Vec::new(),
+                });
+            }
         }
-    }
-    let none = Vec::new();
-    let facets: Vec<(Vec<u32>, FaceResult)> = adj
-        .edges
-        .par_chunks(CHUNK)
-        .flat_map_iter(|chunk| {
-            let todo: Vec<_> = chunk
-                .iter()
-                .map(|(e, ring)| (cache.key(t, &[e.0, e.1], ring), e, ring))
-                .filter(|x| !cache.proven(&x.0))
-                .collect();
-            let rings: Vec<&[CellId]> = todo.iter().map(|x| x.2.as_slice()).collect();
-            let starts = start_boxes(f, &cc, &rings, &dbox);
-            todo.into_iter()
-                .zip(starts)
-                .map(|((k, e, ring), start)| {
-                    let xs = crossings.get(e).unwrap_or(&none);
-                    (k, check_facet(t, f, *e, ring, start, xs, o))
-                })
-                .collect::<Vec<_>>()
-        })
-        .collect();
+        (failures, clock.elapsed().as_secs_f64())
+    };
+    let cache_ref = &*cache;
+    let facets = || -> Vec<(Vec<u32>, FaceResult)> {
+        // (3): covers with interval circumcentres as the faces' vertices.
+        let mut crossings: HashMap<(VertexId, VertexId), Vec<[f64; 3]>> = HashMap::new();
+        for fct in &rdt.facets {
+            for e in 0..3 {
+                let (a, b) = (fct.v[e], fct.v[(e + 1) % 3]);
+                let x = crossings.entry((a.min(b), a.max(b))).or_default();
+                x.extend(fct.test.crossings.iter().map(|c| c.point));
+            }
+        }
+        let none = Vec::new();
+        let idx: Vec<usize> = (0..adj.edges.len()).collect();
+        idx.par_chunks(CHUNK)
+            .flat_map_iter(|chunk| {
+                let todo: Vec<_> = chunk
+                    .iter()
+                    .map(|&i| {
+                        let (e, ring) = (&adj.edges[i], adj.ring(i));
+                        (cache_ref.key(t, &[e.0, e.1], ring), e, ring)
+                    })
+                    .filter(|x| !cache_ref.proven(&x.0))
+                    .collect();
+                let rings: Vec<&[CellId]> = todo.iter().map(|x| x.2).collect();
+                let starts = start_boxes(f, &cc, &rings, &dbox);
+                todo.into_iter()
+                    .zip(starts)
+                    .map(|((k, e, ring), start)| {
+                        let xs = crossings.get(e).unwrap_or(&none);
+                        (k, check_facet(t, f, *e, ring, start, xs, o))
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    };
+    let ((manifold_failures, manifold_seconds), facets) = if o.stop_early {
+        let m = manifold();
+        if !m.0.is_empty() {
+            failures.extend(m.0);
+            r.seconds[2] = m.1;
+            r.skipped = vec![Test::Facet, Test::Cell];
+            return finish(r, rdt, failures);
+        }
+        (m, facets())
+    } else {
+        rayon::join(manifold, facets)
+    };
+    failures.extend(manifold_failures);
+    r.seconds[2] = manifold_seconds;
     r.boxes += record(facets, &mut failures, cache);
     r.seconds[3] = lap();
     if stop(&failures) {
