@@ -425,6 +425,7 @@ pub fn markdown(rep: &Report, seconds: f64, quick: bool) -> String {
 fn patch_section(rep: &Report) -> String {
     let mut s = String::from("### 3a. The chapter's patching of the previous mesh (uncertified, for animations)\n\n`--algo stander-hart --set patch=true` also runs the sweep as the chapter describes it, from the empty mesh below min f: an ellipsoid born at each minimum, ray-shot triangle removal and a cylinder of six triangles at an index-1 point, a cut and two caps at an index-2 point, a component removed at an index-3 point, then Newton steps of every vertex onto the next level (`src/morse/patch.rs`). Nothing of it is certified and it never replaces the output (level 0 meshed afresh); it is a picture of the sweep (`--set levels-dir=DIR` writes `patched-KK.obj`). Per level: χ predicted by the certified critical data / χ of the patched mesh, and whether it is a closed manifold; failed = patches that could not be applied (a ray that hit nothing, a cut that did not leave two loops).\n\n| surface | levels: χ predicted / patched (closed manifold) | failed patches | patched χ = prediction at every level |\n|---|---|---|---|\n");
     let mut agree = Vec::new();
+    let mut disagree = Vec::new();
     for r in rep.sweeps.iter().filter(|r| !r.patched.is_empty()) {
         let cells: Vec<String> = r
             .patched
@@ -434,6 +435,8 @@ fn patch_section(rep: &Report) -> String {
         let ok = r.patched.iter().all(|(p, c, m, f)| *p == Some(*c) && *m && *f == 0);
         if ok {
             agree.push(r.surface.as_str());
+        } else {
+            disagree.push(r.surface.as_str());
         }
         s.push_str(&format!(
             "| {} | {} | {} | {} |\n",
@@ -444,10 +447,11 @@ fn patch_section(rep: &Report) -> String {
         ));
     }
     s.push_str(&format!(
-        "\nThe patched sweep matches the certified prediction, closed at every level, on {} of {} certified sweeps ({}). Where it does not, the patches are the chapter's local surgery on a coarse mesh (an ellipsoid of 80 triangles, a six-triangle cylinder), and the Newton steps that follow can fold the mesh; this is why the certified output is meshed afresh.\n\n",
+        "\nThe patched sweep matches the certified prediction, closed at every level, on {} of {} certified sweeps ({}). Where it does not ({}; the torus through the remedy in `tests/morse.rs`), the rays shot from index-1 points hit no triangle: an ellipsoid born at a minimum moves onto each later level along ∇f, which does not stretch it along the elongated pieces of {{f ≤ a}} towards the saddle, so the handle cannot be attached and χ departs from the prediction from that level on. The chapter's patches need a mesh that follows the level set (remeshing between levels); this is why the certified output is meshed afresh.\n\n",
         agree.len(),
         rep.sweeps.iter().filter(|r| !r.patched.is_empty()).count(),
-        if agree.is_empty() { "none".to_string() } else { agree.join(", ") }
+        if agree.is_empty() { "none".to_string() } else { agree.join(", ") },
+        if disagree.is_empty() { "none here".to_string() } else { disagree.join(", ") }
     ));
     s
 }
