@@ -7,6 +7,7 @@
 //!
 //! Prints `shear S`, `critical_events N` and `median_ms T`; writes the certificate of
 //! the first run to CERT.json when given (the script feeds its polynomial to CGAL).
+//! With GVN_TOLERANCE=T set, the extra fibres of `--set tolerance=T` run too.
 use certmesh::algebraic::bipoly::{from_formula, BiPoly};
 use certmesh::algebraic::sweep::{analyse, SweepParams};
 use certmesh::Aabb;
@@ -36,7 +37,12 @@ fn main() {
         max: [d[2], d[3], 0.0],
     };
     let reps: usize = a[3].parse().expect("REPS");
-    let p = SweepParams::default();
+    // GVN_TOLERANCE=T: with the extra fibres of `--set tolerance=T` (their report is
+    // printed as `tolerance …`).
+    let mut p = SweepParams::default();
+    if let Ok(t) = std::env::var("GVN_TOLERANCE") {
+        p.tolerance = Some(t.parse().expect("GVN_TOLERANCE"));
+    }
     let mut ms = Vec::new();
     let mut first = None;
     for _ in 0..reps.max(1) {
@@ -56,4 +62,7 @@ fn main() {
         r.events.iter().filter(|e| e.critical).count()
     );
     println!("median_ms {:.3}", ms[ms.len() / 2]);
+    if let Some(t) = &r.tolerance {
+        println!("tolerance {}", serde_json::to_string(t).expect("json"));
+    }
 }

@@ -118,7 +118,7 @@ fn unit_interval(c: &BigInt, h: u64, scale: &BigRational) -> (BigRational, BigRa
 }
 
 /// Descartes' bound for roots of q in (0, 1): the sign variations of (x+1)ⁿ q(1/(x+1)).
-fn var01(q: &UPoly) -> usize {
+pub(crate) fn var01(q: &UPoly) -> usize {
     q.reverse().taylor_shift1().sign_variations()
 }
 

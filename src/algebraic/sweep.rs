@@ -49,6 +49,11 @@ pub struct SweepParams {
     pub max_bits: u64,
     /// Shears tried: s = 0, ±1, …, ±max_shear (default 6).
     pub max_shear: i64,
+    /// Extra fibres until every arc is proven within this distance of its polyline
+    /// (`--set tolerance=T`; none by default).
+    pub tolerance: Option<f64>,
+    /// Budget of extra fibres (`--set max-extra-fibres=N`, default 4000).
+    pub max_extra_fibres: usize,
 }
 
 impl Default for SweepParams {
@@ -57,6 +62,8 @@ impl Default for SweepParams {
             max_degree: 10,
             max_bits: 512,
             max_shear: 6,
+            tolerance: None,
+            max_extra_fibres: 4000,
         }
     }
 }
@@ -70,7 +77,16 @@ pub struct Sweep {
 impl Sweep {
     /// From `--set max-degree=N`, `--set max-bits=N`, `--set max-shear=N`.
     pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        o.check_keys("sweep", &["max-degree", "max-bits", "max-shear"])?;
+        o.check_keys(
+            "sweep",
+            &[
+                "max-degree",
+                "max-bits",
+                "max-shear",
+                "tolerance",
+                "max-extra-fibres",
+            ],
+        )?;
         let mut p = SweepParams::default();
         if let Some(v) = o.get::<usize>("max-degree")? {
             p.max_degree = v;
@@ -83,6 +99,15 @@ impl Sweep {
                 return Err(Error::Param("--set max-shear must be in 0..=64".into()));
             }
             p.max_shear = v;
+        }
+        if let Some(v) = o.get::<f64>("tolerance")? {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(Error::Param("--set tolerance must be a positive number".into()));
+            }
+            p.tolerance = Some(v);
+        }
+        if let Some(v) = o.get::<usize>("max-extra-fibres")? {
+            p.max_extra_fibres = v;
         }
         Ok(Sweep { params: p })
     }
@@ -160,6 +185,12 @@ pub struct SweepResult {
     /// The re-checkable certificate ([`super::check::check_curve`]).
     #[serde(skip)]
     pub cert: CurveCert,
+    /// What the extra fibres of `--set tolerance` start from (the sheared polynomial,
+    /// the events and strips with their certified intervals).
+    #[serde(skip)]
+    pub arcs: Option<Box<super::tolerance::ArcData>>,
+    /// The extra fibres' report, when a tolerance was asked for.
+    pub tolerance: Option<super::tolerance::ToleranceReport>,
 }
 
 /// The coefficients of a polynomial as decimal strings.
@@ -909,6 +940,16 @@ pub fn analyse(f: &BiPoly, domain: &Aabb, p: &SweepParams) -> Result<SweepResult
         match analyse_frame(f, &g, s, domain) {
             Ok(mut r) => {
                 r.rejected_shears = rejected;
+                if let Some(t) = p.tolerance {
+                    super::tolerance::refine(
+                        &mut r,
+                        &super::tolerance::ToleranceParams {
+                            tolerance: t,
+                            max_fibres: p.max_extra_fibres,
+                            max_depth: 40,
+                        },
+                    )?;
+                }
                 return Ok(r);
             }
             Err(Error::Param(m)) if m.starts_with("__nongeneric__") => {
@@ -1024,6 +1065,8 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
         },
         labels: Vec::new(),
         cert: CurveCert::default(),
+        arcs: None,
+        tolerance: None,
     };
     let mut cert = CurveCert {
         format: super::check::CERT_FORMAT.to_string(),
@@ -1190,10 +1233,12 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
     }
     let mut samples = Vec::new();
     let (mut cfib_roots, mut cfib_inside) = (Vec::new(), Vec::new());
+    let mut sample_roots: Vec<Vec<RealAlg>> = Vec::new();
     cert.strips = strips.iter().map(|st| (st.0, st.1)).collect();
     for (_, _, q) in &strips {
         let roots = isolate(&g.at_x(q))?;
         let mut vid = Vec::new();
+        let mut kept_roots = Vec::new();
         for mut r in roots.clone() {
             // Inside test, exact: ymin < v < ymax and xmin < q + s·v < xmax.
             let mut inside =
@@ -1215,7 +1260,9 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
             }
             cfib_roots.push(CertInterval::new(&r.lo, &r.hi));
             cfib_inside.push(inside);
+            kept_roots.push(r);
         }
+        sample_roots.push(kept_roots);
         cert.fibres.push(CertFibre {
             q: q.to_string(),
             roots: std::mem::take(&mut cfib_roots),
@@ -1231,6 +1278,12 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
     let mut segs: Vec<[u32; 2]> = Vec::new();
     // Per event, per fibre root: (vertex id when kept, branches left, branches right).
     let mut ev_vertices: Vec<Vec<(Option<u32>, usize, usize)>> = Vec::new();
+    let mut ev_boxes: Vec<Vec<(BigRational, BigRational)>> = Vec::new();
+    // Per event: per root (special, on the boundary), and β = num/den when generic.
+    #[allow(clippy::type_complexity)]
+    let mut ev_kinds: Vec<(Vec<(bool, bool)>, Option<(UPoly, UPoly)>)> = Vec::new();
+    #[allow(clippy::type_complexity)]
+    let mut ev_snaps: Vec<Vec<Option<(BigRational, BigRational)>>> = Vec::new();
     let gx = g.dx();
     for (ei, ev) in events.iter_mut().enumerate() {
         let left = strips.iter().position(|st| st.1 == Some(ei));
@@ -1542,6 +1595,17 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
                 right: br[i],
             });
         }
+        ev_boxes.push(roots.iter().map(|r| (r.lo.clone(), r.hi.clone())).collect());
+        ev_snaps.push(
+            roots
+                .iter()
+                .map(|r| r.snap.as_ref().map(|b| (b.v0.clone(), b.v1.clone())))
+                .collect(),
+        );
+        ev_kinds.push((
+            roots.iter().map(|r| (r.special, r.boundary)).collect(),
+            generic.then(|| (num.clone(), den.clone())),
+        ));
         cev.lo = ev.u.lo.to_string();
         cev.hi = ev.u.hi.to_string();
         cert.events.push(cev);
@@ -1599,6 +1663,40 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
     cert.vertices = out.curve.vertices.clone();
     cert.segments = out.curve.segments.clone();
     out.cert = cert;
+    out.arcs = Some(Box::new(super::tolerance::ArcData {
+        g: g.clone(),
+        s,
+        events: events
+            .iter()
+            .zip(ev_boxes)
+            .zip(&ev_vertices)
+            .zip(ev_kinds)
+            .zip(ev_snaps)
+            .map(|((((e, boxes), vv), (kinds, beta)), snap)| super::tolerance::EventArcs {
+                snap,
+                u: e.u.clone(),
+                boxes,
+                special: kinds.iter().map(|k| k.0).collect(),
+                boundary: kinds.iter().map(|k| k.1).collect(),
+                beta,
+                vid: vv.iter().map(|v| v.0).collect(),
+                left: vv.iter().map(|v| v.1).collect(),
+                right: vv.iter().map(|v| v.2).collect(),
+            })
+            .collect(),
+        strips: strips
+            .iter()
+            .zip(sample_roots)
+            .zip(&samples)
+            .map(|(((l, r, q), roots), smp)| super::tolerance::StripArcs {
+                left: *l,
+                right: *r,
+                q: q.clone(),
+                roots,
+                vid: smp.vid.clone(),
+            })
+            .collect(),
+    }));
     Ok(out)
 }
 
@@ -1622,6 +1720,8 @@ pub struct SweepStats {
     pub x_extreme_points: usize,
     pub fibre_counts: Vec<usize>,
     pub event_list: Vec<EventInfo>,
+    /// The extra fibres of `--set tolerance` and the certified deviation bound.
+    pub tolerance: Option<super::tolerance::ToleranceReport>,
 }
 
 impl Mesher for Sweep {
@@ -1655,14 +1755,31 @@ impl Mesher for Sweep {
             x_extreme_points: count(Label::XExtreme),
             fibre_counts: r.fibre_counts.clone(),
             event_list: r.events.clone(),
+            tolerance: r.tolerance.clone(),
         };
         let mut d = *domain;
         d.min[2] = 0.0;
         d.max[2] = 0.0;
+        let between = match &r.tolerance {
+            Some(t) if t.not_reached.is_empty() => format!(
+                "{} extra rational fibres; every arc proven within {:.3e} of its polyline (curve to polyline, interval enclosures of each arc between fibres)",
+                t.extra_fibres, t.certified_bound
+            ),
+            Some(t) => format!(
+                "{} extra rational fibres; {} of {} arcs proven within the tolerance {:.3e} (bound {:.3e}), the other {} not certified",
+                t.extra_fibres,
+                t.arcs_within_tolerance,
+                t.arcs,
+                t.tolerance,
+                t.certified_bound,
+                t.not_reached.len()
+            ),
+            None => "geometry between fibres not certified".to_string(),
+        };
         let claim = Claim::Isotopic {
             inside: d,
             theorem: format!(
-                "exact: González-Vega–Necula sweep in the frame x + {}·y (unsheared, determinant 1), resultant and Sturm–Habicht signs, Descartes isolation, real-only genericity test, re-checkable certificate (certmesh check-curve); straight segments between fibres (geometry between fibres not certified)",
+                "exact: González-Vega–Necula sweep in the frame x + {}·y (unsheared, determinant 1), resultant and Sturm–Habicht signs, Descartes isolation, real-only genericity test, re-checkable certificate (certmesh check-curve); straight segments between fibres ({between})",
                 r.shear
             ),
             generic_position: false,
