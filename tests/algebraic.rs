@@ -1220,10 +1220,13 @@ fn extra_fibres_report_where_the_tolerance_is_not_reached() {
     assert_eq!(rep.arcs, 2);
     assert_eq!(rep.not_reached.len(), 2, "{rep:?}");
     assert_eq!(rep.arcs_within_tolerance, 0);
-    let dev = sampled_deviation(f, &d, &r.curve);
-    for m in &rep.not_reached {
-        if let Some(b) = m.bound {
-            assert!(b >= dev - 1e-9 || b > 1e-3, "{m:?} vs sampled {dev}");
-        }
+    // A bound reported for an arc not reached is still certified: the largest one
+    // bounds the sampled deviation of the whole curve (both arcs).
+    let bounds: Vec<f64> = rep.not_reached.iter().filter_map(|m| m.bound).collect();
+    if bounds.len() == 2 {
+        let dev = sampled_deviation(f, &d, &r.curve);
+        let b = bounds.iter().cloned().fold(0.0, f64::max);
+        assert!(b >= dev - 1e-9, "bound {b} below the sampled deviation {dev}");
+        assert!(b > 1e-3);
     }
 }

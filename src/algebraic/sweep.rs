@@ -936,7 +936,7 @@ pub fn analyse(f: &BiPoly, domain: &Aabb, p: &SweepParams) -> Result<SweepResult
             ));
             continue;
         }
-        let g = g.squarefree_y();
+        let g = squarefree_y_regular(g);
         match analyse_frame(f, &g, s, domain) {
             Ok(mut r) => {
                 r.rejected_shears = rejected;
@@ -967,6 +967,25 @@ pub fn analyse(f: &BiPoly, domain: &Aabb, p: &SweepParams) -> Result<SweepResult
             .collect::<Vec<_>>()
             .join("; ")
     )))
+}
+
+/// `g.squarefree_y()` for a y-regular g (constant, non-zero lc_y), the same
+/// polynomial, with the bivariate gcd skipped when a specialisation proves it trivial:
+/// a common factor G of g and g_y with deg_y G ≥ 1 has a constant lc_y (it divides
+/// lc_y g), so G(x0, ·) keeps its degree and divides g(x0, ·) and g_y(x0, ·) for every
+/// integer x0; a square-free g(x0, ·) (univariate gcd with its derivative constant)
+/// therefore proves deg_y gcd(g, g_y) = 0, and squarefree_y is then g.primitive().
+fn squarefree_y_regular(g: BiPoly) -> BiPoly {
+    let d = g.deg_y();
+    if d >= 1 && g.lc_y().deg() == 0 {
+        for x0 in [0i64, 1, -1, 2] {
+            let gx = g.at_x(&BigRational::from_integer(BigInt::from(x0)));
+            if gx.deg() == d && gx.gcd(&gx.derivative()).deg() == 0 {
+                return g.primitive();
+            }
+        }
+    }
+    g.squarefree_y()
 }
 
 fn boundary_error(what: &str) -> Error {
