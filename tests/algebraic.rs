@@ -1164,7 +1164,10 @@ fn extra_fibres_bound_the_deviation() {
         ("y^2 - x^3", dom(-2.0, -2.0, 2.0, 2.0)),
         ("y - x^2", dom(-2.0, -2.0, 2.0, 2.0)),
         ("x*y - 1", dom(-3.0, -3.0, 3.0, 3.0)),
-        ("(x^2 + y^2 - x)^2 - (x^2 + y^2)/4", dom(-2.0, -2.0, 2.0, 2.0)),
+        (
+            "(x^2 + y^2 - x)^2 - (x^2 + y^2)/4",
+            dom(-2.0, -2.0, 2.0, 2.0),
+        ),
     ];
     for (f, d) in cases {
         let coarse = run(f, d);
@@ -1176,9 +1179,17 @@ fn extra_fibres_bound_the_deviation() {
         let r = analyse(&p, &d, &params).unwrap_or_else(|e| panic!("{f}: {e}"));
         let rep = r.tolerance.clone().expect("a tolerance report");
         assert!(rep.extra_fibres > 0, "{f}: no extra fibre");
-        assert!(rep.not_reached.is_empty(), "{f}: not reached {:?}", rep.not_reached);
+        assert!(
+            rep.not_reached.is_empty(),
+            "{f}: not reached {:?}",
+            rep.not_reached
+        );
         assert_eq!(rep.arcs, rep.arcs_within_tolerance);
-        assert!(rep.certified_bound <= t, "{f}: bound {}", rep.certified_bound);
+        assert!(
+            rep.certified_bound <= t,
+            "{f}: bound {}",
+            rep.certified_bound
+        );
         // The certificate is the sweep's, and still checks.
         assert_eq!(
             serde_json::to_string(&r.cert).unwrap(),
@@ -1198,7 +1209,10 @@ fn extra_fibres_bound_the_deviation() {
             rep.certified_bound
         );
         let dev0 = sampled_deviation(f, &d, &coarse.curve);
-        assert!(dev0 > t, "{f}: the sweep's polyline already within {t} ({dev0})");
+        assert!(
+            dev0 > t,
+            "{f}: the sweep's polyline already within {t} ({dev0})"
+        );
     }
 }
 
@@ -1226,7 +1240,10 @@ fn extra_fibres_report_where_the_tolerance_is_not_reached() {
     if bounds.len() == 2 {
         let dev = sampled_deviation(f, &d, &r.curve);
         let b = bounds.iter().cloned().fold(0.0, f64::max);
-        assert!(b >= dev - 1e-9, "bound {b} below the sampled deviation {dev}");
+        assert!(
+            b >= dev - 1e-9,
+            "bound {b} below the sampled deviation {dev}"
+        );
         assert!(b > 1e-3);
     }
 }

@@ -128,7 +128,11 @@ pub(crate) fn var01(q: &UPoly) -> usize {
 /// are the content that grows, and shifting them out costs no big-integer gcd (the
 /// full primitive part did, a third of the isolation's time).
 fn drop_pow2(mut q: UPoly) -> UPoly {
-    let tz = q.c.iter().filter_map(|a| a.trailing_zeros()).min().unwrap_or(0);
+    let tz =
+        q.c.iter()
+            .filter_map(|a| a.trailing_zeros())
+            .min()
+            .unwrap_or(0);
     if tz > 0 {
         for a in q.c.iter_mut() {
             *a >>= tz;

@@ -102,7 +102,9 @@ impl Sweep {
         }
         if let Some(v) = o.get::<f64>("tolerance")? {
             if !(v > 0.0 && v.is_finite()) {
-                return Err(Error::Param("--set tolerance must be a positive number".into()));
+                return Err(Error::Param(
+                    "--set tolerance must be a positive number".into(),
+                ));
             }
             p.tolerance = Some(v);
         }
@@ -234,9 +236,7 @@ fn genericity_image(r: &ModRing, sres_k: &UPoly, sk: &[UPoly], k: usize, i: usiz
 /// `α.is_root_of(&genericity_condition(…))`, after a modular proof that it does not
 /// (`modgcd::coprime_by_image`), which avoids building the condition over Z.
 pub fn genericity_holds(a: &RealAlg, sres_k: &UPoly, sk: &[UPoly], k: usize, i: usize) -> bool {
-    if !a.is_exact()
-        && coprime_by_image(&a.p, 2, |r| genericity_image(r, sres_k, sk, k, i))
-    {
+    if !a.is_exact() && coprime_by_image(&a.p, 2, |r| genericity_image(r, sres_k, sk, k, i)) {
         return false;
     }
     a.is_root_of(&genericity_condition(sres_k, sk, k, i))
@@ -863,8 +863,7 @@ fn critical_data(
         .entry(k)
         .or_insert_with(|| subres::lower_of(chain, k));
     // Genericity: S_k(α, v) = sres_k(α)·(v − β)^k.
-    let generic =
-        (0..k.saturating_sub(1)).all(|i| genericity_holds(u, &sres[k], sk, k, i));
+    let generic = (0..k.saturating_sub(1)).all(|i| genericity_holds(u, &sres[k], sk, k, i));
     let mut c = Crit {
         signs,
         k,
@@ -1691,17 +1690,19 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
             .zip(&ev_vertices)
             .zip(ev_kinds)
             .zip(ev_snaps)
-            .map(|((((e, boxes), vv), (kinds, beta)), snap)| super::tolerance::EventArcs {
-                snap,
-                u: e.u.clone(),
-                boxes,
-                special: kinds.iter().map(|k| k.0).collect(),
-                boundary: kinds.iter().map(|k| k.1).collect(),
-                beta,
-                vid: vv.iter().map(|v| v.0).collect(),
-                left: vv.iter().map(|v| v.1).collect(),
-                right: vv.iter().map(|v| v.2).collect(),
-            })
+            .map(
+                |((((e, boxes), vv), (kinds, beta)), snap)| super::tolerance::EventArcs {
+                    snap,
+                    u: e.u.clone(),
+                    boxes,
+                    special: kinds.iter().map(|k| k.0).collect(),
+                    boundary: kinds.iter().map(|k| k.1).collect(),
+                    beta,
+                    vid: vv.iter().map(|v| v.0).collect(),
+                    left: vv.iter().map(|v| v.1).collect(),
+                    right: vv.iter().map(|v| v.2).collect(),
+                },
+            )
             .collect(),
         strips: strips
             .iter()

@@ -241,7 +241,11 @@ fn shrink_simple(giv: &GIv, a: &mut RealAlg, bx: &mut (BigRational, BigRational)
 
 /// The box of β(α) = num(α)/den(α) from α's interval (exact interval Horner), when
 /// den's enclosure excludes 0.
-fn beta_box(num: &super::upoly::UPoly, den: &super::upoly::UPoly, a: &RealAlg) -> Option<(BigRational, BigRational)> {
+fn beta_box(
+    num: &super::upoly::UPoly,
+    den: &super::upoly::UPoly,
+    a: &RealAlg,
+) -> Option<(BigRational, BigRational)> {
     use super::algnum::eval_interval;
     let (nl, nh) = eval_interval(num, &a.lo, &a.hi);
     let (dl, dh) = eval_interval(den, &a.lo, &a.hi);
@@ -261,7 +265,12 @@ impl Ctx<'_> {
     }
     /// The certified v-box and the vertex of arc `i`'s end on node `n`; `left_end`: n
     /// is the piece's left node (so the arc leaves an event to the right).
-    fn end(&self, n: &Node, i: usize, left_end: bool) -> Option<(usize, (BigRational, BigRational), Option<u32>)> {
+    fn end(
+        &self,
+        n: &Node,
+        i: usize,
+        left_end: bool,
+    ) -> Option<(usize, (BigRational, BigRational), Option<u32>)> {
         match n {
             Node::Fibre { boxes, vid, .. } => Some((i, boxes.get(i)?.clone(), *vid.get(i)?)),
             Node::Event(e) => {
@@ -389,15 +398,19 @@ impl Ctx<'_> {
                 }
                 // Proven: the group lies in the parallelogram over [ulo, uhi] between
                 // ℓ + clo and ℓ + chi. Its corners in (x, y):
-                let corners: Vec<[BigRational; 2]> = [(&ulo, &clo), (&ulo, &chi), (&uhi, &clo), (&uhi, &chi)]
-                    .iter()
-                    .map(|(u, c)| {
-                        let v = ell(u) + *c;
-                        [*u + &self.s * &v, v]
-                    })
-                    .collect();
+                let corners: Vec<[BigRational; 2]> =
+                    [(&ulo, &clo), (&ulo, &chi), (&uhi, &clo), (&uhi, &chi)]
+                        .iter()
+                        .map(|(u, c)| {
+                            let v = ell(u) + *c;
+                            [*u + &self.s * &v, v]
+                        })
+                        .collect();
                 for &t in &grp {
-                    let (pa, pb) = (vert_q(verts, va[t].expect("checked")), vert_q(verts, vb[t].expect("checked")));
+                    let (pa, pb) = (
+                        vert_q(verts, va[t].expect("checked")),
+                        vert_q(verts, vb[t].expect("checked")),
+                    );
                     let d2 = corners
                         .iter()
                         .map(|c| dist2_seg(c, &pa, &pb))
@@ -452,7 +465,9 @@ fn zero_free_segment(
 /// regular). The certificate is left as it is.
 pub fn refine(r: &mut SweepResult, p: &ToleranceParams) -> Result<()> {
     if !(p.tolerance > 0.0 && p.tolerance.is_finite()) {
-        return Err(Error::Param("--set tolerance must be a positive number".into()));
+        return Err(Error::Param(
+            "--set tolerance must be a positive number".into(),
+        ));
     }
     let Some(data) = r.arcs.take() else {
         r.tolerance = Some(ToleranceReport {
@@ -466,7 +481,9 @@ pub fn refine(r: &mut SweepResult, p: &ToleranceParams) -> Result<()> {
         return Ok(());
     };
     let giv = GIv::new(&data.g).ok_or_else(|| {
-        Error::TooLarge("the polynomial's coefficients exceed the f64 range of the interval filter".into())
+        Error::TooLarge(
+            "the polynomial's coefficients exceed the f64 range of the interval filter".into(),
+        )
     })?;
     let s = data.s;
     let mut ctx = Ctx {
@@ -501,7 +518,10 @@ pub fn refine(r: &mut SweepResult, p: &ToleranceParams) -> Result<()> {
             if let Some((v0, v1)) = &ev.snap[ri] {
                 // On a side: the sweep's own placement, at the refined u.
                 let u = a.to_f64();
-                let mut pt = [u + s as f64 * (q_to_f64(v0) + q_to_f64(v1) * u), q_to_f64(v0) + q_to_f64(v1) * u];
+                let mut pt = [
+                    u + s as f64 * (q_to_f64(v0) + q_to_f64(v1) * u),
+                    q_to_f64(v0) + q_to_f64(v1) * u,
+                ];
                 if v1.is_zero() {
                     pt[1] = q_to_f64(v0);
                 } else {
@@ -551,13 +571,19 @@ pub fn refine(r: &mut SweepResult, p: &ToleranceParams) -> Result<()> {
             continue;
         }
         let (Some(le), Some(re)) = (st.left, st.right) else {
-            return Err(Error::Param("internal: an arc inside the domain in an unbounded strip".into()));
+            return Err(Error::Param(
+                "internal: an arc inside the domain in an unbounded strip".into(),
+            ));
         };
         n_arcs += arcs.len();
         let count = st.vid.len();
         let sample = Node::Fibre {
             q: st.q.clone(),
-            boxes: st.roots.iter().map(|r| (r.lo.clone(), r.hi.clone())).collect(),
+            boxes: st
+                .roots
+                .iter()
+                .map(|r| (r.lo.clone(), r.hi.clone()))
+                .collect(),
             vid: st.vid.clone(),
         };
         // Per arc: the vertices of its chain (left to right) and its bound so far.
@@ -581,8 +607,14 @@ pub fn refine(r: &mut SweepResult, p: &ToleranceParams) -> Result<()> {
                     }
                 }
             }
-            let va: Vec<Option<u32>> = arcs.iter().map(|&i| ctx.end(&a, i, true).and_then(|e| e.2)).collect();
-            let vb: Vec<Option<u32>> = arcs.iter().map(|&i| ctx.end(&b, i, false).and_then(|e| e.2)).collect();
+            let va: Vec<Option<u32>> = arcs
+                .iter()
+                .map(|&i| ctx.end(&a, i, true).and_then(|e| e.2))
+                .collect();
+            let vb: Vec<Option<u32>> = arcs
+                .iter()
+                .map(|&i| ctx.end(&b, i, false).and_then(|e| e.2))
+                .collect();
             let bs = ctx.piece(&a, &b, &arcs, &verts, &va, &vb, p.tolerance);
             let ok = bs.iter().all(|x| x.is_some_and(|v| v <= p.tolerance));
             if ok || depth >= p.max_depth || extra >= p.max_fibres {
@@ -639,7 +671,9 @@ pub fn refine(r: &mut SweepResult, p: &ToleranceParams) -> Result<()> {
                 if let Some((_, _, Some(v))) = ctx.end(n, i, left) {
                     chain.push(v);
                 } else {
-                    return Err(Error::Param("internal: an arc inside the domain without a vertex".into()));
+                    return Err(Error::Param(
+                        "internal: an arc inside the domain without a vertex".into(),
+                    ));
                 }
             }
             for w in chain.windows(2) {
@@ -656,7 +690,11 @@ pub fn refine(r: &mut SweepResult, p: &ToleranceParams) -> Result<()> {
                     within += 1;
                     worst = worst.max(b);
                 }
-                b => misses.push(ArcMiss { strip: si, arc: i, bound: b }),
+                b => misses.push(ArcMiss {
+                    strip: si,
+                    arc: i,
+                    bound: b,
+                }),
             }
         }
     }
