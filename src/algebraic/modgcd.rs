@@ -423,6 +423,31 @@ mod tests {
     }
 
     proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// The modular "not a root" proof never misfires: when it claims gcd(p, H) = 1
+        /// the exact gcd is 1; and with a shared factor (H = k·u + p·v with k | p) it
+        /// never claims it. The image is built from factors, as the sweep does.
+        #[test]
+        fn coprime_by_image_is_sound(
+            k in arb(3, 20), a in arb(4, 20), u in arb(4, 20), v in arb(3, 20),
+        ) {
+            let p = k.mul(&a);
+            prop_assume!(p.deg() >= 1);
+            let h = u.mul(&v).add(&a);
+            let claim = coprime_by_image(&p, 2, |r| r.add(&r.mul(&r.img(&u), &r.img(&v)), &r.img(&a)));
+            if claim {
+                prop_assert_eq!(p.gcd(&h).deg(), 0, "claimed coprime, exact gcd non-trivial");
+            }
+            if k.deg() >= 1 {
+                let shared = k.mul(&u).add(&p.mul(&v));
+                let c = coprime_by_image(&p, 2, |r| {
+                    r.add(&r.mul(&r.img(&k), &r.img(&u)), &r.mul(&r.img(&p), &r.img(&v)))
+                });
+                prop_assert!(!c, "claimed coprime with a shared factor");
+                prop_assert!(shared.is_zero() || p.gcd(&shared).deg() >= 1);
+            }
+        }
+
         /// The Euclidean inverse equals Fermat's a^(p−2) on the modular gcd's primes.
         #[test]
         fn inverse_mod_p_equals_fermat(a in 1u64..u64::MAX, i in 0usize..256) {
