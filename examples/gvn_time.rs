@@ -7,6 +7,8 @@
 //!
 //! Prints `shear S`, `critical_events N` and `median_ms T`; writes the certificate of
 //! the first run to CERT.json when given (the script feeds its polynomial to CGAL).
+//! With GVN_TOLERANCE=T set, the extra fibres of `--set tolerance=T` run too; with
+//! GVN_CHECK=1, the certificate checker is timed as well (`check_median_ms`).
 use certmesh::algebraic::bipoly::{from_formula, BiPoly};
 use certmesh::algebraic::sweep::{analyse, SweepParams};
 use certmesh::Aabb;
@@ -36,7 +38,12 @@ fn main() {
         max: [d[2], d[3], 0.0],
     };
     let reps: usize = a[3].parse().expect("REPS");
-    let p = SweepParams::default();
+    // GVN_TOLERANCE=T: with the extra fibres of `--set tolerance=T` (their report is
+    // printed as `tolerance …`).
+    let mut p = SweepParams::default();
+    if let Ok(t) = std::env::var("GVN_TOLERANCE") {
+        p.tolerance = Some(t.parse().expect("GVN_TOLERANCE"));
+    }
     let mut ms = Vec::new();
     let mut first = None;
     for _ in 0..reps.max(1) {
@@ -56,4 +63,18 @@ fn main() {
         r.events.iter().filter(|e| e.critical).count()
     );
     println!("median_ms {:.3}", ms[ms.len() / 2]);
+    // GVN_CHECK=1: also the median time of the certificate checker on this certificate.
+    if std::env::var("GVN_CHECK").is_ok() {
+        let mut cs = Vec::new();
+        for _ in 0..reps.max(1) {
+            let t = Instant::now();
+            certmesh::algebraic::check::check_curve(&r.cert).unwrap_or_else(|e| panic!("{e}"));
+            cs.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+        cs.sort_by(f64::total_cmp);
+        println!("check_median_ms {:.3}", cs[cs.len() / 2]);
+    }
+    if let Some(t) = &r.tolerance {
+        println!("tolerance {}", serde_json::to_string(t).expect("json"));
+    }
 }

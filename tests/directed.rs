@@ -2,7 +2,9 @@
 //! the exact result (checked in exact rational arithmetic, independently of inari) and
 //! gives the same bounds as inari (the tightest ones), on the fast path and on the
 //! fallback paths alike (huge, tiny, infinite, empty operands; division by intervals
-//! containing 0; square roots of partly negative intervals).
+//! containing 0; square roots of partly negative intervals). Callers moved from inari's
+//! arithmetic to `Iv` (segment isolation, interval circumcentres) give the results of
+//! their inari versions.
 use certmesh::implicit::{Const, Formula, Implicit, Iv, Num};
 use inari::Interval;
 use num_rational::BigRational;
@@ -256,5 +258,170 @@ fn inexact_decimals_that_look_exact_are_enclosed() {
     for text in ["1", "0.5", "2.5e1", "0.0", "1e3", "0.375"] {
         let r = Formula::surface(text).unwrap().eval_interval(&p);
         assert_eq!(r.inf(), r.sup(), "{text} is exact: {r:?}");
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// Callers moved from inari's arithmetic to `Iv`: the same results as before.
+
+/// `ops::isolate_segment` as it was written in inari's arithmetic (before it moved to
+/// `Iv`): the reference the `Iv` version must agree with, piece for piece.
+fn isolate_segment_inari(
+    f: &dyn Implicit,
+    ea: &[Interval; 3],
+    eb: &[Interval; 3],
+    inside: Option<&[Interval; 3]>,
+    budget: certmesh::implicit::ops::SegmentBudget,
+) -> (Vec<(f64, f64, bool)>, Vec<[f64; 2]>, u32) {
+    use certmesh::implicit::ops::excludes_zero;
+    use certmesh::implicit::Regularity;
+    let sign = |t: f64| -> Option<bool> {
+        let tt = Interval::try_from((t, t)).ok()?;
+        let x: [Interval; 3] = [0, 1, 2].map(|k| ea[k] + tt * (eb[k] - ea[k]));
+        let v = f.eval_interval(&x);
+        if v.is_empty() {
+            None
+        } else if v.inf() > 0.0 {
+            Some(true)
+        } else if v.sup() < 0.0 {
+            Some(false)
+        } else {
+            None
+        }
+    };
+    let dir: [Interval; 3] = [0, 1, 2].map(|k| eb[k] - ea[k]);
+    let at = |t: Interval| -> [Interval; 3] { [0, 1, 2].map(|k| ea[k] + t * dir[k]) };
+    let pt = |t: f64| Interval::try_from((t, t)).unwrap_or(Interval::ENTIRE);
+    let hull =
+        |x: f64, y: f64| Interval::try_from((x.min(y), x.max(y))).unwrap_or(Interval::ENTIRE);
+    let (mut roots, mut undecided, mut pieces) = (Vec::new(), Vec::new(), 0u32);
+    let mut stack = vec![(0.0f64, 1.0f64, sign(0.0), sign(1.0), 0u32)];
+    while let Some((t0, t1, s0, s1, depth)) = stack.pop() {
+        if pieces >= budget.max_pieces {
+            undecided.push([t0, t1]);
+            continue;
+        }
+        pieces += 1;
+        let tt = hull(t0, t1);
+        let x = at(tt);
+        let mut within = true;
+        if let Some(d) = inside {
+            if (0..3).any(|k| x[k].sup() < d[k].inf() || x[k].inf() > d[k].sup()) {
+                continue;
+            }
+            within = (0..3).all(|k| d[k].inf() <= x[k].inf() && x[k].sup() <= d[k].sup());
+        }
+        let reg = f.regularity(&x);
+        let d = f.grad_interval(&x);
+        let mut enc = d.v;
+        let mut dg = Interval::ENTIRE;
+        if reg == Regularity::Smooth {
+            dg = d.g[0] * dir[0] + d.g[1] * dir[1] + d.g[2] * dir[2];
+            let m = 0.5 * (t0 + t1);
+            let mv = f.eval_interval(&at(pt(m))) + dg * (tt - pt(m));
+            let both = enc.intersection(mv);
+            if !both.is_empty() {
+                enc = both;
+            }
+        }
+        if !enc.is_empty() && excludes_zero(enc) {
+            continue;
+        }
+        if within && reg == Regularity::Smooth && !dg.is_empty() && excludes_zero(dg) {
+            if let (Some(a), Some(b)) = (s0, s1) {
+                if a != b {
+                    roots.push((t0, t1, b));
+                }
+                continue;
+            }
+        }
+        if depth >= budget.max_depth {
+            undecided.push([t0, t1]);
+            continue;
+        }
+        let w = t1 - t0;
+        let split = [0.5, 0.375, 0.625, 0.25, 0.75]
+            .iter()
+            .map(|&q| t0 + q * w)
+            .filter(|&tm| tm > t0 && tm < t1)
+            .find_map(|tm| sign(tm).map(|s| (tm, s)));
+        match split {
+            Some((tm, sm)) => {
+                stack.push((tm, t1, Some(sm), s1, depth + 1));
+                stack.push((t0, tm, s0, Some(sm), depth + 1));
+            }
+            None => undecided.push([t0, t1]),
+        }
+    }
+    (roots, undecided, pieces)
+}
+
+fn arb_end_box() -> impl Strategy<Value = [Interval; 3]> {
+    (
+        proptest::array::uniform3(-1.6f64..1.6),
+        proptest::array::uniform3(prop_oneof![Just(0.0), 0.0f64..1e-6, 0.0f64..0.05]),
+    )
+        .prop_map(|(c, r)| {
+            std::array::from_fn(|k| Interval::try_from((c[k] - r[k], c[k] + r[k])).unwrap())
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// Segment isolation in `Iv` finds the same roots, the same undecided pieces and
+    /// the same piece count as in inari's arithmetic, on the catalog's genus-2 and
+    /// torus, a formula with a pole and one with a kink, with point and boxed ends.
+    #[test]
+    fn isolate_segment_in_iv_equals_inari(
+        which in 0usize..4,
+        ea in arb_end_box(),
+        eb in arb_end_box(),
+        clip in any::<bool>(),
+    ) {
+        let text = [
+            "z^2 + 0.5*(x^2/1.44 + y^2/0.64 - 1)*((x - 0.55)^2 + y^2 - 0.09)*((x + 0.55)^2 + y^2 - 0.09)",
+            "(x^2 + y^2 + z^2 + 0.6^2 - 0.2^2)^2 - 4*0.6^2*(x^2 + y^2)",
+            "1/(x - 0.2) + y + z",
+            "abs(x) + y^2 - z^2 - 0.1",
+        ][which];
+        let f = Formula::surface(text).unwrap();
+        let dom: [Interval; 3] = [Interval::try_from((-1.0, 1.0)).unwrap(); 3];
+        let inside = clip.then_some(&dom);
+        let budget = certmesh::implicit::ops::SegmentBudget { max_depth: 30, max_pieces: 600 };
+        let got = certmesh::implicit::ops::isolate_segment(&f, &ea, &eb, inside, budget);
+        let want = isolate_segment_inari(&f, &ea, &eb, inside, budget);
+        let roots: Vec<(f64, f64, bool)> = got.roots.iter().map(|r| (r.t0, r.t1, r.rising)).collect();
+        prop_assert_eq!(roots, want.0);
+        prop_assert_eq!(got.undecided, want.1);
+        prop_assert_eq!(got.pieces, want.2);
+    }
+
+    /// Interval circumcentres in `Iv` equal the inari computation they replaced.
+    #[test]
+    fn circumcentre_interval_in_iv_equals_inari(
+        p in proptest::array::uniform4(proptest::array::uniform3(prop_oneof![
+            8 => -2.0f64..2.0,
+            1 => -1e-3f64..1e-3,
+            1 => Just(0.5),
+        ])),
+    ) {
+        let point = |x: [f64; 3]| x.map(|c| Interval::try_from((c, c)).unwrap());
+        let q = p.map(point);
+        let d: [[Interval; 3]; 3] =
+            std::array::from_fn(|i| std::array::from_fn(|k| q[i + 1][k] - q[0][k]));
+        let (l, [c12, c20, c01], det) =
+            certmesh::kernel::delaunay::circumcentre_terms(d, |x: Interval| x.sqr());
+        let want = if !(det.inf() > 0.0 || det.sup() < 0.0) {
+            None
+        } else {
+            let two = Interval::try_from((2.0, 2.0)).unwrap();
+            let c: [Interval; 3] = std::array::from_fn(|k| {
+                q[0][k] + (l[0] * c12[k] + l[1] * c20[k] + l[2] * c01[k]) / (two * det)
+            });
+            c.iter().all(|x| x.inf().is_finite() && x.sup().is_finite()).then_some(c)
+        };
+        let got = certmesh::restricted_delaunay::restricted::circumcentre_interval(p);
+        prop_assert_eq!(got, want);
     }
 }

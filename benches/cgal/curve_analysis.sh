@@ -20,7 +20,10 @@
 # arcs outside it are not computed), by CGAL in the whole plane, so their events are
 # not compared and their ratio favours certmesh.
 #
-# usage: [GVN_TIME_BIN=…] benches/cgal/curve_analysis.sh [OUTDIR] [REPS] [ROUNDS]
+# GVN_TIME_BIN_OLD=path (optional): a second gvn_time binary (an older build) timed in
+# the same rounds (A B C A B C ...), as an extra column "before (ms)" and its ratio.
+#
+# usage: [GVN_TIME_BIN=…] [GVN_TIME_BIN_OLD=…] benches/cgal/curve_analysis.sh [OUTDIR] [REPS] [ROUNDS]
 #        (default /tmp/certmesh-gvn-cgal, 5, 3)
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -41,8 +44,14 @@ else
     cm="${CARGO_TARGET_DIR:-$root/target}/release/examples/gvn_time"
 fi
 med() { echo "$@" | tr ' ' '\n' | sed '/^$/d' | sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
-printf '| curve | shear | certmesh events | CGAL events | arcs agree | certmesh (ms) | CGAL (ms) | certmesh / CGAL | load |\n'
-printf '|---|---|---|---|---|---|---|---|---|\n'
+old=${GVN_TIME_BIN_OLD:-}
+if [ -n "$old" ]; then
+    printf '| curve | shear | certmesh events | CGAL events | arcs agree | before (ms) | certmesh (ms) | CGAL (ms) | before / CGAL | certmesh / CGAL | load |\n'
+    printf '|---|---|---|---|---|---|---|---|---|---|---|\n'
+else
+    printf '| curve | shear | certmesh events | CGAL events | arcs agree | certmesh (ms) | CGAL (ms) | certmesh / CGAL | load |\n'
+    printf '|---|---|---|---|---|---|---|---|---|\n'
+fi
 while IFS='|' read -r name dom spec; do
     [ -z "$name" ] && continue
     cert="$out/$name.json"
@@ -65,7 +74,11 @@ with open(sys.argv[3], "w") as f:
 PY
     ours_ms=""
     cgal_ms=""
+    old_ms=""
     for r in $(seq "$rounds"); do
+        if [ -n "$old" ]; then
+            old_ms="$old_ms $("$old" "$spec" "$dom" "$reps" | sed -n 's/^median_ms //p')"
+        fi
         ours_ms="$ours_ms $("$cm" "$spec" "$dom" "$reps" | sed -n 's/^median_ms //p')"
         "$out/curve_analysis" "$reps" <"$out/$name.in" >"$out/$name.cgal"
         cgal_ms="$cgal_ms $(sed -n 's/^median_ms //p' "$out/$name.cgal")"
@@ -79,10 +92,18 @@ PY
     esac
     mo=$(med $ours_ms)
     mc=$(med $cgal_ms)
-    printf '| %s | %s | %s | %s | %s | %.2f | %.2f | %.2f | %s |\n' "$name" \
-        "$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["shear"])' "$cert")" \
-        "$(wc -l <"$out/$name.ours")" "$(wc -l <"$out/$name.theirs")" "$agree" \
-        "$mo" "$mc" "$(echo "$mo / $mc" | bc -l)" "$(cut -d' ' -f1 /proc/loadavg)"
+    sh_=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["shear"])' "$cert")
+    if [ -n "$old" ]; then
+        mb=$(med $old_ms)
+        printf '| %s | %s | %s | %s | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %s |\n' "$name" "$sh_" \
+            "$(wc -l <"$out/$name.ours")" "$(wc -l <"$out/$name.theirs")" "$agree" \
+            "$mb" "$mo" "$mc" "$(echo "$mb / $mc" | bc -l)" "$(echo "$mo / $mc" | bc -l)" \
+            "$(cut -d' ' -f1 /proc/loadavg)"
+    else
+        printf '| %s | %s | %s | %s | %s | %.2f | %.2f | %.2f | %s |\n' "$name" "$sh_" \
+            "$(wc -l <"$out/$name.ours")" "$(wc -l <"$out/$name.theirs")" "$agree" \
+            "$mo" "$mc" "$(echo "$mo / $mc" | bc -l)" "$(cut -d' ' -f1 /proc/loadavg)"
+    fi
 done <<'CURVES'
 lemniscate|-2,-2,2,2|(x^2 + y^2)^2 - 2*(x^2 - y^2)
 limacon|-2,-2,2,2|(x^2 + y^2 - x)^2 - (x^2 + y^2)/4

@@ -118,7 +118,7 @@ fn unit_interval(c: &BigInt, h: u64, scale: &BigRational) -> (BigRational, BigRa
 }
 
 /// Descartes' bound for roots of q in (0, 1): the sign variations of (x+1)ⁿ q(1/(x+1)).
-fn var01(q: &UPoly) -> usize {
+pub(crate) fn var01(q: &UPoly) -> usize {
     q.reverse().taylor_shift1().sign_variations()
 }
 
@@ -128,7 +128,11 @@ fn var01(q: &UPoly) -> usize {
 /// are the content that grows, and shifting them out costs no big-integer gcd (the
 /// full primitive part did, a third of the isolation's time).
 fn drop_pow2(mut q: UPoly) -> UPoly {
-    let tz = q.c.iter().filter_map(|a| a.trailing_zeros()).min().unwrap_or(0);
+    let tz =
+        q.c.iter()
+            .filter_map(|a| a.trailing_zeros())
+            .min()
+            .unwrap_or(0);
     if tz > 0 {
         for a in q.c.iter_mut() {
             *a >>= tz;

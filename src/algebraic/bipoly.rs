@@ -615,9 +615,8 @@ mod tests {
     use proptest::prelude::*;
 
     fn arb_bi(d: usize, r: i64) -> impl Strategy<Value = BiPoly> {
-        prop::collection::vec(prop::collection::vec(-r..=r, 1..=d + 1), 1..=d + 1).prop_map(
-            |rows| BiPoly::new(rows.iter().map(|v| UPoly::from_i64(v)).collect()),
-        )
+        prop::collection::vec(prop::collection::vec(-r..=r, 1..=d + 1), 1..=d + 1)
+            .prop_map(|rows| BiPoly::new(rows.iter().map(|v| UPoly::from_i64(v)).collect()))
     }
     fn arb_q() -> impl Strategy<Value = BigRational> {
         (-40i64..=40, 1i64..=12).prop_map(|(a, b)| BigRational::new(a.into(), b.into()))

@@ -535,8 +535,8 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                 return Err(bad(format!("event {ei}: m is wrong (the signs give {m})")));
             }
             let sk: Vec<UPoly> = subres::lower_of(&chain, k);
-            let generic = (0..k.saturating_sub(1))
-                .all(|i| genericity_holds(&a, &sres[k], &sk, k, i));
+            let generic =
+                (0..k.saturating_sub(1)).all(|i| genericity_holds(&a, &sres[k], &sk, k, i));
             if e.generic != Some(generic) {
                 return Err(bad(format!("event {ei}: the genericity claim is wrong")));
             }

@@ -12,6 +12,7 @@ pub mod fint;
 pub mod modgcd;
 pub mod subres;
 pub mod sweep;
+pub mod tolerance;
 pub mod upoly;
 
 pub use bipoly::{from_expr, from_formula, BiPoly};

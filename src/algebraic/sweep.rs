@@ -49,6 +49,11 @@ pub struct SweepParams {
     pub max_bits: u64,
     /// Shears tried: s = 0, ±1, …, ±max_shear (default 6).
     pub max_shear: i64,
+    /// Extra fibres until every arc is proven within this distance of its polyline
+    /// (`--set tolerance=T`; none by default).
+    pub tolerance: Option<f64>,
+    /// Budget of extra fibres (`--set max-extra-fibres=N`, default 4000).
+    pub max_extra_fibres: usize,
 }
 
 impl Default for SweepParams {
@@ -57,6 +62,8 @@ impl Default for SweepParams {
             max_degree: 10,
             max_bits: 512,
             max_shear: 6,
+            tolerance: None,
+            max_extra_fibres: 4000,
         }
     }
 }
@@ -70,7 +77,16 @@ pub struct Sweep {
 impl Sweep {
     /// From `--set max-degree=N`, `--set max-bits=N`, `--set max-shear=N`.
     pub fn from_options(o: &MesherOptions) -> Result<Self> {
-        o.check_keys("sweep", &["max-degree", "max-bits", "max-shear"])?;
+        o.check_keys(
+            "sweep",
+            &[
+                "max-degree",
+                "max-bits",
+                "max-shear",
+                "tolerance",
+                "max-extra-fibres",
+            ],
+        )?;
         let mut p = SweepParams::default();
         if let Some(v) = o.get::<usize>("max-degree")? {
             p.max_degree = v;
@@ -83,6 +99,17 @@ impl Sweep {
                 return Err(Error::Param("--set max-shear must be in 0..=64".into()));
             }
             p.max_shear = v;
+        }
+        if let Some(v) = o.get::<f64>("tolerance")? {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(Error::Param(
+                    "--set tolerance must be a positive number".into(),
+                ));
+            }
+            p.tolerance = Some(v);
+        }
+        if let Some(v) = o.get::<usize>("max-extra-fibres")? {
+            p.max_extra_fibres = v;
         }
         Ok(Sweep { params: p })
     }
@@ -160,6 +187,12 @@ pub struct SweepResult {
     /// The re-checkable certificate ([`super::check::check_curve`]).
     #[serde(skip)]
     pub cert: CurveCert,
+    /// What the extra fibres of `--set tolerance` start from (the sheared polynomial,
+    /// the events and strips with their certified intervals).
+    #[serde(skip)]
+    pub arcs: Option<Box<super::tolerance::ArcData>>,
+    /// The extra fibres' report, when a tolerance was asked for.
+    pub tolerance: Option<super::tolerance::ToleranceReport>,
 }
 
 /// The coefficients of a polynomial as decimal strings.
@@ -203,9 +236,7 @@ fn genericity_image(r: &ModRing, sres_k: &UPoly, sk: &[UPoly], k: usize, i: usiz
 /// `α.is_root_of(&genericity_condition(…))`, after a modular proof that it does not
 /// (`modgcd::coprime_by_image`), which avoids building the condition over Z.
 pub fn genericity_holds(a: &RealAlg, sres_k: &UPoly, sk: &[UPoly], k: usize, i: usize) -> bool {
-    if !a.is_exact()
-        && coprime_by_image(&a.p, 2, |r| genericity_image(r, sres_k, sk, k, i))
-    {
+    if !a.is_exact() && coprime_by_image(&a.p, 2, |r| genericity_image(r, sres_k, sk, k, i)) {
         return false;
     }
     a.is_root_of(&genericity_condition(sres_k, sk, k, i))
@@ -832,8 +863,7 @@ fn critical_data(
         .entry(k)
         .or_insert_with(|| subres::lower_of(chain, k));
     // Genericity: S_k(α, v) = sres_k(α)·(v − β)^k.
-    let generic =
-        (0..k.saturating_sub(1)).all(|i| genericity_holds(u, &sres[k], sk, k, i));
+    let generic = (0..k.saturating_sub(1)).all(|i| genericity_holds(u, &sres[k], sk, k, i));
     let mut c = Crit {
         signs,
         k,
@@ -905,10 +935,20 @@ pub fn analyse(f: &BiPoly, domain: &Aabb, p: &SweepParams) -> Result<SweepResult
             ));
             continue;
         }
-        let g = g.squarefree_y();
+        let g = squarefree_y_regular(g);
         match analyse_frame(f, &g, s, domain) {
             Ok(mut r) => {
                 r.rejected_shears = rejected;
+                if let Some(t) = p.tolerance {
+                    super::tolerance::refine(
+                        &mut r,
+                        &super::tolerance::ToleranceParams {
+                            tolerance: t,
+                            max_fibres: p.max_extra_fibres,
+                            max_depth: 40,
+                        },
+                    )?;
+                }
                 return Ok(r);
             }
             Err(Error::Param(m)) if m.starts_with("__nongeneric__") => {
@@ -926,6 +966,25 @@ pub fn analyse(f: &BiPoly, domain: &Aabb, p: &SweepParams) -> Result<SweepResult
             .collect::<Vec<_>>()
             .join("; ")
     )))
+}
+
+/// `g.squarefree_y()` for a y-regular g (constant, non-zero lc_y), the same
+/// polynomial, with the bivariate gcd skipped when a specialisation proves it trivial:
+/// a common factor G of g and g_y with deg_y G ≥ 1 has a constant lc_y (it divides
+/// lc_y g), so G(x0, ·) keeps its degree and divides g(x0, ·) and g_y(x0, ·) for every
+/// integer x0; a square-free g(x0, ·) (univariate gcd with its derivative constant)
+/// therefore proves deg_y gcd(g, g_y) = 0, and squarefree_y is then g.primitive().
+fn squarefree_y_regular(g: BiPoly) -> BiPoly {
+    let d = g.deg_y();
+    if d >= 1 && g.lc_y().deg() == 0 {
+        for x0 in [0i64, 1, -1, 2] {
+            let gx = g.at_x(&BigRational::from_integer(BigInt::from(x0)));
+            if gx.deg() == d && gx.gcd(&gx.derivative()).deg() == 0 {
+                return g.primitive();
+            }
+        }
+    }
+    g.squarefree_y()
 }
 
 fn boundary_error(what: &str) -> Error {
@@ -1024,6 +1083,8 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
         },
         labels: Vec::new(),
         cert: CurveCert::default(),
+        arcs: None,
+        tolerance: None,
     };
     let mut cert = CurveCert {
         format: super::check::CERT_FORMAT.to_string(),
@@ -1190,10 +1251,12 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
     }
     let mut samples = Vec::new();
     let (mut cfib_roots, mut cfib_inside) = (Vec::new(), Vec::new());
+    let mut sample_roots: Vec<Vec<RealAlg>> = Vec::new();
     cert.strips = strips.iter().map(|st| (st.0, st.1)).collect();
     for (_, _, q) in &strips {
         let roots = isolate(&g.at_x(q))?;
         let mut vid = Vec::new();
+        let mut kept_roots = Vec::new();
         for mut r in roots.clone() {
             // Inside test, exact: ymin < v < ymax and xmin < q + s·v < xmax.
             let mut inside =
@@ -1215,7 +1278,9 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
             }
             cfib_roots.push(CertInterval::new(&r.lo, &r.hi));
             cfib_inside.push(inside);
+            kept_roots.push(r);
         }
+        sample_roots.push(kept_roots);
         cert.fibres.push(CertFibre {
             q: q.to_string(),
             roots: std::mem::take(&mut cfib_roots),
@@ -1231,6 +1296,12 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
     let mut segs: Vec<[u32; 2]> = Vec::new();
     // Per event, per fibre root: (vertex id when kept, branches left, branches right).
     let mut ev_vertices: Vec<Vec<(Option<u32>, usize, usize)>> = Vec::new();
+    let mut ev_boxes: Vec<Vec<(BigRational, BigRational)>> = Vec::new();
+    // Per event: per root (special, on the boundary), and β = num/den when generic.
+    #[allow(clippy::type_complexity)]
+    let mut ev_kinds: Vec<(Vec<(bool, bool)>, Option<(UPoly, UPoly)>)> = Vec::new();
+    #[allow(clippy::type_complexity)]
+    let mut ev_snaps: Vec<Vec<Option<(BigRational, BigRational)>>> = Vec::new();
     let gx = g.dx();
     for (ei, ev) in events.iter_mut().enumerate() {
         let left = strips.iter().position(|st| st.1 == Some(ei));
@@ -1542,6 +1613,17 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
                 right: br[i],
             });
         }
+        ev_boxes.push(roots.iter().map(|r| (r.lo.clone(), r.hi.clone())).collect());
+        ev_snaps.push(
+            roots
+                .iter()
+                .map(|r| r.snap.as_ref().map(|b| (b.v0.clone(), b.v1.clone())))
+                .collect(),
+        );
+        ev_kinds.push((
+            roots.iter().map(|r| (r.special, r.boundary)).collect(),
+            generic.then(|| (num.clone(), den.clone())),
+        ));
         cev.lo = ev.u.lo.to_string();
         cev.hi = ev.u.hi.to_string();
         cert.events.push(cev);
@@ -1599,6 +1681,42 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
     cert.vertices = out.curve.vertices.clone();
     cert.segments = out.curve.segments.clone();
     out.cert = cert;
+    out.arcs = Some(Box::new(super::tolerance::ArcData {
+        g: g.clone(),
+        s,
+        events: events
+            .iter()
+            .zip(ev_boxes)
+            .zip(&ev_vertices)
+            .zip(ev_kinds)
+            .zip(ev_snaps)
+            .map(
+                |((((e, boxes), vv), (kinds, beta)), snap)| super::tolerance::EventArcs {
+                    snap,
+                    u: e.u.clone(),
+                    boxes,
+                    special: kinds.iter().map(|k| k.0).collect(),
+                    boundary: kinds.iter().map(|k| k.1).collect(),
+                    beta,
+                    vid: vv.iter().map(|v| v.0).collect(),
+                    left: vv.iter().map(|v| v.1).collect(),
+                    right: vv.iter().map(|v| v.2).collect(),
+                },
+            )
+            .collect(),
+        strips: strips
+            .iter()
+            .zip(sample_roots)
+            .zip(&samples)
+            .map(|(((l, r, q), roots), smp)| super::tolerance::StripArcs {
+                left: *l,
+                right: *r,
+                q: q.clone(),
+                roots,
+                vid: smp.vid.clone(),
+            })
+            .collect(),
+    }));
     Ok(out)
 }
 
@@ -1622,6 +1740,8 @@ pub struct SweepStats {
     pub x_extreme_points: usize,
     pub fibre_counts: Vec<usize>,
     pub event_list: Vec<EventInfo>,
+    /// The extra fibres of `--set tolerance` and the certified deviation bound.
+    pub tolerance: Option<super::tolerance::ToleranceReport>,
 }
 
 impl Mesher for Sweep {
@@ -1655,14 +1775,31 @@ impl Mesher for Sweep {
             x_extreme_points: count(Label::XExtreme),
             fibre_counts: r.fibre_counts.clone(),
             event_list: r.events.clone(),
+            tolerance: r.tolerance.clone(),
         };
         let mut d = *domain;
         d.min[2] = 0.0;
         d.max[2] = 0.0;
+        let between = match &r.tolerance {
+            Some(t) if t.not_reached.is_empty() => format!(
+                "{} extra rational fibres; every arc proven within {:.3e} of its polyline (curve to polyline, interval enclosures of each arc between fibres)",
+                t.extra_fibres, t.certified_bound
+            ),
+            Some(t) => format!(
+                "{} extra rational fibres; {} of {} arcs proven within the tolerance {:.3e} (bound {:.3e}), the other {} not certified",
+                t.extra_fibres,
+                t.arcs_within_tolerance,
+                t.arcs,
+                t.tolerance,
+                t.certified_bound,
+                t.not_reached.len()
+            ),
+            None => "geometry between fibres not certified".to_string(),
+        };
         let claim = Claim::Isotopic {
             inside: d,
             theorem: format!(
-                "exact: González-Vega–Necula sweep in the frame x + {}·y (unsheared, determinant 1), resultant and Sturm–Habicht signs, Descartes isolation, real-only genericity test, re-checkable certificate (certmesh check-curve); straight segments between fibres (geometry between fibres not certified)",
+                "exact: González-Vega–Necula sweep in the frame x + {}·y (unsheared, determinant 1), resultant and Sturm–Habicht signs, Descartes isolation, real-only genericity test, re-checkable certificate (certmesh check-curve); straight segments between fibres ({between})",
                 r.shear
             ),
             generic_position: false,

@@ -66,6 +66,8 @@ const SLOTS: usize = 160;
 impl GradTape {
     /// The sparse program of `tape`, or `None` when the tape has an operation outside
     /// the polynomial set above, or is too long.
+    // The loops over k index the operands' and the result's partials together.
+    #[allow(clippy::needless_range_loop)]
     pub fn compile(tape: &Tape) -> Option<GradTape> {
         let consts = tape.consts().to_vec();
         let mut prog: Vec<G> = Vec::new();

@@ -11,7 +11,7 @@
 //! then stronger than needed.
 use crate::implicit::directed::Iv;
 use crate::implicit::ops::mean_value_if;
-use crate::implicit::{IBox, Implicit, Regularity};
+use crate::implicit::{Dual, IBox, Implicit, Regularity};
 use inari::Interval;
 
 /// {x : a·x − b ≤ 0}, with interval coefficients enclosing the exact ones (held in the
@@ -237,18 +237,37 @@ pub(crate) fn excl(i: Interval) -> bool {
     !i.is_empty() && (i.inf() > 0.0 || i.sup() < 0.0)
 }
 
+/// Enclosures already computed over a box: `dv = f.grad_interval(x)` and `fv =
+/// mean_value(f, x, &dv)` ([`crate::implicit::ops::mean_value`]). The criteria given
+/// them for `x` reuse them (the same values: both are functions of the box alone).
+#[derive(Clone, Copy, Debug)]
+pub struct Known {
+    pub dv: Dual<Interval>,
+    pub fv: Interval,
+}
+
 /// The criterion of tests (3) and the fast path of (4): accept a box where f has no
 /// zero, or where f is proven C^∞ and ∇f·d ≠ 0 (no point of S in the box has a normal
 /// perpendicular to d). `d` is an interval vector (enclosing an exact direction).
 /// `smooth`: f is already proven C^∞ on a box containing `x` (regularity is
-/// inclusion-monotone), so it is not asked again.
-pub fn no_tangency(f: &dyn Implicit, x: &IBox, d: &[Interval; 3], smooth: bool) -> Verdict {
+/// inclusion-monotone), so it is not asked again. `known`: [`Known`] enclosures over
+/// `x` itself (the start box of a cover), used instead of evaluating them again.
+pub fn no_tangency(
+    f: &dyn Implicit,
+    x: &IBox,
+    d: &[Interval; 3],
+    smooth: bool,
+    known: Option<&Known>,
+) -> Verdict {
     // The verdict is: Accept iff 0 ∉ □f (the natural enclosure intersected with the
     // mean-value form, [`crate::implicit::ops::enclose`]) or (f C^∞ and 0 ∉ □(∇f·d)). It is computed in the
     // cheapest order: the natural enclosure comes with the gradient and contains the
     // intersected one (excluding 0 there excludes it from the tighter one), the
     // mean-value form costs one more evaluation and, without `smooth`, a decorated one.
-    let dv = f.grad_interval(x);
+    let dv = match known {
+        Some(k) => k.dv,
+        None => f.grad_interval(x),
+    };
     if excl(dv.v) {
         return Verdict::Accept;
     }
@@ -256,9 +275,14 @@ pub fn no_tangency(f: &dyn Implicit, x: &IBox, d: &[Interval; 3], smooth: bool) 
     if smooth && tangent_free() {
         return Verdict::Accept;
     }
-    let fv = mean_value_if(f, x, &dv, || {
-        smooth || f.regularity(x) >= Regularity::Continuous
-    });
+    // `known.fv` is this value: with `smooth`, f is C^∞ on x and both continuity
+    // questions (here and in `mean_value`) are answered yes; without, they are the same.
+    let fv = match known {
+        Some(k) => k.fv,
+        None => mean_value_if(f, x, &dv, || {
+            smooth || f.regularity(x) >= Regularity::Continuous
+        }),
+    };
     if excl(fv) {
         return Verdict::Accept;
     }
@@ -279,8 +303,9 @@ pub fn no_silhouette(
     d: &[Interval; 3],
     d2: &[Interval; 3],
     smooth: bool,
+    known: Option<&Known>,
 ) -> Verdict {
-    if no_tangency(f, x, d, smooth) == Verdict::Accept {
+    if no_tangency(f, x, d, smooth, known) == Verdict::Accept {
         return Verdict::Accept;
     }
     if place != Place::Inside || !(smooth || f.regularity(x) == Regularity::Smooth) {
@@ -376,11 +401,13 @@ mod tests {
             });
             let smooth = f.regularity(&outer) == Regularity::Smooth;
             let di = d.map(pt);
+            // The enclosures the pre-test of the start boxes hands on.
+            let dv = f.grad_interval(&x);
+            let known = Known { dv, fv: crate::implicit::ops::mean_value(&f, &x, &dv) };
             for s in [smooth, false] {
-                proptest::prop_assert_eq!(
-                    no_tangency(&f, &x, &di, s),
-                    no_tangency_reference(&f, &x, &di, s)
-                );
+                let want = no_tangency_reference(&f, &x, &di, s);
+                proptest::prop_assert_eq!(no_tangency(&f, &x, &di, s, None), want);
+                proptest::prop_assert_eq!(no_tangency(&f, &x, &di, s, Some(&known)), want);
             }
         }
     }
@@ -397,13 +424,13 @@ mod tests {
         // The cap z > 0.5 has normals with positive z: no tangency to d = z.
         let cap = b([-0.9, -0.9, 0.5], [0.9, 0.9, 1.2]);
         let c = cover(cap, &r, CoverBudget::default(), |x, _| {
-            no_tangency(&f, x, &up, false)
+            no_tangency(&f, x, &up, false, None)
         });
         assert!(c.ok, "{c:?}");
         // The equator z = 0 is where the normal is perpendicular to z: never accepted.
         let belt = b([-1.2, -1.2, -0.2], [1.2, 1.2, 0.2]);
         let c = cover(belt, &r, CoverBudget::default(), |x, _| {
-            no_tangency(&f, x, &up, false)
+            no_tangency(&f, x, &up, false, None)
         });
         assert!(!c.ok);
         let fb = c.failed.unwrap();

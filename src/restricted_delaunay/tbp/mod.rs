@@ -47,11 +47,11 @@ pub mod cover;
 
 use super::restricted::{self, Scan};
 use crate::implicit::critical::{boundary_clear, Bx};
-use crate::implicit::ops::{enclose, SegmentBudget};
+use crate::implicit::ops::{mean_value, SegmentBudget};
 use crate::implicit::{IBox, Implicit};
 use crate::kernel::delaunay::{CellId, Delaunay, VertexId};
 use crate::kernel::geom::{cross, dist, dot, Aabb};
-use cover::{cover, no_silhouette, no_tangency, pt, Cover, CoverBudget, HalfSpace, Region};
+use cover::{cover, no_silhouette, no_tangency, pt, Cover, CoverBudget, HalfSpace, Known, Region};
 use inari::Interval;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -354,8 +354,10 @@ fn record(
 
 /// Where the search over a Voronoi face (facet or cell) starts.
 enum Start {
-    /// The hull of its vertices' enclosures, clipped to the domain: search it.
-    Search(IBox),
+    /// The hull of its vertices' enclosures, clipped to the domain: search it. With the
+    /// enclosures computed on it by the pre-test (∇f and the mean-value form of f),
+    /// which the first box of each cover (the start box itself) reuses.
+    Search(IBox, Option<Known>),
     /// Settled at once: the face misses the domain (0 boxes), or one enclosure over the
     /// start box excludes S (1 box; most faces are far from S).
     Settled(FaceResult),
@@ -385,14 +387,14 @@ fn start_boxes(
             None => Start::Unenclosed,
             Some(vb) => match clip(&hull(&vb), dbox) {
                 None => settled(0),
-                Some(b) => Start::Search(b),
+                Some(b) => Start::Search(b, None),
             },
         })
         .collect();
     let search: Vec<IBox> = starts
         .iter()
         .filter_map(|x| match x {
-            Start::Search(b) => Some(*b),
+            Start::Search(b, _) => Some(*b),
             _ => None,
         })
         .collect();
@@ -400,11 +402,20 @@ fn start_boxes(
     f.eval_interval_batch(&search, &mut natural);
     let mut k = 0;
     for x in starts.iter_mut() {
-        if let Start::Search(b) = x {
+        if let Start::Search(b, known) = x {
             let n = natural[k];
             k += 1;
-            if cover::excl(n) || cover::excl(enclose(f, b).0) {
+            if cover::excl(n) {
                 *x = settled(1);
+                continue;
+            }
+            // `enclose`, with its gradient kept for the covers.
+            let dv = f.grad_interval(b);
+            let fv = mean_value(f, b, &dv);
+            if cover::excl(fv) {
+                *x = settled(1);
+            } else {
+                *known = Some(Known { dv, fv });
             }
         }
     }
@@ -457,8 +468,8 @@ fn check_facet(
         boxes,
     };
     let (pp, qp) = (t.point(p), t.point(q));
-    let start = match start {
-        Start::Search(b) => b,
+    let (start, known) = match start {
+        Start::Search(b, known) => (b, known),
         Start::Settled(r) => return r,
         Start::Unenclosed => {
             return fail(
@@ -495,11 +506,13 @@ fn check_facet(
         cands.push(cross(n, e));
     }
     let smooth = f.regularity(&start) == crate::implicit::Regularity::Smooth;
+    // The pre-test's enclosures over the start box (a pure function of the box).
+    let known_at = |x: &IBox| known.as_ref().filter(|_| *x == start);
     let tried = first_direction_that_covers(cands, o.directions, |w| {
         // d = w × (q − p) is exactly in the bisector plane; enclose it.
         let d = icross(&w.map(pt), &ni);
         cover(start, &region, o.cover, |x, _| {
-            no_tangency(f, x, &d, smooth)
+            no_tangency(f, x, &d, smooth, known_at(x))
         })
     });
     match tried {
@@ -534,8 +547,8 @@ fn check_cell(
         }),
         boxes,
     };
-    let start = match start {
-        Start::Search(b) => b,
+    let (start, known) = match start {
+        Start::Search(b, known) => (b, known),
         Start::Settled(r) => return r,
         Start::Unenclosed => {
             return fail(
@@ -557,11 +570,13 @@ fn check_cell(
     let mut cands = vec![f.grad(pp).g, f.grad(mid(&start)).g];
     cands.extend([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
     let smooth = f.regularity(&start) == crate::implicit::Regularity::Smooth;
+    // The pre-test's enclosures over the start box (a pure function of the box).
+    let known_at = |x: &IBox| known.as_ref().filter(|_| *x == start);
     let tried = first_direction_that_covers(cands, o.directions, |d| {
         let d2 = transverse(d).map(pt);
         let di = d.map(pt);
         cover(start, &region, o.cover, |x, place| {
-            no_silhouette(f, x, place, &di, &d2, smooth)
+            no_silhouette(f, x, place, &di, &d2, smooth, known_at(x))
         })
     });
     match tried {
