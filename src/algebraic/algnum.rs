@@ -478,6 +478,7 @@ thread_local! {
 /// Forget the remembered gcds (the sweep and the checker start each run with an empty
 /// memo, so that every run, and every benchmark iteration, does its own work).
 pub fn clear_gcd_memo() {
+    super::upoly::clear_sturm_memo();
     MEMO.with(|m| m.borrow_mut().clear());
 }
 

@@ -536,7 +536,7 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
             }
             let sk: Vec<UPoly> = subres::lower_of(&chain, k);
             let generic =
-                (0..k.saturating_sub(1)).all(|i| genericity_holds(&a, &sres[k], &sk, k, i));
+                (0..k.saturating_sub(1)).all(|i| genericity_holds(a, &sres[k], &sk, k, i));
             if e.generic != Some(generic) {
                 return Err(bad(format!("event {ei}: the genericity claim is wrong")));
             }
@@ -785,7 +785,7 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
             if l == 0 && r == 0 {
                 Label::Isolated
             } else if mode == 1 {
-                if is_root_at_beta(&a, &gx, &num, &den, d) {
+                if is_root_at_beta(a, &gx, &num, &den, d) {
                     Label::Singular
                 } else if l == 0 || r == 0 {
                     Label::XExtreme

@@ -75,7 +75,9 @@ pub struct Sweep {
 }
 
 impl Sweep {
-    /// From `--set max-degree=N`, `--set max-bits=N`, `--set max-shear=N`.
+    /// From `--set max-degree=N`, `--set max-bits=N`, `--set max-shear=N`,
+    /// `--set tolerance=T` (extra fibres, [`super::tolerance`]) and
+    /// `--set max-extra-fibres=N`.
     pub fn from_options(o: &MesherOptions) -> Result<Self> {
         o.check_keys(
             "sweep",

@@ -290,6 +290,7 @@ impl Ctx<'_> {
     /// Bounds for the arcs `arcs` (inside the domain) over the piece between nodes a
     /// and b, whose vertices are `va[t]`, `vb[t]`: per arc, the certified bound or
     /// None.
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
     fn piece(
         &self,
         a: &Node,

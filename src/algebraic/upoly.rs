@@ -354,9 +354,54 @@ pub fn qi(a: i64) -> BigRational {
 /// Sturm count: the number of distinct real roots of p in (a, b\] (reference method for
 /// the tests; the sweep uses Descartes).
 pub fn sturm_count(p: &UPoly, a: &BigRational, b: &BigRational) -> usize {
+    let seq = sturm_sequence(p);
+    if seq.is_empty() {
+        return 0;
+    }
+    let var = |x: &BigRational| {
+        let mut v = 0;
+        let mut last = 0;
+        for s in seq.iter() {
+            let t = s.sign_at(x);
+            if t != 0 {
+                if last != 0 && t != last {
+                    v += 1;
+                }
+                last = t;
+            }
+        }
+        v as isize
+    };
+    (var(a) - var(b)).max(0) as usize
+}
+
+type SturmMemo = std::cell::RefCell<std::collections::HashMap<UPoly, std::rc::Rc<Vec<UPoly>>>>;
+thread_local! {
+    static STURM: SturmMemo = Default::default();
+}
+
+/// Forget the remembered Sturm sequences (called with the gcd memo's reset at the start
+/// of every sweep and every check, so each run does its own work).
+pub fn clear_sturm_memo() {
+    STURM.with(|m| m.borrow_mut().clear());
+}
+
+/// The Sturm sequence of p's square-free part (empty when it is constant), remembered
+/// within a run: the checker counts roots of the same event or fibre polynomial in
+/// many intervals, and the sequence depends on p only.
+fn sturm_sequence(p: &UPoly) -> std::rc::Rc<Vec<UPoly>> {
+    if let Some(s) = STURM.with(|m| m.borrow().get(p).cloned()) {
+        return s;
+    }
+    let seq = std::rc::Rc::new(sturm_sequence_uncached(p));
+    STURM.with(|m| m.borrow_mut().insert(p.clone(), seq.clone()));
+    seq
+}
+
+fn sturm_sequence_uncached(p: &UPoly) -> Vec<UPoly> {
     let p = p.squarefree();
     if p.deg() <= 0 {
-        return 0;
+        return Vec::new();
     }
     let mut seq = vec![p.clone(), p.derivative()];
     loop {
@@ -380,19 +425,5 @@ pub fn sturm_count(p: &UPoly, a: &BigRational, b: &BigRational) -> usize {
         }
         seq.push(r);
     }
-    let var = |x: &BigRational| {
-        let mut v = 0;
-        let mut last = 0;
-        for s in &seq {
-            let t = s.sign_at(x);
-            if t != 0 {
-                if last != 0 && t != last {
-                    v += 1;
-                }
-                last = t;
-            }
-        }
-        v as isize
-    };
-    (var(a) - var(b)).max(0) as usize
+    seq
 }
