@@ -886,7 +886,10 @@ fn remedied_census_depth(name: &str, spec: &str, depth: u32) -> morse::MorseRepo
 #[test]
 fn smooth_remedy_certifies_the_torus_from_critical_points() {
     let r = remedied_census("torus", "smooth");
-    let t = r.transformation.as_ref().expect("the report states the transformation");
+    let t = r
+        .transformation
+        .as_ref()
+        .expect("the report states the transformation");
     assert_eq!(t.kind, "smooth");
     assert!(t.g.contains("^2"), "{}", t.g);
     assert!(r.gradient.morse, "{:?}", r.gradient.not_morse_reason);
@@ -907,9 +910,7 @@ fn smooth_remedy_certifies_the_torus_from_critical_points() {
     let e = catalog::get("torus").unwrap();
     let f = e.function();
     let b = t.b;
-    let g = |p: [f64; 3]| {
-        f.eval(p) * (1.0 + (0..3).map(|k| (p[k] - b[k]).powi(2)).sum::<f64>())
-    };
+    let g = |p: [f64; 3]| f.eval(p) * (1.0 + (0..3).map(|k| (p[k] - b[k]).powi(2)).sum::<f64>());
     let grad = |p: [f64; 3]| {
         let mut d = [0.0; 3];
         for k in 0..3 {
@@ -929,7 +930,12 @@ fn smooth_remedy_certifies_the_torus_from_critical_points() {
         // Near f's circle of minima (z = 0, f at its minimum −r²(4R² − r²) = −0.0861
         // for R = 0.6, r = 0.25, to within the perturbation).
         assert!(p.point[2].abs() < 0.05, "{:?}", p.point);
-        assert!(f.eval(p.point) < -0.08, "{:?}: f = {}", p.point, f.eval(p.point));
+        assert!(
+            f.eval(p.point) < -0.08,
+            "{:?}: f = {}",
+            p.point,
+            f.eval(p.point)
+        );
     }
     // The minimum of g is the farther point from b (g = f·h is most negative where h
     // is largest), the saddle the nearer one.
@@ -980,7 +986,11 @@ fn chapter_remedy_is_never_certified_at_its_kink() {
     assert_eq!(r.sublevel.chi_surface, Some(0), "{:?}", r.sublevel.reason);
     // The box around the kink stays undecided in the search, and is proven to lie in
     // {f > 0} (by bisection of f's enclosure), so it blocks nothing.
-    assert!(r.gradient.undecided.by_reason.contains_key("not-differentiable"));
+    assert!(r
+        .gradient
+        .undecided
+        .by_reason
+        .contains_key("not-differentiable"));
     assert!(r.sublevel.undecided_above >= 1);
 }
 
@@ -989,12 +999,22 @@ fn chapter_remedy_is_never_certified_at_its_kink() {
 #[test]
 fn remedy_refusals() {
     let d = Bx::from(certmesh::Aabb::cube(1.0));
-    for bad in ["smooth:0", "smooth:-1", "chapter:nan", "cubic", "smooth:1:1,2", "smooth:1:a,b,c"] {
+    for bad in [
+        "smooth:0",
+        "smooth:-1",
+        "chapter:nan",
+        "cubic",
+        "smooth:1:1,2",
+        "smooth:1:a,b,c",
+    ] {
         let e = Remedy::parse(bad, d).unwrap_err().to_string();
         assert!(e.contains("remedy"), "{bad}: {e}");
     }
     let r = Remedy::parse("chapter:2:0.1,0.2,0.3", d).unwrap();
-    assert_eq!((r.kind, r.a, r.b), (RemedyKind::Chapter, 2.0, [0.1, 0.2, 0.3]));
+    assert_eq!(
+        (r.kind, r.a, r.b),
+        (RemedyKind::Chapter, 2.0, [0.1, 0.2, 0.3])
+    );
 }
 
 proptest! {
@@ -1055,7 +1075,11 @@ proptest! {
 #[test]
 fn stander_hart_with_the_remedy_certifies_the_torus() {
     let (run, sh) = sweep("torus", &[("remedy", "smooth")]);
-    assert!(run.output.certificate.proves_topology(), "{:?}", run.output.certificate);
+    assert!(
+        run.output.certificate.proves_topology(),
+        "{:?}",
+        run.output.certificate
+    );
     assert_eq!(sh["critical_data_certified"], true);
     assert_eq!(sh["transformation"]["kind"], "smooth");
     let lv = sh["levels"].as_array().unwrap();
@@ -1069,8 +1093,15 @@ fn stander_hart_with_the_remedy_certifies_the_torus() {
     o.extra.insert("remedy".into(), "smooth:0".into());
     assert!(certmesh::mesher::registry::build("stander-hart", 3, &o).is_err());
     // The thin torus needs the deeper search (see smooth_remedy_certifies_thin_torus…).
-    let (run, sh) = sweep("thin-torus", &[("remedy", "smooth"), ("gradient-depth", "45")]);
-    assert!(run.output.certificate.proves_topology(), "{:?}", run.output.certificate);
+    let (run, sh) = sweep(
+        "thin-torus",
+        &[("remedy", "smooth"), ("gradient-depth", "45")],
+    );
+    assert!(
+        run.output.certificate.proves_topology(),
+        "{:?}",
+        run.output.certificate
+    );
     assert_eq!(sh["chi_final_mesh"], 0);
     let mut o = certmesh::MesherOptions::default();
     o.extra.insert("gradient-depth".into(), "0".into());
@@ -1094,7 +1125,9 @@ fn stander_hart_patched_sweep_follows_the_prediction() {
         x.push(("patch", "true"));
         let (run, sh) = sweep(name, &x);
         assert!(run.output.certificate.proves_topology(), "{name}");
-        let lv = sh["patched"].as_array().unwrap_or_else(|| panic!("{name}: {sh}"));
+        let lv = sh["patched"]
+            .as_array()
+            .unwrap_or_else(|| panic!("{name}: {sh}"));
         let got: Vec<i64> = lv.iter().map(|l| l["chi"].as_i64().unwrap()).collect();
         assert_eq!(got, chis, "{name}: {lv:?}");
         for l in lv {
@@ -1105,7 +1138,11 @@ fn stander_hart_patched_sweep_follows_the_prediction() {
         // Without the option nothing is patched, and the output is the same mesh.
         let (plain, sh0) = sweep(name, &extra);
         assert!(sh0["patched"].is_null());
-        assert_eq!(plain.output.mesh.surface(), run.output.mesh.surface(), "{name}");
+        assert_eq!(
+            plain.output.mesh.surface(),
+            run.output.mesh.surface(),
+            "{name}"
+        );
     }
     // Not run when the critical data are not certified (the torus without remedy).
     let (_, sh) = sweep("torus", &[("patch", "true"), ("gradient-boxes", "20000")]);
@@ -1117,6 +1154,8 @@ fn stander_hart_patched_sweep_follows_the_prediction() {
     let (run, sh) = sweep("torus", &[("remedy", "smooth"), ("patch", "true")]);
     assert!(run.output.certificate.proves_topology());
     let lv = sh["patched"].as_array().unwrap();
-    assert!(lv.iter().any(|l| !l["failed"].as_array().unwrap().is_empty()));
+    assert!(lv
+        .iter()
+        .any(|l| !l["failed"].as_array().unwrap().is_empty()));
     assert!(lv.iter().any(|l| l["chi"] != l["chi_predicted"]));
 }

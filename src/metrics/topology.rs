@@ -410,7 +410,13 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         || {
             (0..nv.div_ceil(STAR_CHUNK))
                 .into_par_iter()
-                .map(|c| stars_of(c * STAR_CHUNK..((c + 1) * STAR_CHUNK).min(nv), tris, &vfaces))
+                .map(|c| {
+                    stars_of(
+                        c * STAR_CHUNK..((c + 1) * STAR_CHUNK).min(nv),
+                        tris,
+                        &vfaces,
+                    )
+                })
                 .collect::<Vec<Stars>>()
         },
     );

@@ -510,7 +510,11 @@ impl MorseReport {
             o.push(format!("  {}", t.statement));
         }
         // With a transformation the listed points, values and the Morse property are g's.
-        let fname = if self.transformation.is_some() { "g" } else { "f" };
+        let fname = if self.transformation.is_some() {
+            "g"
+        } else {
+            "f"
+        };
         let g = &self.gradient;
         o.push(format!(
             "critical points of {fname} (grad {fname} = 0): {} isolated, search {} ({} boxes, {:.1} ms)",

@@ -120,7 +120,9 @@ fn birth(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3], a: f64) -> Result<(), S
     let e = eigen(f, p)?;
     let rise = (a - f.eval(p)).max(0.0);
     if e.iter().any(|(l, _)| *l <= 0.0) || rise <= 0.0 {
-        return Err("the Hessian is not positive definite there, or the level is not above f(p)".into());
+        return Err(
+            "the Hessian is not positive definite there, or the level is not above f(p)".into(),
+        );
     }
     let s = crate::mesh::icosphere(1);
     let base = m.vertices.len() as u32;
@@ -186,7 +188,11 @@ fn handle(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3]) -> Result<(), String> 
 /// cap the two loops.
 fn pinch(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3]) -> Result<(), String> {
     let u = eigen(f, p)?[2].1;
-    let side: Vec<bool> = m.vertices.iter().map(|x| dot(sub(*x, p), u) >= 0.0).collect();
+    let side: Vec<bool> = m
+        .vertices
+        .iter()
+        .map(|x| dot(sub(*x, p), u) >= 0.0)
+        .collect();
     let crosses = |t: &[u32; 3]| {
         let s = t.map(|i| side[i as usize]);
         s[0] != s[1] || s[1] != s[2]
@@ -199,7 +205,8 @@ fn pinch(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3]) -> Result<(), String> {
     let start = (0..m.triangles.len())
         .filter(|&t| crosses(&m.triangles[t]))
         .min_by(|&x, &y| {
-            norm(sub(centroid(&m.triangles[x]), p)).total_cmp(&norm(sub(centroid(&m.triangles[y]), p)))
+            norm(sub(centroid(&m.triangles[x]), p))
+                .total_cmp(&norm(sub(centroid(&m.triangles[y]), p)))
         })
         .ok_or("the plane crosses no triangle")?;
     let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
@@ -242,7 +249,10 @@ fn pinch(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3]) -> Result<(), String> {
         }
     }
     let mut next: HashMap<u32, u32> = HashMap::new();
-    for (&(x, y), _) in used.iter().filter(|(&(x, y), _)| !used.contains_key(&(y, x))) {
+    for (&(x, y), _) in used
+        .iter()
+        .filter(|(&(x, y), _)| !used.contains_key(&(y, x)))
+    {
         if next.insert(x, y).is_some() {
             return Err("the cut left a boundary vertex of degree > 2".into());
         }
@@ -302,7 +312,10 @@ fn death(m: &mut TriMesh, p: [f64; 3]) -> Result<(), String> {
     }
     for t in &m.triangles {
         for i in 1..3 {
-            let (a, b) = (find(&mut parent, t[0] as usize), find(&mut parent, t[i] as usize));
+            let (a, b) = (
+                find(&mut parent, t[0] as usize),
+                find(&mut parent, t[i] as usize),
+            );
             parent[a] = b;
         }
     }

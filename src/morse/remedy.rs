@@ -70,8 +70,8 @@ impl Remedy {
             "smooth" => RemedyKind::Smooth,
             k => {
                 return Err(bad(format!(
-                    "unknown kind '{k}' (use 'smooth' for a + |x - b|^2 or 'chapter' for a + |x - b|)"
-                )))
+                "unknown kind '{k}' (use 'smooth' for a + |x - b|^2 or 'chapter' for a + |x - b|)"
+            )))
             }
         };
         let a = match parts.next() {
@@ -130,7 +130,9 @@ impl Remedy {
         }
         match self.kind {
             RemedyKind::Smooth => s.add_const(&crate::implicit::number::Const::exact(self.a)),
-            RemedyKind::Chapter => s.sqrt().add_const(&crate::implicit::number::Const::exact(self.a)),
+            RemedyKind::Chapter => s
+                .sqrt()
+                .add_const(&crate::implicit::number::Const::exact(self.a)),
         }
     }
 
@@ -187,7 +189,8 @@ impl Implicit for Remedied<'_> {
             // ‖x − b‖ is continuous everywhere and smooth away from b: a box whose
             // closure may contain b is only continuous.
             RemedyKind::Chapter => {
-                let holds_b = (0..3).all(|k| b[k].inf() <= self.r.b[k] && self.r.b[k] <= b[k].sup());
+                let holds_b =
+                    (0..3).all(|k| b[k].inf() <= self.r.b[k] && self.r.b[k] <= b[k].sup());
                 if holds_b {
                     Regularity::Continuous
                 } else {

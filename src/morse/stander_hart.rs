@@ -60,7 +60,14 @@ use serde::Serialize;
 use serde_json::json;
 
 /// The `--set` keys of `stander-hart` (all other keys go to Plantinga–Vegter).
-pub const SETTINGS: &[&str] = &["steps", "levels-dir", "gradient-boxes", "remedy", "patch", "gradient-depth"];
+pub const SETTINGS: &[&str] = &[
+    "steps",
+    "levels-dir",
+    "gradient-boxes",
+    "remedy",
+    "patch",
+    "gradient-depth",
+];
 
 /// f − a: the level set f = a as the zero set of an oracle.
 pub struct Level<'a> {

@@ -133,7 +133,12 @@ fn remedy_row(e: &Entry, kind: &str) -> Result<RemedyRow> {
         sweep_levels: levels.len(),
         sweep_chi: levels
             .iter()
-            .map(|l| (l["chi_predicted"].as_i64(), l["chi_mesh"].as_i64().unwrap_or(0)))
+            .map(|l| {
+                (
+                    l["chi_predicted"].as_i64(),
+                    l["chi_mesh"].as_i64().unwrap_or(0),
+                )
+            })
             .collect(),
         millis: 1e3 * t.elapsed().as_secs_f64(),
     })
@@ -430,9 +435,14 @@ fn patch_section(rep: &Report) -> String {
         let cells: Vec<String> = r
             .patched
             .iter()
-            .map(|(p, c, m, _)| format!("{} / {c}{}", opt(*p), if *m { "" } else { " (not closed)" }))
+            .map(|(p, c, m, _)| {
+                format!("{} / {c}{}", opt(*p), if *m { "" } else { " (not closed)" })
+            })
             .collect();
-        let ok = r.patched.iter().all(|(p, c, m, f)| *p == Some(*c) && *m && *f == 0);
+        let ok = r
+            .patched
+            .iter()
+            .all(|(p, c, m, f)| *p == Some(*c) && *m && *f == 0);
         if ok {
             agree.push(r.surface.as_str());
         } else {
@@ -470,7 +480,11 @@ The chapter's remedy multiplies f by a + ‖x − b‖. Offered only when asked 
         s.push_str(&format!(
             "| {} | {} | ({:.4}, {:.4}, {:.4}) | {}/{}/{}/{} | {} | {} | {} | {} | {} | {:.0} |\n",
             r.surface,
-            if r.kind == "smooth" { "a + ‖x − b‖²" } else { "a + ‖x − b‖" },
+            if r.kind == "smooth" {
+                "a + ‖x − b‖²"
+            } else {
+                "a + ‖x − b‖"
+            },
             r.b[0],
             r.b[1],
             r.b[2],

@@ -2,8 +2,8 @@
 //! angles, plane angles of every tetrahedron face, plane angles of the exposed
 //! (boundary) triangles, and inverted-tetrahedron counts (exact `orient3d`).
 use crate::kernel::geom::{cross, dot, norm, sub};
-use crate::metrics::angles::{angle_pair, Extremes};
 use crate::mesh::{TetMesh, TriMesh};
+use crate::metrics::angles::{angle_pair, Extremes};
 use rayon::prelude::*;
 use serde::Serialize;
 
