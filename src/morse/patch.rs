@@ -301,27 +301,14 @@ fn pinch(m: &mut TriMesh, f: &dyn Implicit, p: [f64; 3]) -> Result<(), String> {
 
 /// Index 3: remove the smallest component whose bounding box holds p.
 fn death(m: &mut TriMesh, p: [f64; 3]) -> Result<(), String> {
-    let n = m.vertices.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(p: &mut [usize], mut x: usize) -> usize {
-        while p[x] != x {
-            p[x] = p[p[x]];
-            x = p[x];
-        }
-        x
-    }
+    let mut uf = crate::metrics::topology::UnionFind::new(m.vertices.len());
     for t in &m.triangles {
-        for i in 1..3 {
-            let (a, b) = (
-                find(&mut parent, t[0] as usize),
-                find(&mut parent, t[i] as usize),
-            );
-            parent[a] = b;
-        }
+        uf.union(t[0], t[1]);
+        uf.union(t[0], t[2]);
     }
-    let mut boxes: HashMap<usize, ([f64; 3], [f64; 3])> = HashMap::new();
+    let mut boxes: HashMap<u32, ([f64; 3], [f64; 3])> = HashMap::new();
     for t in &m.triangles {
-        let r = find(&mut parent, t[0] as usize);
+        let r = uf.find(t[0]);
         for &i in t {
             let x = m.vertices[i as usize];
             let e = boxes.entry(r).or_insert((x, x));
@@ -340,7 +327,7 @@ fn death(m: &mut TriMesh, p: [f64; 3]) -> Result<(), String> {
     let tris = std::mem::take(&mut m.triangles);
     m.triangles = tris
         .into_iter()
-        .filter(|t| find(&mut parent, t[0] as usize) != target)
+        .filter(|t| uf.find(t[0]) != target)
         .collect();
     Ok(())
 }
