@@ -47,6 +47,21 @@ pub enum Claim {
         reach_lower_bound: f64,
         max_ball_radius: f64,
     },
+    /// Every vertex p lies within `max_offset` of a point p* of f = 0 (certified root
+    /// isolation along ∇f), and for every choice of such points the Delaunay
+    /// tetrahedralization (`cells` cells, all positively oriented, `facets` facets all
+    /// strictly locally Delaunay) and the restricted facets are the output's, with
+    /// surface Delaunay balls of radius at most `max_ball_radius` (interval arithmetic
+    /// over the vertex boxes): Theorem 3's sample on S, for floating-point vertices.
+    PerturbedSample {
+        max_offset: f64,
+        cells: usize,
+        facets: usize,
+        /// Of the facets, those locally Delaunay only in the non-strict sense, exactly:
+        /// four of their five points are corners of one face of the far box.
+        far_face_cospherical: usize,
+        max_ball_radius: f64,
+    },
     /// The output is homeomorphic (not proven isotopic) to f = 0 inside the domain,
     /// `by` a theorem whose every hypothesis was checked with interval arithmetic.
     Homeomorphic {
@@ -127,6 +142,20 @@ impl fmt::Display for Claim {
                 "every surface Delaunay ball has radius <= {max_ball_radius:.3e} <= psi = {psi:.3e} = 0.099 x \
                  {reach_lower_bound:.3e} (a certified lower bound of the reach, hence of lfs): \
                  the weak 0.099-sample condition on every ball (interval arithmetic)"
+            ),
+            Claim::PerturbedSample {
+                max_offset,
+                cells,
+                facets,
+                far_face_cospherical,
+                max_ball_radius,
+            } => write!(
+                f,
+                "every vertex is within {max_offset:.1e} of a certified point of f = 0, and for every such \
+                 point set the Delaunay tetrahedralization ({cells} cells, all positive; {facets} facets, all \
+                 strictly locally Delaunay but {far_face_cospherical} exactly cospherical with a face of the \
+                 far box) and the restricted facets are the output's, surface Delaunay balls <= \
+                 {max_ball_radius:.3e} (interval arithmetic over the vertex boxes)"
             ),
             Claim::Homeomorphic {
                 by: HomeomorphismBy::TopologicalBallProperty,

@@ -37,6 +37,7 @@
 //!    Theorem 3 is never claimed: the theorem assumes the samples lie on S, and
 //!    floating-point vertices only lie within ~1e-16 of it; the report names the
 //!    hypothesis that fails. `--set size=reach` refines to ψ (Theorem 4's criterion).
+use super::perturbed::{perturbed_isotopy, PerturbedInputs, PerturbedReport, ISOTOPY_THEOREM};
 use super::restricted::{self, key, test_segment, DualTest, Ends3, Scan};
 use crate::error::{Error, Result};
 use crate::implicit::critical::{critical_points_on_surface, Budget, Bx, Problem};
@@ -279,8 +280,12 @@ pub struct BoStats {
     pub certified_max_ball_radius: Option<f64>,
     /// The certified reach lower bound (implicit::reach), when computed.
     pub reach: Option<ReachBound>,
+    /// Certified: Theorem 3 through a certified point set on S
+    /// ([`super::perturbed`]), when the weak-sample condition held.
+    pub perturbed: Option<PerturbedReport>,
     pub seconds_refine: f64,
     pub seconds_certify: f64,
+    pub seconds_perturbed: f64,
 }
 
 fn sin2_min_angle(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
@@ -327,12 +332,6 @@ struct Run<'a> {
 }
 
 impl<'a> Run<'a> {
-    fn stats_seeds_not_incident(&self, scan: &Scan, seeds: &[VertexId]) -> usize {
-        let used: std::collections::HashSet<VertexId> =
-            scan.facets.iter().flat_map(|x| x.v).collect();
-        seeds.iter().filter(|v| !used.contains(v)).count()
-    }
-
     fn refresh_cc(&mut self, c: CellId) {
         if self.cc.len() < self.t.cell_capacity() {
             self.cc.resize(self.t.cell_capacity(), [0.0; 3]);
@@ -611,6 +610,8 @@ impl<'a> Run<'a> {
 pub(crate) struct Seeds {
     pub crit: crate::implicit::critical::CriticalReport,
     pub points: Vec<([f64; 3], bool)>,
+    /// The index in `points` of each critical point (in `crit.points` order).
+    pub critical_at: Vec<usize>,
     pub regions: Vec<Uncertified>,
 }
 
@@ -650,8 +651,10 @@ pub(crate) fn seed_points(
         _ => ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
     };
     let mut points = Vec::new();
+    let mut critical_at = Vec::with_capacity(crit.points.len());
     for cp in &crit.points {
         let x = cp.point;
+        critical_at.push(points.len());
         points.push((x, false));
         for k in 0..3 {
             let th = std::f64::consts::TAU * k as f64 / 3.0;
@@ -686,6 +689,7 @@ pub(crate) fn seed_points(
     Seeds {
         crit,
         points,
+        critical_at,
         regions,
     }
 }
@@ -801,7 +805,9 @@ fn mesh_bo(
         let rb = reach_lower_bound(f, Bx::new(domain.min, domain.max), p.reach_options());
         match rb.tau {
             Some(tau) => {
-                facet_size = EPSILON * tau;
+                // 1% below ψ: the certificate bounds each ball over its certified
+                // piece (outward rounded), a little above the float radius refined to.
+                facet_size = 0.99 * EPSILON * tau;
                 if p.facet_distance.is_none() {
                     facet_distance = None;
                 }
@@ -860,15 +866,23 @@ fn mesh_bo(
     run.stats.seeding_complete = crit.complete;
     regions.extend(seeds.regions);
     let mut seed_ids: Vec<VertexId> = Vec::new();
+    let mut point_vertex: Vec<Option<VertexId>> = Vec::with_capacity(seeds.points.len());
     for (q, fallback) in seeds.points {
         match run.t.insert(q) {
             Ok(v) => {
                 seed_ids.push(v);
+                point_vertex.push(Some(v));
                 run.stats.fallback_seeds += fallback as usize;
             }
-            Err(_) => run.stats.refused += 1,
+            Err(_) => {
+                point_vertex.push(None);
+                run.stats.refused += 1
+            }
         }
     }
+    // The seed vertex of each critical point (None: its insertion was refused).
+    let critical_vertex: Vec<Option<VertexId>> =
+        seeds.critical_at.iter().map(|&i| point_vertex[i]).collect();
     run.stats.seed_vertices = seed_ids.len();
     let cells: Vec<CellId> = run.t.cells().collect();
     for &c in &cells {
@@ -993,12 +1007,49 @@ fn mesh_bo(
                             reach_lower_bound: tau,
                             max_ball_radius: r_sup,
                         });
-                        reason = if !crit.complete
-                            || run.stats_seeds_not_incident(&scan, &seed_ids) > 0
-                        {
-                            "ambient isotopy (Boissonnat-Oudot, Theorem 3) not certified: a seed vertex (critical point) is incident to no restricted facet, or the seeding is incomplete".to_string()
+                        reason = if !crit.complete {
+                            "ambient isotopy (Boissonnat-Oudot, Theorem 3) not certified: the seeding is incomplete (a component may have no sample)".to_string()
                         } else {
-                            "ambient isotopy (Boissonnat-Oudot, Theorem 3) not certified: the theorem assumes P on S, and the vertices are floating-point points near S (|f| ~ 1e-16), not on it".to_string()
+                            let tp = std::time::Instant::now();
+                            let r = perturbed_isotopy(
+                                &run.t,
+                                f,
+                                domain,
+                                &scan,
+                                PerturbedInputs {
+                                    tau,
+                                    psi,
+                                    crit: &crit,
+                                    critical_vertex: &critical_vertex,
+                                    budget: run.budget,
+                                },
+                            );
+                            run.stats.seconds_perturbed = tp.elapsed().as_secs_f64();
+                            let why = match r.failure.clone() {
+                                None => String::new(),
+                                Some(w) => format!("ambient isotopy (Boissonnat-Oudot, Theorem 3) not certified: {w}"),
+                            };
+                            if r.failure.is_none() {
+                                claims.push(Claim::PerturbedSample {
+                                    max_offset: r.max_offset,
+                                    cells: r.robustness.cells,
+                                    facets: r.robustness.facets,
+                                    far_face_cospherical: r.robustness.far_face_cospherical,
+                                    max_ball_radius: r.max_ball_radius,
+                                });
+                                claims.push(Claim::Isotopic {
+                                    inside: *domain,
+                                    theorem: ISOTOPY_THEOREM.into(),
+                                    generic_position: false,
+                                });
+                            } else if let Some(p0) = r.location {
+                                regions.push(Uncertified::new(
+                                    Aabb { min: p0, max: p0 }.inflate(1e-9 * diam),
+                                    why.clone(),
+                                ));
+                            }
+                            run.stats.perturbed = Some(r);
+                            why
                         };
                     } else {
                         reason = format!(
@@ -1059,9 +1110,17 @@ fn mesh_bo(
     if !notes.is_empty() {
         stats.insert("notes".into(), notes.into());
     }
+    // Certified only with the isotopy claim; a run stopped by a guard may still be
+    // (the claims are about the output, whose criteria `refinement_complete` reports).
+    let certificate =
+        if reason.is_empty() && claims.iter().any(|c| matches!(c, Claim::Isotopic { .. })) {
+            Certificate::certified(claims)
+        } else {
+            Certificate::uncertified(reason, claims, regions)
+        };
     Ok(MeshOutput {
         mesh: Mesh::Surface(mesh),
-        certificate: Certificate::uncertified(reason, claims, regions),
+        certificate,
         stats,
     })
 }

@@ -75,7 +75,8 @@ impl DualTest {
     }
 }
 
-fn point_box(p: [f64; 3]) -> IBox {
+/// The point `p` as a box.
+pub fn point_box(p: [f64; 3]) -> IBox {
     p.map(|x| Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE))
 }
 
@@ -95,7 +96,7 @@ pub fn test_segment(
         .roots
         .iter()
         .map(|root: &SegmentRoot| {
-            let (p, _) = segment_root_point(f, a, b, root, 1e-12);
+            let (p, _) = segment_root_point(f, a, b, root, 1e-15);
             FacetCrossing {
                 point: p,
                 radius: dist(p, v0),
@@ -138,10 +139,10 @@ fn narrow(f: &dyn Implicit, a: &IBox, b: &IBox, root: &SegmentRoot, t: f64) -> S
     *root
 }
 
-/// sup |x − v0| over the enclosure a + T (b − a) of the crossing's piece T.
-fn radius_sup(a: &IBox, b: &IBox, root: &SegmentRoot, v0: [f64; 3]) -> f64 {
+/// sup |x − v| over the enclosure a + T (b − a) of the crossing's piece T and v in the
+/// box `v`.
+fn radius_sup(a: &IBox, b: &IBox, root: &SegmentRoot, v: &IBox) -> f64 {
     let tt = Interval::try_from((root.t0, root.t1)).unwrap_or(Interval::ENTIRE);
-    let v = point_box(v0);
     let d2 = (0..3)
         .map(|k| (a[k] + tt * (b[k] - a[k]) - v[k]).sqr())
         .fold(Interval::try_from((0.0, 0.0)).unwrap(), |s, x| s + x);
@@ -207,9 +208,15 @@ impl Ends for Interval {
 /// (the same formula as [`circumcentre`], in outward-rounded arithmetic), or `None`
 /// when the enclosure of the determinant contains 0 (a sliver too flat to enclose).
 pub fn circumcentre_interval(p: [[f64; 3]; 4]) -> Option<IBox> {
+    circumcentre_of_boxes(p.map(point_box))
+}
+
+/// [`circumcentre_interval`] for vertices anywhere in the boxes `p`: an enclosure of
+/// the circumcentres of all such tetrahedra.
+pub fn circumcentre_of_boxes(p: [IBox; 4]) -> Option<IBox> {
     // In the fast interval type `Iv`: inari's bounds, bit for bit.
     use crate::implicit::directed::Iv;
-    let q = p.map(|x| point_box(x).map(Iv::from_interval));
+    let q = p.map(|x| x.map(Iv::from_interval));
     let d: [[Iv; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|k| q[i + 1][k] - q[0][k]));
     let (l, [c12, c20, c01], det) = crate::kernel::delaunay::circumcentre_terms(d, |x: Iv| x.sqr());
     if !(det.lo > 0.0 || det.hi < 0.0) {
@@ -333,12 +340,29 @@ pub fn scan_certified(
     icc: &[Option<IBox>],
     budget: SegmentBudget,
 ) -> Scan {
-    scan_ends(t, f, domain, SegmentEnds::Certified(icc), budget)
+    scan_ends(t, f, domain, SegmentEnds::Certified(icc, None), budget)
+}
+
+/// The `Certified` scan for vertices anywhere in their boxes `vboxes` (by vertex id),
+/// `icc` the circumcentre enclosures over those boxes
+/// ([`super::perturbed::boxed_circumcentres`]): every conclusion (crossings, radius
+/// bounds) holds for every choice of the vertices in their boxes. A facet with a
+/// vertex without a box is reported undecided ("circumcentre not enclosed").
+pub fn scan_boxed(
+    t: &Delaunay,
+    f: &dyn Implicit,
+    domain: &Aabb,
+    icc: &[Option<IBox>],
+    vboxes: &[Option<IBox>],
+    budget: SegmentBudget,
+) -> Scan {
+    scan_ends(t, f, domain, SegmentEnds::Certified(icc, Some(vboxes)), budget)
 }
 
 enum SegmentEnds<'a> {
     Float(&'a [[f64; 3]]),
-    Certified(&'a [Option<IBox>]),
+    /// Circumcentre enclosures, and the vertex boxes when the vertices are boxes.
+    Certified(&'a [Option<IBox>], Option<&'a [Option<IBox>]>),
 }
 
 /// What one facet's dual segment gave.
@@ -386,7 +410,7 @@ fn scan_ends(
         }
         match ends {
             SegmentEnds::Float(cc) => Some((point_box(cc[c as usize]), point_box(cc[d as usize]))),
-            SegmentEnds::Certified(icc) => Some((icc[c as usize]?, icc[d as usize]?)),
+            SegmentEnds::Certified(icc, _) => Some((icc[c as usize]?, icc[d as usize]?)),
         }
     };
     let outcomes: Vec<Outcome> = all
@@ -427,8 +451,15 @@ fn scan_ends(
                         SegmentEnds::Float(cc) => {
                             test_segment(f, cc[c as usize], cc[d as usize], v0, &dbox, budget)
                         }
-                        SegmentEnds::Certified(_) => {
-                            certified_segment(f, &a, &b, v0, &dbox, budget)
+                        SegmentEnds::Certified(_, vb) => {
+                            let b0 = match vb {
+                                None => point_box(v0),
+                                Some(vb) => match vb.get(fv[0] as usize).copied().flatten() {
+                                    Some(b0) => b0,
+                                    None => return Outcome::Unenclosed(v0),
+                                },
+                            };
+                            certified_segment(f, &a, &b, v0, &b0, &dbox, budget)
                         }
                     })
                 })
@@ -493,12 +524,14 @@ fn scan_ends(
 
 /// Every crossing of S with the segment between any points of the boxes `a` and `b`
 /// (interval circumcentres), by certified root isolation; each crossing's float point
-/// on the segment of the boxes' midpoints, its radius bound over the certified piece.
+/// on the segment of the boxes' midpoints, its radius bound over the certified piece
+/// and the facet vertex's box `b0` (holding `v0`).
 fn certified_segment(
     f: &dyn Implicit,
     a: &IBox,
     b: &IBox,
     v0: [f64; 3],
+    b0: &IBox,
     dbox: &IBox,
     budget: SegmentBudget,
 ) -> DualTest {
@@ -515,7 +548,7 @@ fn certified_segment(
                 FacetCrossing {
                     point: p,
                     radius: dist(p, v0),
-                    radius_sup: radius_sup(a, b, &narrow, v0),
+                    radius_sup: radius_sup(a, b, &narrow, b0),
                     rising: root.rising,
                     piece: [root.t0, root.t1],
                 }
