@@ -140,9 +140,9 @@ pub fn vertex_boxes(
     out
 }
 
-/// det[b − a, c − a, d − a] over boxes (certmesh's orientation: positive for the unit
+/// det[b − a, c − a, d − a] over boxes, public for the tests (certmesh's orientation: positive for the unit
 /// tetrahedron 0, e1, e2, e3).
-fn orient_iv(p: [[Iv; 3]; 4]) -> Iv {
+pub fn orient_iv(p: [[Iv; 3]; 4]) -> Iv {
     let d: [[Iv; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|k| p[i + 1][k] - p[0][k]));
     det3(d)
 }
@@ -153,11 +153,17 @@ fn det3(m: [[Iv; 3]; 3]) -> Iv {
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
 }
 
-/// The lifted determinant det[(q − e, |q − e|²)] over q = a, b, c, d, over boxes. For a
-/// positively oriented (a, b, c, d) it is negative when e lies inside their sphere,
-/// positive outside (the opposite sign of [`crate::kernel::predicates::insphere`]).
+/// The lifted determinant of the five points a, b, c, d, e over boxes, translated to a:
+/// det[(q − a, |q − a|²)] over q = b, c, d, e (equal to det[(q − e, |q − e|²)] over
+/// q = a, b, c, d: both are the 5×5 determinant of rows (q, |q|², 1)). For a positively
+/// oriented (a, b, c, d) it is negative when e lies inside their sphere, positive
+/// outside (the opposite sign of [`crate::kernel::predicates::insphere`]). Translating
+/// to a cell vertex, not to e, keeps the enclosure tight when e is far away (a far-box
+/// corner): the dominant term is then |e − a|² times the cell's small, tightly
+/// enclosed orientation determinant.
 pub fn lifted_iv(p: [[Iv; 3]; 4], e: [Iv; 3]) -> Iv {
-    let r: [[Iv; 3]; 4] = p.map(|q| std::array::from_fn(|k| q[k] - e[k]));
+    let q = [p[1], p[2], p[3], e];
+    let r: [[Iv; 3]; 4] = q.map(|q| std::array::from_fn(|k| q[k] - p[0][k]));
     let w: [Iv; 4] = r.map(|q| q[0].sqr() + q[1].sqr() + q[2].sqr());
     let minor = |skip: usize| {
         let rows: Vec<[Iv; 3]> = (0..4).filter(|&i| i != skip).map(|i| r[i]).collect();
@@ -165,6 +171,17 @@ pub fn lifted_iv(p: [[Iv; 3]; 4], e: [Iv; 3]) -> Iv {
     };
     // Expansion along the lifted column: cofactor signs −, +, −, +.
     w[1] * minor(1) - w[0] * minor(0) - w[2] * minor(2) + w[3] * minor(3)
+}
+
+/// The even permutation of a cell's vertices that brings vertex `k` to the front:
+/// (a b c d), (b a d c), (c d a b), (d c b a).
+pub fn even_front<T: Copy>(p: [T; 4], k: usize) -> [T; 4] {
+    match k {
+        1 => [p[1], p[0], p[3], p[2]],
+        2 => [p[2], p[3], p[0], p[1]],
+        3 => [p[3], p[2], p[1], p[0]],
+        _ => p,
+    }
 }
 
 /// What [`robust_delaunay`] found: the cells and facets whose orientation or local
@@ -218,8 +235,12 @@ pub fn robust_delaunay(t: &Delaunay, boxes: &[Option<IBox>]) -> Robustness {
         .par_iter()
         .map(|&(c, _, d, j)| {
             let e = t.cell_vertices(d)[j];
+            let cv = t.cell_vertices(c);
+            // Translate to a vertex that is not a far corner (an even permutation of
+            // the cell keeps its orientation and the determinant).
+            let k = (0..4).find(|&k| !t.is_far(cv[k])).unwrap_or(0);
             let strict = match (cellbox(c), bx(e)) {
-                (Some(p), Some(eb)) => lifted_iv(p, eb).lo > 0.0,
+                (Some(p), Some(eb)) => lifted_iv(even_front(p, k), eb).lo > 0.0,
                 _ => false,
             };
             let verdict = if strict {
