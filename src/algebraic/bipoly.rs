@@ -423,8 +423,9 @@ pub fn q_to_primitive(a: &[BigRational]) -> UPoly {
     UPoly::new(a.iter().map(|x| (x * &lq).to_integer()).collect()).primitive()
 }
 
-/// A polynomial with rational coefficients during conversion: (i, j) ↦ coefficient.
-type QPoly = BTreeMap<(u32, u32), BigRational>;
+/// A polynomial with rational coefficients during conversion: exponents of (x, y, z)
+/// ↦ coefficient.
+pub type QPoly = BTreeMap<[u32; 3], BigRational>;
 
 fn qp_add(a: &QPoly, b: &QPoly, sign: i32) -> QPoly {
     let mut r = a.clone();
@@ -440,13 +441,14 @@ fn qp_add(a: &QPoly, b: &QPoly, sign: i32) -> QPoly {
     r
 }
 fn qp_deg(a: &QPoly) -> u32 {
-    a.keys().map(|(i, j)| i + j).max().unwrap_or(0)
+    a.keys().map(|k| k[0] + k[1] + k[2]).max().unwrap_or(0)
 }
 fn qp_mul(a: &QPoly, b: &QPoly) -> QPoly {
     let mut r = QPoly::new();
-    for ((i, j), x) in a {
-        for ((k, l), y) in b {
-            *r.entry((i + k, j + l)).or_insert_with(BigRational::zero) += x * y;
+    for (i, x) in a {
+        for (k, y) in b {
+            let e = [i[0] + k[0], i[1] + k[1], i[2] + k[2]];
+            *r.entry(e).or_insert_with(BigRational::zero) += x * y;
         }
     }
     r.retain(|_, v| !v.is_zero());
@@ -457,7 +459,7 @@ fn qp_const(a: &QPoly) -> Option<BigRational> {
         return Some(BigRational::zero());
     }
     if a.len() == 1 {
-        if let Some(v) = a.get(&(0, 0)) {
+        if let Some(v) = a.get(&[0, 0, 0]) {
             return Some(v.clone());
         }
     }
@@ -494,26 +496,27 @@ fn not_poly(e: &Expr, why: &str) -> Error {
     ))
 }
 
-fn to_qpoly(e: &Expr) -> Result<QPoly> {
+/// The polynomial of a formula in x, y (`vars` 2) or x, y, z (`vars` 3), exactly.
+pub fn to_qpoly(e: &Expr, vars: usize) -> Result<QPoly> {
     Ok(match e {
         Expr::Var(k) => {
-            let key = match k {
-                0 => (1, 0),
-                1 => (0, 1),
-                _ => return Err(not_poly(e, "uses z (the sweep handles curves f(x, y))")),
-            };
+            if *k >= vars {
+                return Err(not_poly(e, "uses z (the sweep handles curves f(x, y))"));
+            }
+            let mut key = [0; 3];
+            key[*k] = 1;
             QPoly::from([(key, BigRational::one())])
         }
         Expr::Const(_, text) => {
             let v = decimal_exact(text).ok_or_else(|| not_poly(e, "is not a rational constant"))?;
             let mut m = QPoly::new();
             if !v.is_zero() {
-                m.insert((0, 0), v);
+                m.insert([0, 0, 0], v);
             }
             m
         }
         Expr::Un(UnOp::Neg, a) => {
-            let a = to_qpoly(a)?;
+            let a = to_qpoly(a, vars)?;
             a.into_iter().map(|(k, v)| (k, -v)).collect()
         }
         Expr::Un(op, _) => {
@@ -523,7 +526,7 @@ fn to_qpoly(e: &Expr) -> Result<QPoly> {
             ));
         }
         Expr::Bin(op, a, b) => {
-            let (pa, pb) = (to_qpoly(a)?, to_qpoly(b)?);
+            let (pa, pb) = (to_qpoly(a, vars)?, to_qpoly(b, vars)?);
             match op {
                 BinOp::Add => qp_add(&pa, &pb, 1),
                 BinOp::Sub => qp_add(&pa, &pb, -1),
@@ -547,12 +550,12 @@ fn to_qpoly(e: &Expr) -> Result<QPoly> {
             }
         }
         Expr::Pow(a, n) => {
-            let pa = to_qpoly(a)?;
+            let pa = to_qpoly(a, vars)?;
             if *n < 0 {
                 match qp_const(&pa) {
                     Some(c) if !c.is_zero() => {
                         let v = num_traits::pow(c.recip(), n.unsigned_abs() as usize);
-                        return Ok(QPoly::from([((0, 0), v)]));
+                        return Ok(QPoly::from([([0, 0, 0], v)]));
                     }
                     _ => return Err(not_poly(e, "has a negative power of a non-constant")),
                 }
@@ -564,7 +567,7 @@ fn to_qpoly(e: &Expr) -> Result<QPoly> {
                     &format!("has degree above {MAX_FORMULA_DEGREE}"),
                 ));
             }
-            let mut r = QPoly::from([((0, 0), BigRational::one())]);
+            let mut r = QPoly::from([([0, 0, 0], BigRational::one())]);
             for _ in 0..n {
                 r = qp_mul(&r, &pa);
             }
@@ -578,15 +581,15 @@ fn to_qpoly(e: &Expr) -> Result<QPoly> {
 /// Anything that is not a polynomial with rational coefficients is an error naming
 /// the term.
 pub fn from_expr(e: &Expr) -> Result<BiPoly> {
-    let q = to_qpoly(e)?;
+    let q = to_qpoly(e, 2)?;
     let mut l = BigInt::one();
     for v in q.values() {
         l = l.lcm(v.denom());
     }
     let lq = BigRational::from_integer(l);
     let mut m: BTreeMap<(usize, usize), BigInt> = BTreeMap::new();
-    for ((i, j), v) in &q {
-        m.insert((*i as usize, *j as usize), (v * &lq).to_integer());
+    for (k, v) in &q {
+        m.insert((k[0] as usize, k[1] as usize), (v * &lq).to_integer());
     }
     let f = BiPoly::from_map(&m);
     // Divide out the integer content.

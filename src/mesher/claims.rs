@@ -58,8 +58,9 @@ pub enum Claim {
         cells: usize,
         facets: usize,
         /// Of the facets, those locally Delaunay only in the non-strict sense, exactly:
-        /// four of their five points are corners of one face of the far box.
-        far_face_cospherical: usize,
+        /// four of their five points are corners of one face of the far box, or all
+        /// five are samples on S when S is a round sphere.
+        exactly_cospherical: usize,
         max_ball_radius: f64,
     },
     /// The output is homeomorphic (not proven isotopic) to f = 0 inside the domain,
@@ -147,14 +148,14 @@ impl fmt::Display for Claim {
                 max_offset,
                 cells,
                 facets,
-                far_face_cospherical,
+                exactly_cospherical,
                 max_ball_radius,
             } => write!(
                 f,
                 "every vertex is within {max_offset:.1e} of a certified point of f = 0, and for every such \
                  point set the Delaunay tetrahedralization ({cells} cells, all positive; {facets} facets, all \
-                 strictly locally Delaunay but {far_face_cospherical} exactly cospherical with a face of the \
-                 far box) and the restricted facets are the output's, surface Delaunay balls <= \
+                 strictly locally Delaunay but {exactly_cospherical} exactly cospherical: on a face of the far \
+                 box, or five samples of a round sphere S) and the restricted facets are the output's, surface Delaunay balls <= \
                  {max_ball_radius:.3e} (interval arithmetic over the vertex boxes)"
             ),
             Claim::Homeomorphic {

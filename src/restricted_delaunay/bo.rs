@@ -1034,7 +1034,8 @@ fn mesh_bo(
                                     max_offset: r.max_offset,
                                     cells: r.robustness.cells,
                                     facets: r.robustness.facets,
-                                    far_face_cospherical: r.robustness.far_face_cospherical,
+                                    exactly_cospherical: r.robustness.far_face_cospherical
+                                        + r.robustness.sphere_cospherical,
                                     max_ball_radius: r.max_ball_radius,
                                 });
                                 claims.push(Claim::Isotopic {

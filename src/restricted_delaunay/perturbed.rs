@@ -31,8 +31,12 @@
 //!
 //! What can fail, and is then reported: no certified zero near a vertex; a degenerate
 //! (cospherical or coplanar within the boxes) configuration — every sample of a round
-//! sphere is cospherical, so the sphere's interior cells always fail step 2; a dual
-//! segment undecided over the boxes; radii above ψ.
+//! sphere is cospherical, so the sphere's interior cells always fail step 2, and on the
+//! torus the refinement leaves a few hundred near-cocircular cells spanning the hole
+//! (five samples on one circle of latitude, insphere ~10⁻¹⁷); a dual segment undecided
+//! over the boxes; radii above ψ. Step 2 asks for the whole tetrahedralization to be
+//! robust, although only the Voronoi edges near S decide the restricted facets: a
+//! version local to S would also cover the sphere and the torus (not done).
 use super::restricted::{circumcentre_of_boxes, point_box};
 use crate::implicit::directed::Iv;
 use crate::implicit::ops::{isolate_segment, SegmentBudget};
@@ -198,6 +202,9 @@ pub struct Robustness {
     /// Locally Delaunay in the non-strict sense, exactly; both cells' circumcentres
     /// coincide (a Voronoi edge of length 0), far outside the domain.
     pub far_face_cospherical: usize,
+    /// Facets of five samples on a round sphere S: cospherical for every P* on S,
+    /// exactly (non-strict); both cells have the sphere's centre as circumcentre.
+    pub sphere_cospherical: usize,
     /// A point of the first failure (a vertex of the cell), for the report.
     pub first_failure: Option<[f64; 3]>,
 }
@@ -208,9 +215,49 @@ impl Robustness {
     }
 }
 
+/// When f is exactly a·(x² + y² + z²) + b·(x, y, z) + c with rational a ≠ 0, b, c (a
+/// polynomial formula, expanded in exact rationals), an enclosure of the centre
+/// −b/(2a): then S is a round sphere (or empty) and every point set on S is
+/// cospherical, exactly.
+pub fn round_sphere_centre(f: &dyn Implicit) -> Option<IBox> {
+    use num_traits::Zero;
+    let e = f.expression()?;
+    let q = crate::algebraic::bipoly::to_qpoly(e, 3).ok()?;
+    let get = |k: [u32; 3]| q.get(&k).cloned();
+    let a = get([2, 0, 0])?;
+    if a.is_zero() || get([0, 2, 0])? != a || get([0, 0, 2])? != a {
+        return None;
+    }
+    let allowed = [
+        [2, 0, 0],
+        [0, 2, 0],
+        [0, 0, 2],
+        [1, 0, 0],
+        [0, 1, 0],
+        [0, 0, 1],
+        [0, 0, 0],
+    ];
+    if q.keys().any(|k| !allowed.contains(k)) {
+        return None;
+    }
+    let two_a = &a + &a;
+    let c: Option<Vec<Interval>> = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+        .iter()
+        .map(|k| {
+            let b = get(*k).unwrap_or_else(num_rational::BigRational::zero);
+            crate::algebraic::fint::q_iv(&(-b / &two_a))
+        })
+        .collect();
+    let c = c?;
+    Some([c[0], c[1], c[2]])
+}
+
 /// Is every live cell of `t` positively oriented, and every interior facet strictly
 /// locally Delaunay, for every choice of the vertices in `boxes` (interval arithmetic)?
-pub fn robust_delaunay(t: &Delaunay, boxes: &[Option<IBox>]) -> Robustness {
+/// With `on_sphere` (S a round sphere, [`round_sphere_centre`]), a facet whose five
+/// points are all samples counts as locally Delaunay exactly: points of P* on one
+/// sphere are cospherical, so its insphere determinant is 0 (non-strict).
+pub fn robust_delaunay(t: &Delaunay, boxes: &[Option<IBox>], on_sphere: bool) -> Robustness {
     let bx = |v: VertexId| -> Option<[Iv; 3]> {
         boxes
             .get(v as usize)
@@ -243,10 +290,13 @@ pub fn robust_delaunay(t: &Delaunay, boxes: &[Option<IBox>]) -> Robustness {
                 (Some(p), Some(eb)) => lifted_iv(even_front(p, k), eb).lo > 0.0,
                 _ => false,
             };
+            let all_samples = on_sphere && !t.is_far(e) && cv.iter().all(|&v| !t.is_far(v));
             let verdict = if strict {
                 0
-            } else if far_face_cospherical(t, t.cell_vertices(c), e) {
+            } else if far_face_cospherical(t, cv, e) {
                 1
+            } else if all_samples {
+                3
             } else {
                 2
             };
@@ -254,6 +304,7 @@ pub fn robust_delaunay(t: &Delaunay, boxes: &[Option<IBox>]) -> Robustness {
         })
         .collect();
     let far_degenerate = verdicts.iter().filter(|x| x.1 == 1).count();
+    let sphere_cospherical = verdicts.iter().filter(|x| x.1 == 3).count();
     let bad_facets: Vec<CellId> = verdicts
         .iter()
         .filter(|x| x.1 == 2)
@@ -269,6 +320,7 @@ pub fn robust_delaunay(t: &Delaunay, boxes: &[Option<IBox>]) -> Robustness {
         cells_not_proven_positive: bad_cells.len(),
         facets_not_proven_delaunay: bad_facets.len(),
         far_face_cospherical: far_degenerate,
+        sphere_cospherical,
         first_failure: first,
     }
 }
@@ -296,8 +348,15 @@ fn far_face_cospherical(t: &Delaunay, cell: [VertexId; 4], e: VertexId) -> bool 
 }
 
 /// The interval circumcentre of every live cell over the vertex boxes (`None` for dead
-/// cells, cells with a vertex without a box, and unenclosed slivers).
-pub fn boxed_circumcentres(t: &Delaunay, boxes: &[Option<IBox>]) -> Vec<Option<IBox>> {
+/// cells, cells with a vertex without a box, and unenclosed slivers). With `sphere`
+/// (S a round sphere with this centre enclosure): a cell of four samples, positively
+/// oriented over the boxes, has four non-coplanar points of P* on S, whose only
+/// circumsphere is S: its circumcentre is the centre.
+pub fn boxed_circumcentres(
+    t: &Delaunay,
+    boxes: &[Option<IBox>],
+    sphere: Option<IBox>,
+) -> Vec<Option<IBox>> {
     (0..t.cell_capacity() as u32)
         .into_par_iter()
         .map(|c| {
@@ -311,6 +370,12 @@ pub fn boxed_circumcentres(t: &Delaunay, boxes: &[Option<IBox>]) -> Vec<Option<I
                 boxes.get(v[2] as usize).copied().flatten()?,
                 boxes.get(v[3] as usize).copied().flatten()?,
             ];
+            if let Some(m) = sphere {
+                let ivq = q.map(|b| b.map(Iv::from_interval));
+                if v.iter().all(|&v| !t.is_far(v)) && orient_iv(ivq).lo > 0.0 {
+                    return Some(m);
+                }
+            }
             circumcentre_of_boxes(q)
         })
         .collect()
@@ -347,6 +412,9 @@ pub struct PerturbedInputs<'a> {
 pub struct PerturbedReport {
     /// Upper bound of |p − p*| over the vertices.
     pub max_offset: f64,
+    /// S is a round sphere ([`round_sphere_centre`]): cospherical samples accepted
+    /// exactly.
+    pub round_sphere: bool,
     pub robustness: Robustness,
     /// Dual segments decided over the boxes, and those that were not.
     pub segments: usize,
@@ -387,7 +455,9 @@ pub fn perturbed_isotopy(
         return r;
     }
     // 2. The same tetrahedralization and restricted facets over the boxes.
-    r.robustness = robust_delaunay(t, &vb.boxes);
+    let sphere = round_sphere_centre(f);
+    r.round_sphere = sphere.is_some();
+    r.robustness = robust_delaunay(t, &vb.boxes, sphere.is_some());
     if !r.robustness.holds() {
         let why = format!(
             "the Delaunay tetrahedralization is not the same for every point set within {:.1e} of the vertices: \
@@ -399,7 +469,7 @@ pub fn perturbed_isotopy(
         fail(&mut r, why, at);
         return r;
     }
-    let icc = boxed_circumcentres(t, &vb.boxes);
+    let icc = boxed_circumcentres(t, &vb.boxes, sphere);
     let boxed = super::restricted::scan_boxed(t, f, domain, &icc, &vb.boxes, inp.budget);
     r.segments = boxed.segments;
     r.undecided_segments = boxed.undecided.len();
