@@ -160,7 +160,7 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             "bo",
             3,
             true,
-            "Boissonnat-Oudot restricted-Delaunay refinement, CGAL's criteria; --certify: exact restricted triangulation (isotopy not claimed)",
+            "Boissonnat-Oudot restricted-Delaunay refinement, CGAL's criteria; --certify: exact restricted triangulation; with --set size=reach, ambient isotopy (Theorem 3 through a certified point set on S) where every hypothesis is checked",
             crate::restricted_delaunay::BoissonnatOudot,
             BO
         ),

@@ -33,10 +33,11 @@
 //!    the output's vertices, reported as a typed claim. Then a certified lower bound
 //!    τ̄ of the reach ([`crate::implicit::reach`]) gives ψ = 0.099·τ̄ ≤ 0.1·lfs, and
 //!    when every surface Delaunay ball (outward-rounded) has radius ≤ ψ the weak
-//!    ε-sample condition (ε = 0.099 < 0.1) is claimed. The ambient isotopy of
-//!    Theorem 3 is never claimed: the theorem assumes the samples lie on S, and
-//!    floating-point vertices only lie within ~1e-16 of it; the report names the
-//!    hypothesis that fails. `--set size=reach` refines to ψ (Theorem 4's criterion).
+//!    ε-sample condition (ε = 0.099 < 0.1) is claimed. Theorem 3 assumes the samples
+//!    lie on S, and floating-point vertices only lie within ~1e-16 of it: the ambient
+//!    isotopy is claimed through a certified point set P* on S with the output's
+//!    restricted triangulation ([`super::perturbed`]), and when that fails the report
+//!    names the hypothesis. `--set size=reach` refines to ψ (Theorem 4's criterion).
 use super::perturbed::{perturbed_isotopy, PerturbedInputs, PerturbedReport, ISOTOPY_THEOREM};
 use super::restricted::{self, key, test_segment, DualTest, Ends3, Scan};
 use crate::error::{Error, Result};
