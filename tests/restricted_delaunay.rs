@@ -547,7 +547,10 @@ fn isotopy_through_p_star(name: &str, depth: &str, genus: &[usize]) {
     let claims = c.claims_typed();
     let has = |p: &dyn Fn(&Claim) -> bool| claims.iter().any(p);
     assert!(has(&|c| matches!(c, Claim::Isotopic { .. })), "{name}");
-    assert!(has(&|c| matches!(c, Claim::RestrictedDelaunay { .. })), "{name}");
+    assert!(
+        has(&|c| matches!(c, Claim::RestrictedDelaunay { .. })),
+        "{name}"
+    );
     let psi = claims
         .iter()
         .find_map(|c| match c {
@@ -575,7 +578,11 @@ fn isotopy_through_p_star(name: &str, depth: &str, genus: &[usize]) {
     assert_eq!(top.genus, genus, "{name}");
     let star: Vec<[f64; 3]> = mesh.vertices.iter().map(|&p| newton(&f, p)).collect();
     for (p, q) in mesh.vertices.iter().zip(&star) {
-        assert!(dist(*p, *q) <= offset, "{name}: {p:?} moves {}", dist(*p, *q));
+        assert!(
+            dist(*p, *q) <= offset,
+            "{name}: {p:?} moves {}",
+            dist(*p, *q)
+        );
     }
     let sampled = sampled_rdt(&f, &domain, &star, 200);
     let out_keys: HashSet<[u32; 3]> = mesh
@@ -647,7 +654,10 @@ fn ellipsoid_isotopic_and_torus_reported_release() {
         .iter()
         .any(|c| matches!(c, Claim::WeakSample { .. })));
     let reason = c.reason().unwrap();
-    assert!(reason.contains("not proven strictly locally Delaunay"), "{reason}");
+    assert!(
+        reason.contains("not proven strictly locally Delaunay"),
+        "{reason}"
+    );
 }
 
 mod perturbed_primitives {
@@ -740,11 +750,18 @@ mod perturbed_primitives {
             for k in 0..3 {
                 assert!(b[k].inf() <= p[k] && p[k] <= b[k].sup());
                 let (a, c) = (b[k].inf(), b[k].sup());
-                let m = if a <= 0.0 && c >= 0.0 { 0.0 } else { a.abs().min(c.abs()) };
+                let m = if a <= 0.0 && c >= 0.0 {
+                    0.0
+                } else {
+                    a.abs().min(c.abs())
+                };
                 lo += m * m;
                 hi += a.abs().max(c.abs()).powi(2);
             }
-            assert!(lo <= 1.0 + 1e-15 && hi >= 1.0 - 1e-15, "box misses the sphere: {lo} {hi}");
+            assert!(
+                lo <= 1.0 + 1e-15 && hi >= 1.0 - 1e-15,
+                "box misses the sphere: {lo} {hi}"
+            );
         }
         assert_eq!(boxed, 200);
         // A point 0.1 off S: its box reaches the sphere at (0, 0, 1), and the offset

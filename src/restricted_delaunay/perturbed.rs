@@ -100,7 +100,8 @@ pub fn vertex_boxes(
             if !r.roots.is_empty() {
                 // The segment's bounding box holds the segment, hence the root and p.
                 let bx: IBox = std::array::from_fn(|k| ea[k].convex_hull(eb[k]));
-                let inside = (0..3).all(|k| bx[k].inf() >= domain.min[k] && bx[k].sup() <= domain.max[k]);
+                let inside =
+                    (0..3).all(|k| bx[k].inf() >= domain.min[k] && bx[k].sup() <= domain.max[k]);
                 if !inside {
                     return Err((p, "the certified zero's box leaves the domain".into()));
                 }
@@ -305,11 +306,7 @@ pub fn robust_delaunay(t: &Delaunay, boxes: &[Option<IBox>], on_sphere: bool) ->
         .collect();
     let far_degenerate = verdicts.iter().filter(|x| x.1 == 1).count();
     let sphere_cospherical = verdicts.iter().filter(|x| x.1 == 3).count();
-    let bad_facets: Vec<CellId> = verdicts
-        .iter()
-        .filter(|x| x.1 == 2)
-        .map(|x| x.0)
-        .collect();
+    let bad_facets: Vec<CellId> = verdicts.iter().filter(|x| x.1 == 2).map(|x| x.0).collect();
     let first = bad_cells.first().or(bad_facets.first()).map(|&c| {
         let v = t.cell_vertices(c);
         t.point(*v.iter().find(|&&v| v >= FAR).unwrap_or(&v[0]))
@@ -451,7 +448,11 @@ pub fn perturbed_isotopy(
     let vb = vertex_boxes(t, f, domain, inp.budget);
     r.max_offset = vb.max_offset;
     if let Some((p, why)) = vb.failure {
-        fail(&mut r, format!("no certified point of S for a vertex: {why}"), Some(p));
+        fail(
+            &mut r,
+            format!("no certified point of S for a vertex: {why}"),
+            Some(p),
+        );
         return r;
     }
     // 2. The same tetrahedralization and restricted facets over the boxes.
@@ -474,7 +475,10 @@ pub fn perturbed_isotopy(
     r.segments = boxed.segments;
     r.undecided_segments = boxed.undecided.len();
     let keys = |s: &super::restricted::Scan| -> std::collections::HashSet<[VertexId; 3]> {
-        s.facets.iter().map(|x| super::restricted::key(x.v)).collect()
+        s.facets
+            .iter()
+            .map(|x| super::restricted::key(x.v))
+            .collect()
     };
     r.facet_mismatches = keys(scan).symmetric_difference(&keys(&boxed)).count();
     r.max_ball_radius = boxed
@@ -483,20 +487,30 @@ pub fn perturbed_isotopy(
         .flat_map(|x| x.test.crossings.iter().map(|c| c.radius_sup))
         .fold(0.0f64, f64::max);
     if !boxed.far_lemma || !boxed.undecided.is_empty() {
-        let at = boxed.undecided.first().and_then(|u| u.points.first().copied());
+        let at = boxed
+            .undecided
+            .first()
+            .and_then(|u| u.points.first().copied());
         fail(
             &mut r,
             format!(
                 "{} dual segments undecided over the vertex boxes{}",
                 boxed.undecided.len(),
-                if boxed.far_lemma { "" } else { " (far-corner lemma fails)" }
+                if boxed.far_lemma {
+                    ""
+                } else {
+                    " (far-corner lemma fails)"
+                }
             ),
             at,
         );
         return r;
     }
     if r.facet_mismatches > 0 {
-        let why = format!("{} restricted facets differ over the vertex boxes", r.facet_mismatches);
+        let why = format!(
+            "{} restricted facets differ over the vertex boxes",
+            r.facet_mismatches
+        );
         fail(&mut r, why, None);
         return r;
     }
@@ -513,7 +527,11 @@ pub fn perturbed_isotopy(
     // holds a critical point of the height (complete search); its seed vertex's p* is
     // on the same component when sup |x_c − p*| < 2τ ≤ the distance between components.
     if !inp.crit.complete {
-        fail(&mut r, "the critical-point search is incomplete".into(), None);
+        fail(
+            &mut r,
+            "the critical-point search is incomplete".into(),
+            None,
+        );
         return r;
     }
     let incident: std::collections::HashSet<VertexId> =

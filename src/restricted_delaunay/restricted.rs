@@ -356,7 +356,13 @@ pub fn scan_boxed(
     vboxes: &[Option<IBox>],
     budget: SegmentBudget,
 ) -> Scan {
-    scan_ends(t, f, domain, SegmentEnds::Certified(icc, Some(vboxes)), budget)
+    scan_ends(
+        t,
+        f,
+        domain,
+        SegmentEnds::Certified(icc, Some(vboxes)),
+        budget,
+    )
 }
 
 enum SegmentEnds<'a> {
