@@ -782,3 +782,54 @@ mod perturbed_primitives {
         assert_eq!(p, inner, "{why}");
     }
 }
+
+/// A formula that says it has no rigorous interval extension (as a Python callback or
+/// a mesh's distance does), with the formula's own enclosures behind it.
+struct NotRigorous(Formula);
+
+impl Implicit for NotRigorous {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn eval(&self, p: [f64; 3]) -> f64 {
+        self.0.eval(p)
+    }
+    fn eval_interval(&self, b: &IBox) -> Interval {
+        self.0.eval_interval(b)
+    }
+    fn grad(&self, p: [f64; 3]) -> certmesh::implicit::Dual<f64> {
+        self.0.grad(p)
+    }
+    fn grad_interval(&self, b: &IBox) -> certmesh::implicit::Dual<Interval> {
+        self.0.grad_interval(b)
+    }
+    fn hessian(&self, p: [f64; 3]) -> certmesh::implicit::Hyper<f64> {
+        self.0.hessian(p)
+    }
+    fn hessian_interval(&self, b: &IBox) -> certmesh::implicit::Hyper<Interval> {
+        self.0.hessian_interval(b)
+    }
+    fn regularity(&self, b: &IBox) -> certmesh::implicit::Regularity {
+        self.0.regularity(b)
+    }
+    fn is_rigorous(&self) -> bool {
+        false
+    }
+}
+
+/// Through `mesher::run`, a function without a rigorous interval extension gets no
+/// claim at all: neither the certificate nor the partial claims (restricted Delaunay,
+/// weak sample) an uncertified `bo --certify` run would otherwise carry.
+#[test]
+fn no_claim_survives_a_non_rigorous_function() {
+    let e = catalog::get("sphere").unwrap();
+    let f = NotRigorous(e.function());
+    for m in [bo(0.3, 0.03, &[], |_| {}), bo_reach("6")] {
+        let direct = m.mesh(&f, &e.domain, &NoProgress).unwrap();
+        assert!(!direct.certificate.claims().is_empty(), "the test needs a claiming run");
+        let r = certmesh::mesher::run(&m, &f, &e.domain, &NoProgress).unwrap();
+        assert!(!r.output.certificate.is_certified());
+        assert!(r.output.certificate.claims().is_empty(), "{:?}", r.output.certificate);
+        assert!(r.output.certificate.claims_typed().is_empty());
+    }
+}

@@ -238,8 +238,11 @@ pub fn run(
     let output = m.mesh(&counted, domain, progress)?;
     let seconds = t0.elapsed().as_secs_f64();
     let mut output = output;
-    // No mesher may claim more than it computed: a non-rigorous oracle certifies nothing.
-    if !f.is_rigorous() && output.certificate.is_certified() {
+    // No mesher may claim more than it computed: a non-rigorous oracle certifies
+    // nothing, and an uncertified run keeps no partial claim either.
+    if !f.is_rigorous()
+        && (output.certificate.is_certified() || !output.certificate.claims().is_empty())
+    {
         output.certificate = Certificate::uncertified(
             "the function has no rigorous interval extension",
             Vec::new(),
