@@ -47,6 +47,18 @@ pub enum Claim {
         reach_lower_bound: f64,
         max_ball_radius: f64,
     },
+    /// The output is exactly the restricted Delaunay graph of its vertex set, for a
+    /// curve f(x, y) = 0: the 2D Delaunay triangulation (spade, with four far points)
+    /// passed the exact orient2d/incircle check, and on each of the `voronoi_edges`
+    /// dual segments (interval circumcentres) every crossing with f = 0 was isolated by
+    /// interval arithmetic, none undecided; edges with a far end point are not
+    /// restricted by the far lemma (checked with intervals).
+    RestrictedDelaunayCurve {
+        edges: usize,
+        voronoi_edges: usize,
+        /// Dual segments crossing f = 0 more than once.
+        multiple_crossings: usize,
+    },
     /// The output is homeomorphic (not proven isotopic) to f = 0 inside the domain,
     /// `by` a theorem whose every hypothesis was checked with interval arithmetic.
     Homeomorphic {
@@ -114,6 +126,17 @@ impl fmt::Display for Claim {
             } => write!(
                 f,
                 "exactly the restricted Delaunay triangulation of its vertices: {facets} facets; \
+                 all crossings of f = 0 with {voronoi_edges} dual Voronoi edges isolated by interval \
+                 arithmetic ({multiple_crossings} edges cross more than once), Delaunay \
+                 triangulation checked with exact predicates"
+            ),
+            Claim::RestrictedDelaunayCurve {
+                edges,
+                voronoi_edges,
+                multiple_crossings,
+            } => write!(
+                f,
+                "exactly the restricted Delaunay graph of its vertices (a curve): {edges} edges; \
                  all crossings of f = 0 with {voronoi_edges} dual Voronoi edges isolated by interval \
                  arithmetic ({multiple_crossings} edges cross more than once), Delaunay \
                  triangulation checked with exact predicates"

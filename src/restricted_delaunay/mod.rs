@@ -13,8 +13,10 @@
 pub mod bo;
 pub mod cdrr;
 pub mod certify;
+pub mod curve;
 pub mod restricted;
 pub mod tbp;
 
 pub use bo::BoissonnatOudot;
 pub use cdrr::ChengDeyRamosRay;
+pub use curve::BoissonnatOudot2;
