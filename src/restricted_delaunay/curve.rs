@@ -22,7 +22,11 @@
 //! cell, hence misses D, hence misses C. (We prefer the far square to spade's
 //! unbounded outer Voronoi rays: the rays would need clipping against D, a second
 //! code path for hull edges; with the square every tested dual is a finite segment
-//! and the lemma disposes of the rest.)
+//! and the lemma disposes of the rest.) The far points do not change the answer: as
+//! no point of D lies in a far point's cell, Vor(P ∪ F) ∩ D = Vor(P) ∩ D, so an edge
+//! pq of P has a Voronoi edge meeting C ∩ D in one diagram iff in the other (a point
+//! x ∈ C ∩ D equidistant from p and q and closer to them than to the rest of P is
+//! also closer to them than to F).
 //!
 //! **Crossings.** Every crossing of a dual segment with C is isolated by
 //! [`isolate_segment`] (interval arithmetic; the 2D function is evaluated with z = 0,
@@ -907,10 +911,14 @@ fn mesh_bo2(
         "isotopy not claimed for curves: no certified lower bound of lfs (psi) in 2D, the vertices are floating-point points near f = 0 (not on it), and the seeds come from fallback lines (a component may be missed)",
     );
     let out_scan = if valid && cert.far_lemma && cert.undecided.is_empty() {
+        let used: HashSet<usize> = cert.edges.iter().flat_map(|e| e.v).collect();
+        let sample_points = t.num_vertices() - FAR;
         claims.push(Claim::RestrictedDelaunayCurve {
             edges: cert.edges.len(),
             voronoi_edges: cert.segments,
             multiple_crossings: cert.multiple_crossings,
+            sample_points,
+            isolated_sample_points: sample_points - used.len(),
         });
         stats.certified_max_ball_radius = Some(
             cert.edges
