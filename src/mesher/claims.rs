@@ -142,8 +142,8 @@ impl fmt::Display for Claim {
                 isolated_sample_points,
             } => write!(
                 f,
-                "exactly the restricted Delaunay graph of the sample ({sample_points} points, \
-                 {isolated_sample_points} on no restricted edge and not output) by the curve: {edges} edges; \
+                "exactly the restricted Delaunay graph of the sample by the curve ({sample_points} \
+                 points, {isolated_sample_points} of them on no restricted edge and left out): {edges} edges; \
                  all crossings of f = 0 with {voronoi_edges} dual Voronoi edges isolated by interval \
                  arithmetic ({multiple_crossings} edges cross more than once), Delaunay \
                  triangulation checked with exact predicates"

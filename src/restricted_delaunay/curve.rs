@@ -66,7 +66,9 @@
 //! component (ours come from fallback lines).
 use super::restricted::{test_segment, DualTest, FacetCrossing};
 use crate::error::{Error, Result};
-use crate::implicit::ops::{isolate_segment, project, segment_root_point, SegmentBudget};
+use crate::implicit::ops::{
+    isolate_segment, project, segment_root_point, segment_sign, SegmentBudget, SegmentRoot,
+};
 use crate::implicit::{IBox, Implicit};
 use crate::kernel::geom::{dist, lerp, Aabb};
 use crate::mesh::Curve2;
@@ -421,8 +423,9 @@ fn certified_dual(
             .roots
             .iter()
             .map(|root| {
-                let (p, _) = segment_root_point(f, am, bm, root, 1e-12);
-                let tt = Interval::try_from((root.t0, root.t1)).unwrap_or(Interval::ENTIRE);
+                let (p, tp) = segment_root_point(f, am, bm, root, 1e-12);
+                let [t0, t1] = narrow(f, ea, eb, root, tp);
+                let tt = Interval::try_from((t0, t1)).unwrap_or(Interval::ENTIRE);
                 let d2 = (0..2)
                     .map(|k| (ea[k] + tt * (eb[k] - ea[k]) - v[k]).sqr())
                     .fold(Interval::try_from((0.0, 0.0)).unwrap(), |s, x| s + x);
@@ -442,6 +445,23 @@ fn certified_dual(
             .collect(),
         pieces: r.pieces,
     }
+}
+
+/// A sub-piece [t0, t1] of a certified root's piece that still holds the root: the
+/// signs at t − δ and t + δ around the float root t proven opposite (for every segment
+/// between the two boxes), δ growing from 1e-12; the whole piece if that fails. The
+/// root is unique in its piece, so it lies in any sub-piece with opposite end signs.
+fn narrow(f: &dyn Implicit, ea: &IBox, eb: &IBox, root: &SegmentRoot, t: f64) -> [f64; 2] {
+    let sign = |t: f64| segment_sign(f, ea, eb, t);
+    let mut d = 1e-12;
+    while d < 1e-2 {
+        let (l, h) = ((t - d).max(root.t0), (t + d).min(root.t1));
+        if l < h && sign(l) == Some(!root.rising) && sign(h) == Some(root.rising) {
+            return [l, h];
+        }
+        d *= 16.0;
+    }
+    [root.t0, root.t1]
 }
 
 /// The sample edges (both end points not far), each once, as (a, b) with a < b.
@@ -910,7 +930,8 @@ fn mesh_bo2(
     let mut reason = String::from(
         "isotopy not claimed for curves: no certified lower bound of lfs (psi) in 2D, the vertices are floating-point points near f = 0 (not on it), and the seeds come from fallback lines (a component may be missed)",
     );
-    let out_scan = if valid && cert.far_lemma && cert.undecided.is_empty() {
+    let rigorous = f.is_rigorous();
+    let out_scan = if rigorous && valid && cert.far_lemma && cert.undecided.is_empty() {
         let used: HashSet<usize> = cert.edges.iter().flat_map(|e| e.v).collect();
         let sample_points = t.num_vertices() - FAR;
         claims.push(Claim::RestrictedDelaunayCurve {
@@ -930,7 +951,9 @@ fn mesh_bo2(
     } else {
         reason = format!(
             "restricted Delaunay edges not certified: {}; {reason}",
-            if !valid {
+            if !rigorous {
+                "the function has no rigorous interval extension".to_string()
+            } else if !valid {
                 "the exact Delaunay check failed".to_string()
             } else if !cert.far_lemma {
                 "no sample point, or one outside the domain (the far lemma does not apply)"
