@@ -50,17 +50,14 @@ fn complete(out: &MeshOutput) -> bool {
 }
 
 fn rd_claim(out: &MeshOutput) -> Option<(usize, usize)> {
-    out.certificate
-        .claims_typed()
-        .iter()
-        .find_map(|c| match c {
-            Claim::RestrictedDelaunayCurve {
-                edges,
-                isolated_sample_points,
-                ..
-            } => Some((*edges, *isolated_sample_points)),
-            _ => None,
-        })
+    out.certificate.claims_typed().iter().find_map(|c| match c {
+        Claim::RestrictedDelaunayCurve {
+            edges,
+            isolated_sample_points,
+            ..
+        } => Some((*edges, *isolated_sample_points)),
+        _ => None,
+    })
 }
 
 /// One crossing of a dual edge found by dense sampling: the float point (bisected).
@@ -224,7 +221,12 @@ fn check_independently(
                 "edge {a}-{b}: distance {d} > facet distance {distance}"
             );
         }
-        assert_eq!(xs.len(), 1, "edge {a}-{b}: its dual crosses f = 0 {} times", xs.len());
+        assert_eq!(
+            xs.len(),
+            1,
+            "edge {a}-{b}: its dual crosses f = 0 {} times",
+            xs.len()
+        );
     }
     rd.len()
 }
@@ -262,8 +264,8 @@ fn catalog_curves_closed_one_cycle_per_component_and_restricted() {
         let n = check_independently(&f, &e.domain, &out, SIZE, DISTANCE);
         assert_eq!(n, curve(&out).segments.len());
         // Certified restricted Delaunay edges, every sample point used, never isotopy.
-        let (edges, isolated) = rd_claim(&out)
-            .unwrap_or_else(|| panic!("{}: no claim: {:?}", e.name, out.certificate));
+        let (edges, isolated) =
+            rd_claim(&out).unwrap_or_else(|| panic!("{}: no claim: {:?}", e.name, out.certificate));
         assert_eq!(edges, curve(&out).segments.len(), "{}", e.name);
         assert_eq!(isolated, 0, "{}", e.name);
         assert!(!out.certificate.is_certified(), "{}", e.name);

@@ -73,7 +73,10 @@ fn circumcentre(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> [f64; 2] {
     let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
     let d = 2.0 * (bx * cy - by * cx);
     let (b2, c2) = (bx * bx + by * by, cx * cx + cy * cy);
-    [a[0] + (cy * b2 - by * c2) / d, a[1] + (bx * c2 - cx * b2) / d]
+    [
+        a[0] + (cy * b2 - by * c2) / d,
+        a[1] + (bx * c2 - cx * b2) / d,
+    ]
 }
 
 /// Draw one stage: run the refinement with `params` (its `max_vertices` the stage),
@@ -85,7 +88,10 @@ pub fn stage_figure(
     domain: &Aabb,
     params: &BoissonnatOudot2,
     label: &str,
+    view: Option<Aabb>,
 ) -> Result<Stage> {
+    // The window drawn: the domain, or a zoom into it.
+    let view = view.unwrap_or(*domain);
     let r = refine(params, f, domain, &NoProgress)?;
     let t = &r.t;
     let s = scan(t, f, domain, false, SegmentBudget::default());
@@ -108,7 +114,7 @@ pub fn stage_figure(
         let (pa, pb) = (pos(a), pos(b));
         let c0 = circumcentre(pa, pb, pos(l.fix().index()));
         let c1 = circumcentre(pb, pa, pos(rr.fix().index()));
-        if let Some(seg) = clip(c0, c1, domain) {
+        if let Some(seg) = clip(c0, c1, &view) {
             voronoi.push(seg);
         }
     }
@@ -143,7 +149,10 @@ pub fn stage_figure(
             "crossings: curve Delaunay ball centres".into(),
             Key::Dot(CENTRE, false),
         ),
-        ("curve Delaunay balls".into(), Key::Dashed(tint(CENTRE, 0.3))),
+        (
+            "curve Delaunay balls".into(),
+            Key::Dashed(tint(CENTRE, 0.3)),
+        ),
     ];
     let meta = Meta::chart(
         "x (domain units)",
@@ -151,7 +160,7 @@ pub fn stage_figure(
         keys.iter().map(|k| k.0.clone()).collect(),
         keys.len(),
     );
-    let ds = domain.size();
+    let ds = view.size();
     if !(ds[0] > 0.0 && ds[1] > 0.0) {
         return Err(Error::Domain("a 2D figure needs a domain with area".into()));
     }
@@ -160,9 +169,12 @@ pub fn stage_figure(
         "{name}, {label}: {} points, {} restricted edges",
         stage.vertices, stage.restricted_edges
     );
+    let inside = |p: [f64; 2]| {
+        p[0] >= view.min[0] && p[0] <= view.max[0] && p[1] >= view.min[1] && p[1] <= view.max[1]
+    };
     output::figure(base, Width::Column, aspect, &meta, |area| {
         let top = style::legend_below(area, &keys)?;
-        let (x0, x1, y0, y1) = (domain.min[0], domain.max[0], domain.min[1], domain.max[1]);
+        let (x0, x1, y0, y1) = (view.min[0], view.max[0], view.min[1], view.max[1]);
         let mut chart = style::chart(&top, &title, x0..x1, y0..y1)?;
         style::axes(&mut chart, "x (domain units)", "y (domain units)")?;
         // The curve: grid cells where f changes sign, about 2 per printed point.
@@ -209,26 +221,33 @@ pub fn stage_figure(
             let segs = pts
                 .windows(2)
                 .step_by(2)
-                .filter_map(|w| clip(w[0], w[1], domain))
+                .filter_map(|w| clip(w[0], w[1], &view))
                 .map(|(a, b)| PathElement::new(vec![(a[0], a[1]), (b[0], b[1])], ball_style));
             chart.draw_series(segs).map_err(perr)?;
         }
         chart
-            .draw_series(s.edges.iter().map(|e| {
-                let (a, b) = (pos(e.v[0]), pos(e.v[1]));
-                PathElement::new(
-                    vec![(a[0], a[1]), (b[0], b[1])],
-                    RESTRICTED.stroke_width(stroke(LINE_PT * 1.5)),
-                )
-            }))
+            .draw_series(
+                s.edges
+                    .iter()
+                    .filter_map(|e| clip(pos(e.v[0]), pos(e.v[1]), &view))
+                    .map(|(a, b)| {
+                        PathElement::new(
+                            vec![(a[0], a[1]), (b[0], b[1])],
+                            RESTRICTED.stroke_width(stroke(LINE_PT * 1.5)),
+                        )
+                    }),
+            )
             .map_err(perr)?;
         chart
-            .draw_series(samples.iter().map(|p| {
-                Circle::new((p[0], p[1]), pt(1.4) as i32, palette::BLACK.filled())
-            }))
+            .draw_series(
+                samples
+                    .iter()
+                    .filter(|p| inside(**p))
+                    .map(|p| Circle::new((p[0], p[1]), pt(1.4) as i32, palette::BLACK.filled())),
+            )
             .map_err(perr)?;
         chart
-            .draw_series(balls.iter().map(|(c, _)| {
+            .draw_series(balls.iter().filter(|(c, _)| inside(*c)).map(|(c, _)| {
                 Circle::new(
                     (c[0], c[1]),
                     pt(1.3) as i32,
@@ -241,46 +260,65 @@ pub fn stage_figure(
     Ok(stage)
 }
 
-/// The stages drawn: (curve, facet size, facet distance, stages as vertex budgets —
-/// `None` the complete run —, labels).
-const RUNS: &[(&str, f64, f64, &[Option<usize>])] = &[
-    ("cassini-1", 0.25, 0.02, &[Some(8), Some(16), None]),
-    ("near-touching", 0.2, 0.05, &[None]),
-    ("near-touching", 0.2, 0.01, &[None]),
+/// One figure: (curve, facet size, facet distance, vertex budget — `None` the complete
+/// run —, zoom window (xmin, xmax, ymin, ymax) or `None` for the domain, file suffix).
+type Run = (
+    &'static str,
+    f64,
+    f64,
+    Option<usize>,
+    Option<[f64; 4]>,
+    &'static str,
+);
+
+/// The figures drawn: three stages on cassini-1, and near-touching at a coarse facet
+/// distance (a bridge across the gap: the whole domain and a zoom) and a fine one.
+const RUNS: &[Run] = &[
+    ("cassini-1", 0.25, 0.02, Some(8), None, "0"),
+    ("cassini-1", 0.25, 0.02, Some(16), None, "1"),
+    ("cassini-1", 0.25, 0.02, None, None, "2"),
+    ("near-touching", 0.2, 0.05, None, None, "d0p05"),
+    (
+        "near-touching",
+        0.2,
+        0.05,
+        None,
+        Some([-0.16, 0.16, -0.13, 0.13]),
+        "d0p05-zoom",
+    ),
+    ("near-touching", 0.2, 0.01, None, None, "d0p01"),
 ];
 
 /// Write every `fig-rdt2d-*` figure into `out` and return the stages drawn.
 pub fn rdt2d_figures(out: &Path) -> Result<Vec<Stage>> {
     let mut stages = Vec::new();
-    for (name, size, distance, budgets) in RUNS {
+    for &(name, size, distance, budget, zoom, suffix) in RUNS {
         let e = catalog::get(name)?;
         let f = e.function();
-        for (k, budget) in budgets.iter().enumerate() {
-            let params = BoissonnatOudot2 {
-                facet_size: *size,
-                facet_distance: Some(*distance),
-                max_vertices: budget.unwrap_or(1_000_000),
-                seed_lines: 1,
-                ..Default::default()
-            };
-            let label = match budget {
-                Some(n) => format!("stopped at {n} points"),
-                None => format!("complete (size {size}, distance {distance})"),
-            };
-            let file = if budgets.len() > 1 {
-                format!("fig-rdt2d-{name}-{k}")
-            } else {
-                format!("fig-rdt2d-{name}-d{}", format!("{distance}").replace('.', "p"))
-            };
-            stages.push(stage_figure(
-                &out.join(file),
-                name,
-                &f,
-                &e.domain,
-                &params,
-                &label,
-            )?);
+        let params = BoissonnatOudot2 {
+            facet_size: size,
+            facet_distance: Some(distance),
+            max_vertices: budget.unwrap_or(1_000_000),
+            seed_lines: 1,
+            ..Default::default()
+        };
+        let mut label = match budget {
+            Some(n) => format!("stopped at {n} points"),
+            None => format!("complete (size {size}, distance {distance})"),
+        };
+        let view = zoom.map(|[x0, x1, y0, y1]| Aabb::rect([x0, y0], [x1, y1]));
+        if zoom.is_some() {
+            label.push_str(", zoom");
         }
+        stages.push(stage_figure(
+            &out.join(format!("fig-rdt2d-{name}-{suffix}")),
+            name,
+            &f,
+            &e.domain,
+            &params,
+            &label,
+            view,
+        )?);
     }
     Ok(stages)
 }

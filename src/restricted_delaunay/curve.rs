@@ -493,7 +493,8 @@ pub fn scan(
     for (a, b) in sample_edges(t) {
         s.segments += 1;
         let Some((lt, rt, _, _)) = edge_faces(t, a, b) else {
-            s.undecided.push(([a, b], Vec::new(), "hull edge between sample points"));
+            s.undecided
+                .push(([a, b], Vec::new(), "hull edge between sample points"));
             continue;
         };
         let v0 = p3(Point2::new(pos(t, a)[0], pos(t, a)[1]));
@@ -506,8 +507,11 @@ pub fn scan(
                 (Some(ea), Some(eb)) => certified_dual(f, &ea, &eb, v0, &dbox, budget),
                 _ => {
                     let m = lerp(cc_float(t, lt), cc_float(t, rt), 0.5);
-                    s.undecided
-                        .push(([a, b], vec![m], "circumcentre not enclosed (a flat triangle)"));
+                    s.undecided.push((
+                        [a, b],
+                        vec![m],
+                        "circumcentre not enclosed (a flat triangle)",
+                    ));
                     continue;
                 }
             }
@@ -622,7 +626,11 @@ impl Run<'_> {
         if !test.undecided.is_empty() && self.undecided_left > 0 {
             let u = test.undecided[0];
             let q = project(self.f, u, 30, 1e-14 * self.domain.diagonal()).unwrap_or(u);
-            let q = if self.domain.contains(q) { [q[0], q[1], 0.0] } else { u };
+            let q = if self.domain.contains(q) {
+                [q[0], q[1], 0.0]
+            } else {
+                u
+            };
             return Some((Bad::Undecided, 0.0, q, dist(q, v0)));
         }
         let x = test.largest()?;
