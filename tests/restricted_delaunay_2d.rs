@@ -329,6 +329,23 @@ fn near_touching_circles_bridge_at_a_coarse_distance_and_separate_at_a_fine_one(
 }
 
 #[test]
+fn manifold_phase_removes_the_bridge() {
+    // The coarse run of the test above with --manifold: the sample points at the
+    // bridge's branch points get their restricted edges refined until every used
+    // sample point has degree 2; the output is still exactly the restricted graph.
+    let e = catalog::get("near-touching").unwrap();
+    let f = e.function();
+    let mut o = opts(Some(0.2), Some(0.05), None);
+    o.manifold = true;
+    let out = run(&f, &e.domain, &o);
+    assert!(complete(&out), "{:?}", out.stats["stop_reason"]);
+    assert!(out.stats["manifold_rounds"].as_u64().unwrap() >= 1);
+    check_topology(&out, 2);
+    check_independently(&f, &e.domain, &out, 0.2, 0.05);
+    assert!(rd_claim(&out).is_some());
+}
+
+#[test]
 fn registered_as_bo_in_2d_with_the_3d_entry_unchanged() {
     let m = registry::build("bo", 2, &opts(Some(0.2), None, None)).unwrap();
     assert_eq!(m.dim(), 2);

@@ -56,11 +56,13 @@ const BO: &[&str] = &[
     "certify",
 ];
 
-/// The 2D `bo` (curves): no angle criterion, no manifold phase; `--certify` is
-/// accepted and always on (the certified re-derivation is cheap in 2D).
+/// The 2D `bo` (curves): no angle criterion; `--manifold` refines branch points and
+/// open ends; `--certify` is accepted and always on (the certified re-derivation is
+/// cheap in 2D).
 const BO2: &[&str] = &[
     "facet-size",
     "facet-distance",
+    "manifold",
     "max-vertices",
     "time-limit",
     "certify",

@@ -260,59 +260,88 @@ pub fn stage_figure(
     Ok(stage)
 }
 
-/// One figure: (curve, facet size, facet distance, vertex budget — `None` the complete
-/// run —, zoom window (xmin, xmax, ymin, ymax) or `None` for the domain, file suffix).
-type Run = (
-    &'static str,
-    f64,
-    f64,
-    Option<usize>,
-    Option<[f64; 4]>,
-    &'static str,
-);
+/// One figure of [`RUNS`].
+struct Run {
+    curve: &'static str,
+    size: f64,
+    distance: f64,
+    /// The stage: a vertex budget, or `None` for the complete run.
+    budget: Option<usize>,
+    /// `--manifold`.
+    manifold: bool,
+    /// A zoom window (xmin, xmax, ymin, ymax), or `None` for the domain.
+    zoom: Option<[f64; 4]>,
+    suffix: &'static str,
+}
 
-/// The figures drawn: three stages on cassini-1, and near-touching at a coarse facet
-/// distance (a bridge across the gap: the whole domain and a zoom) and a fine one.
+const fn fig(curve: &'static str, size: f64, distance: f64, suffix: &'static str) -> Run {
+    Run {
+        curve,
+        size,
+        distance,
+        budget: None,
+        manifold: false,
+        zoom: None,
+        suffix,
+    }
+}
+
+/// The figures drawn: three stages on cassini-1; near-touching at a coarse facet
+/// distance (a bridge across the gap: the whole domain and a zoom), the same with the
+/// manifold phase, and at a fine distance.
 const RUNS: &[Run] = &[
-    ("cassini-1", 0.25, 0.02, Some(8), None, "0"),
-    ("cassini-1", 0.25, 0.02, Some(16), None, "1"),
-    ("cassini-1", 0.25, 0.02, None, None, "2"),
-    ("near-touching", 0.2, 0.05, None, None, "d0p05"),
-    (
-        "near-touching",
-        0.2,
-        0.05,
-        None,
-        Some([-0.16, 0.16, -0.13, 0.13]),
-        "d0p05-zoom",
-    ),
-    ("near-touching", 0.2, 0.01, None, None, "d0p01"),
+    Run {
+        budget: Some(8),
+        ..fig("cassini-1", 0.25, 0.02, "0")
+    },
+    Run {
+        budget: Some(16),
+        ..fig("cassini-1", 0.25, 0.02, "1")
+    },
+    fig("cassini-1", 0.25, 0.02, "2"),
+    fig("near-touching", 0.2, 0.05, "d0p05"),
+    Run {
+        zoom: Some([-0.16, 0.16, -0.13, 0.13]),
+        ..fig("near-touching", 0.2, 0.05, "d0p05-zoom")
+    },
+    Run {
+        manifold: true,
+        zoom: Some([-0.16, 0.16, -0.13, 0.13]),
+        ..fig("near-touching", 0.2, 0.05, "d0p05-manifold-zoom")
+    },
+    fig("near-touching", 0.2, 0.01, "d0p01"),
 ];
 
 /// Write every `fig-rdt2d-*` figure into `out` and return the stages drawn.
 pub fn rdt2d_figures(out: &Path) -> Result<Vec<Stage>> {
     let mut stages = Vec::new();
-    for &(name, size, distance, budget, zoom, suffix) in RUNS {
-        let e = catalog::get(name)?;
+    for r in RUNS {
+        let e = catalog::get(r.curve)?;
         let f = e.function();
         let params = BoissonnatOudot2 {
-            facet_size: size,
-            facet_distance: Some(distance),
-            max_vertices: budget.unwrap_or(1_000_000),
+            facet_size: r.size,
+            facet_distance: Some(r.distance),
+            max_vertices: r.budget.unwrap_or(1_000_000),
             seed_lines: 1,
+            manifold: r.manifold,
             ..Default::default()
         };
-        let mut label = match budget {
+        let mut label = match r.budget {
             Some(n) => format!("stopped at {n} points"),
-            None => format!("complete (size {size}, distance {distance})"),
+            None => format!("complete (size {}, distance {})", r.size, r.distance),
         };
-        let view = zoom.map(|[x0, x1, y0, y1]| Aabb::rect([x0, y0], [x1, y1]));
-        if zoom.is_some() {
+        if r.manifold {
+            label.push_str(", manifold");
+        }
+        if r.zoom.is_some() {
             label.push_str(", zoom");
         }
+        let view = r
+            .zoom
+            .map(|[x0, x1, y0, y1]| Aabb::rect([x0, y0], [x1, y1]));
         stages.push(stage_figure(
-            &out.join(format!("fig-rdt2d-{name}-{suffix}")),
-            name,
+            &out.join(format!("fig-rdt2d-{}-{}", r.curve, r.suffix)),
+            r.curve,
             &f,
             &e.domain,
             &params,

@@ -44,6 +44,8 @@
 //! ball, as in §1.3.1. Guards: `--max-vertices`, `--time-limit`, a minimum separation
 //! (a ball of radius < 1e-9·diam(D) is not refined), a cap on insertions for undecided
 //! crossings; a run stopped by one says `refinement_complete: false` and why.
+//! `--manifold` adds CGAL's `Manifold_tag` phase one dimension down: while a sample
+//! point has restricted degree other than 2, its restricted edges are refined.
 //!
 //! **Seeds.** The project's certified critical points of a height
 //! ([`crate::implicit::critical`]) are implemented for surfaces only (curves are
@@ -102,6 +104,12 @@ pub struct BoissonnatOudot2 {
     pub seed_lines: usize,
     /// Insertions allowed for undecided crossings before they are reported.
     pub max_undecided_insertions: usize,
+    /// `--manifold` (CGAL's `Manifold_tag`, one dimension down): when the queue is
+    /// empty, refine every restricted edge at a sample point of restricted degree
+    /// other than 2 (a branch point or an open end), until every used sample point has
+    /// degree 2 or `max_manifold_rounds` rounds have run.
+    pub manifold: bool,
+    pub max_manifold_rounds: usize,
 }
 
 impl Default for BoissonnatOudot2 {
@@ -113,6 +121,8 @@ impl Default for BoissonnatOudot2 {
             time_limit: None,
             seed_lines: 8,
             max_undecided_insertions: 200,
+            manifold: false,
+            max_manifold_rounds: 50,
         }
     }
 }
@@ -155,6 +165,7 @@ impl BoissonnatOudot2 {
         if let Some(n) = o.get::<usize>("undecided-insertions")? {
             m.max_undecided_insertions = n;
         }
+        m.manifold = o.manifold;
         Ok(m)
     }
 }
@@ -167,6 +178,7 @@ enum Bad {
     Multiple = 1,
     Size = 2,
     Distance = 3,
+    Manifold = 4,
 }
 
 impl Bad {
@@ -176,6 +188,7 @@ impl Bad {
             Bad::Multiple => "multiple",
             Bad::Size => "size",
             Bad::Distance => "distance",
+            Bad::Manifold => "manifold",
         }
     }
 }
@@ -235,6 +248,9 @@ pub struct Bo2Stats {
     /// duplicate.
     pub refused: usize,
     pub undecided_insertions: usize,
+    pub manifold: bool,
+    /// Manifold-phase rounds run.
+    pub manifold_rounds: usize,
     pub dual_tests: usize,
     pub multiple_crossing_segments: usize,
     pub refinement_complete: bool,
@@ -805,6 +821,7 @@ pub fn refine(
             facet_size,
             facet_distance,
             seeding: "fallback-lines".into(),
+            manifold: p.manifold,
             seeding_note: "certified critical points of a height are implemented for surfaces only (implicit::critical: curves are Unsupported); seeds are the crossings of fixed lines with f = 0 (isolated by interval arithmetic): a component no line meets is missed".into(),
             ..Default::default()
         },
@@ -851,6 +868,50 @@ pub fn refine(
     // 2. Refinement.
     progress.start("bo refinement", 0);
     let mut stop = run.refine(t0, progress);
+    // The manifold phase (module doc).
+    while stop.is_none() && p.manifold {
+        let s = scan(&run.t, f, domain, false, run.budget);
+        let mut degree: HashMap<usize, usize> = HashMap::new();
+        for e in &s.edges {
+            for v in e.v {
+                *degree.entry(v).or_default() += 1;
+            }
+        }
+        let bad: Vec<&RestrictedEdge> = s
+            .edges
+            .iter()
+            .filter(|e| e.v.iter().any(|v| degree[v] != 2))
+            .collect();
+        if bad.is_empty() {
+            break;
+        }
+        if run.stats.manifold_rounds >= p.max_manifold_rounds {
+            stop = Some(format!(
+                "manifold phase stopped after {} rounds with {} edges at branch points or open ends",
+                p.max_manifold_rounds,
+                bad.len()
+            ));
+            break;
+        }
+        run.stats.manifold_rounds += 1;
+        for e in bad {
+            let (a, b) = (e.v[0].min(e.v[1]), e.v[0].max(e.v[1]));
+            let (Some(x), Some((_, _, l, r))) = (e.test.largest(), edge_faces(&run.t, a, b)) else {
+                continue;
+            };
+            run.heap.push(Entry {
+                class: Bad::Manifold,
+                badness: x.radius,
+                a,
+                b,
+                left: l,
+                right: r,
+                point: x.point,
+                radius: x.radius,
+            });
+        }
+        stop = run.refine(t0, progress);
+    }
     for u in &run.reported_undecided {
         regions.push(Uncertified::new(
             Aabb { min: *u, max: *u }.inflate(1e-9 * diam),
