@@ -327,7 +327,7 @@ pub fn rdt2d_figures(out: &Path) -> Result<Vec<Stage>> {
             ..Default::default()
         };
         let mut label = match r.budget {
-            Some(n) => format!("stopped at {n} points"),
+            Some(n) => format!("stopped by --max-vertices {n}"),
             None => format!("complete (size {}, distance {})", r.size, r.distance),
         };
         if r.manifold {
