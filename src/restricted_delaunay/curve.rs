@@ -59,9 +59,10 @@
 //! interval circumcentres (each circumcentre enclosed in outward-rounded arithmetic,
 //! every crossing isolated on the segment between *any* points of the two enclosures),
 //! the triangulation is checked with the exact incircle predicate, and the far lemma is
-//! checked. When all of that holds and no dual segment is undecided, the output is
-//! claimed to be exactly the restricted Delaunay graph of its vertex set
-//! ([`Claim::RestrictedDelaunayCurve`]). Isotopy is **not** claimed: Theorem 3 is stated
+//! checked, and the oracle must be rigorous. When all of that holds and no dual
+//! segment is undecided, the output is claimed to be exactly the restricted Delaunay
+//! graph of the sample ([`Claim::RestrictedDelaunayCurve`], which also counts the
+//! sample points on no restricted edge: they are not output vertices). Isotopy is **not** claimed: Theorem 3 is stated
 //! for surfaces and samples *on* S; for curves it would need (i) a certified lower
 //! bound ψ ≤ ε·lfs (the project's reach bound is for surfaces), (ii) vertices exactly
 //! on C (ours are floats within ~1e-16 of it), and (iii) a certified seed on every
