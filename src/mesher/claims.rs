@@ -63,6 +63,22 @@ pub enum Claim {
         exactly_cospherical: usize,
         max_ball_radius: f64,
     },
+    /// The output is exactly the restricted Delaunay graph (by f = 0 inside the
+    /// domain) of the refinement's sample of `sample_points` points, for a curve
+    /// f(x, y) = 0: the 2D Delaunay triangulation (spade, with four far points) passed
+    /// the exact orient2d/incircle check, and on each of the `voronoi_edges` dual
+    /// segments (interval circumcentres) every crossing with f = 0 was isolated by
+    /// interval arithmetic, none undecided; edges with a far end point are not
+    /// restricted by the far lemma (checked with intervals). `isolated_sample_points`
+    /// sample points lie on no restricted edge and are not output vertices.
+    RestrictedDelaunayCurve {
+        edges: usize,
+        voronoi_edges: usize,
+        /// Dual segments crossing f = 0 more than once.
+        multiple_crossings: usize,
+        sample_points: usize,
+        isolated_sample_points: usize,
+    },
     /// The output is homeomorphic (not proven isotopic) to f = 0 inside the domain,
     /// `by` a theorem whose every hypothesis was checked with interval arithmetic.
     Homeomorphic {
@@ -130,6 +146,20 @@ impl fmt::Display for Claim {
             } => write!(
                 f,
                 "exactly the restricted Delaunay triangulation of its vertices: {facets} facets; \
+                 all crossings of f = 0 with {voronoi_edges} dual Voronoi edges isolated by interval \
+                 arithmetic ({multiple_crossings} edges cross more than once), Delaunay \
+                 triangulation checked with exact predicates"
+            ),
+            Claim::RestrictedDelaunayCurve {
+                edges,
+                voronoi_edges,
+                multiple_crossings,
+                sample_points,
+                isolated_sample_points,
+            } => write!(
+                f,
+                "exactly the restricted Delaunay graph of the sample by the curve ({sample_points} \
+                 points, {isolated_sample_points} of them on no restricted edge and left out): {edges} edges; \
                  all crossings of f = 0 with {voronoi_edges} dual Voronoi edges isolated by interval \
                  arithmetic ({multiple_crossings} edges cross more than once), Delaunay \
                  triangulation checked with exact predicates"

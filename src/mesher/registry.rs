@@ -56,6 +56,18 @@ const BO: &[&str] = &[
     "certify",
 ];
 
+/// The 2D `bo` (curves): no angle criterion; `--manifold` refines branch points and
+/// open ends; `--certify` is accepted and always on (the certified re-derivation is
+/// cheap in 2D).
+const BO2: &[&str] = &[
+    "facet-size",
+    "facet-distance",
+    "manifold",
+    "max-vertices",
+    "time-limit",
+    "certify",
+];
+
 const CDRR: &[&str] = &["facet-size", "max-vertices", "time-limit"];
 
 type Ctor = fn(&MesherOptions) -> Result<Box<dyn Mesher>>;
@@ -203,6 +215,14 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             "González-Vega–Necula sweep: exact topology of polynomial curves, singular points included",
             crate::algebraic::Sweep,
             &[]
+        ),
+        entry!(
+            "bo",
+            2,
+            true,
+            "Boissonnat-Oudot restricted-Delaunay refinement of a curve on spade: restricted Delaunay edges certified by interval circumcentres (isotopy not claimed; seeds from fallback lines)",
+            crate::restricted_delaunay::BoissonnatOudot2,
+            BO2
         ),
         entry!(
             "midnormal",

@@ -1012,6 +1012,7 @@ pub fn reproduce_report(out: &Path, quick: bool) -> Result<Report> {
     figures(out, &rep)?;
     slice_figures(out, quick)?;
     sweep_figures(out)?;
+    crate::reproduce::plot_rdt2d::rdt2d_figures(out)?;
     Ok(rep)
 }
 

@@ -15,6 +15,7 @@ pub mod gradnormal_bunny;
 pub mod meshing_of_surfaces;
 pub mod morse;
 pub mod plot;
+pub mod plot_rdt2d;
 pub mod plot_subdivision;
 pub mod plot_sweep;
 pub mod stuffing;

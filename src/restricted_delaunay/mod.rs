@@ -10,14 +10,18 @@
 //!   (1)–(4) of §1.3.2 as checks; Theorem 5: homeomorphism).
 //! * [`certify`]: `certmesh certify`, the TBP certificate of anyone's mesh.
 //! * [`cdrr`]: the Cheng–Dey–Ramos–Ray refinement driver (`--algo cdrr`, §1.3.2).
+//! * [`curve`]: the Boissonnat–Oudot refinement of curves f(x, y) = 0 on `spade`
+//!   (`certmesh curve --algo bo`).
 //! * [`perturbed`]: Theorem 3 for floating-point vertices, through a certified
 //!   point set on S with the same restricted triangulation (`bo --certify`).
 pub mod bo;
 pub mod cdrr;
 pub mod certify;
+pub mod curve;
 pub mod perturbed;
 pub mod restricted;
 pub mod tbp;
 
 pub use bo::BoissonnatOudot;
 pub use cdrr::ChengDeyRamosRay;
+pub use curve::BoissonnatOudot2;
