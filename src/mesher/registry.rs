@@ -56,17 +56,10 @@ const BO: &[&str] = &[
     "certify",
 ];
 
-/// The 2D `bo` (curves): no angle criterion; `--manifold` refines branch points and
+/// The 2D `bo` (curves): `BO` without the angle criterion (its first entry); `--manifold` refines branch points and
 /// open ends; `--certify` is accepted and always on (the certified re-derivation is
 /// cheap in 2D).
-const BO2: &[&str] = &[
-    "facet-size",
-    "facet-distance",
-    "manifold",
-    "max-vertices",
-    "time-limit",
-    "certify",
-];
+const BO2: &[&str] = BO.split_at(1).1;
 
 const CDRR: &[&str] = &["facet-size", "max-vertices", "time-limit"];
 

@@ -206,25 +206,7 @@ struct Entry {
     radius: f64,
 }
 
-impl PartialEq for Entry {
-    fn eq(&self, o: &Self) -> bool {
-        self.cmp(o) == std::cmp::Ordering::Equal
-    }
-}
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Entry {
-    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        // Max-heap: the lowest class first, then the largest badness.
-        o.class
-            .cmp(&self.class)
-            .then(self.badness.total_cmp(&o.badness))
-    }
-}
+super::restricted::worst_first_order!(Entry);
 
 /// Statistics of a run (the report's `stats`).
 #[derive(Clone, Debug, Default, Serialize)]

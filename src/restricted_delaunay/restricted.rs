@@ -75,6 +75,33 @@ impl DualTest {
     }
 }
 
+/// The refinement queue's order, shared by the drivers (`bo`, `curve`): an entry type
+/// with fields `class` (an `Ord` kind of badness) and `badness: f64` is ordered for a
+/// max-heap that pops the lowest class first, then the largest badness.
+macro_rules! worst_first_order {
+    ($t:ty) => {
+        impl PartialEq for $t {
+            fn eq(&self, o: &Self) -> bool {
+                self.cmp(o) == std::cmp::Ordering::Equal
+            }
+        }
+        impl Eq for $t {}
+        impl PartialOrd for $t {
+            fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+                Some(self.cmp(o))
+            }
+        }
+        impl Ord for $t {
+            fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+                o.class
+                    .cmp(&self.class)
+                    .then(self.badness.total_cmp(&o.badness))
+            }
+        }
+    };
+}
+pub(crate) use worst_first_order;
+
 /// The point `p` as a box.
 pub fn point_box(p: [f64; 3]) -> IBox {
     p.map(|x| Interval::try_from((x, x)).unwrap_or(Interval::ENTIRE))
