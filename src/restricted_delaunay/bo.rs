@@ -842,7 +842,7 @@ fn mesh_bo(
 
     // 1. Seeds.
     progress.start("bo seeds", 0);
-    let rho = p.seed_radius.unwrap_or(facet_size / 2.0);
+    let rho = p.seed_radius.unwrap_or(facet_size / 4.0);
     let seeds = seed_points(f, domain, rho, p.critical_boxes, run.budget);
     let crit = seeds.crit;
     run.stats.critical_points = crit.points.len();

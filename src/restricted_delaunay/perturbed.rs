@@ -331,17 +331,11 @@ fn far_face_cospherical(t: &Delaunay, cell: [VertexId; 4], e: VertexId) -> bool 
         .filter(|&&v| t.is_far(v))
         .map(|&v| t.point(v))
         .collect();
-    far.len() >= 4
-        && (0..far.len()).any(|skip| {
-            let four: Vec<&[f64; 3]> = far
-                .iter()
-                .enumerate()
-                .filter(|&(i, _)| i != skip || far.len() == 4)
-                .map(|(_, p)| p)
-                .take(4)
-                .collect();
-            (0..3).any(|k| four.iter().all(|p| p[k] == four[0][k]))
-        })
+    // A face of the far box: four corners with one coordinate in common.
+    (0..3).any(|k| {
+        far.iter()
+            .any(|p| far.iter().filter(|q| q[k] == p[k]).count() >= 4)
+    })
 }
 
 /// The interval circumcentre of every live cell over the vertex boxes (`None` for dead
