@@ -607,6 +607,15 @@ fn sphere_blob_and_superquadric_are_certified_isotopic_through_a_point_set_on_s(
     isotopy_through_p_star("superquadric", "6", &[0]);
 }
 
+/// The torus at the reach bound of octree depth 8 (tau >= 0.106 of 0.25; about 36 500
+/// vertices): 630 facets spanning its tube or hole have five nearly cospherical
+/// samples (lifted determinant 1e-17 to 1e-14 at the float vertices); the tight vertex
+/// boxes and the mean-value form of the lifted determinant decide every one.
+#[test]
+fn torus_is_certified_isotopic_through_a_point_set_on_s() {
+    isotopy_through_p_star("torus", "8", &[1]);
+}
+
 /// The round-sphere test that lets cospherical samples pass exactly: it must hold for
 /// spheres written in any form, and for nothing else (an ellipsoid, a blob or a torus
 /// taken for a sphere would make a false certificate).
@@ -661,7 +670,7 @@ mod perturbed_primitives {
     use certmesh::implicit::directed::Iv;
     use certmesh::kernel::delaunay::predicates::{insphere, orient3d};
     use certmesh::restricted_delaunay::perturbed::{
-        even_front, lifted_iv, orient_iv, vertex_boxes,
+        even_front, lifted_centred, lifted_iv, orient_iv, vertex_boxes,
     };
 
     fn iv_box(p: [f64; 3], w: f64) -> [Iv; 3] {
@@ -706,6 +715,96 @@ mod perturbed_primitives {
                         if l.hi < 0.0 { prop_assert!(ins > 0.0, "lifted {l:?} insphere {ins}"); }
                     }
                 }
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+        /// The mean-value form of the lifted determinant on five points of the unit
+        /// sphere moved off it by up to `dr` (nearly cospherical: the case it exists
+        /// for), boxes of half-width `w` around them: a sign it proves holds for the
+        /// exact insphere at points drawn inside the boxes, for every even permutation.
+        #[test]
+        fn centred_lifted_determinant_is_sound_on_nearly_cospherical_points(
+            dirs in proptest::collection::vec(proptest::array::uniform3(-1.0f64..1.0), 5),
+            radial in proptest::collection::vec(-1.0f64..1.0, 5),
+            dr in prop_oneof![Just(0.0), Just(1e-15), Just(1e-13), Just(1e-10)],
+            w in prop_oneof![Just(0.0), Just(1e-16), Just(1e-14), Just(1e-12)],
+            picks in proptest::collection::vec(proptest::array::uniform3(-1.0f64..1.0), 25),
+        ) {
+            let p: Vec<[f64; 3]> = dirs
+                .iter()
+                .zip(&radial)
+                .map(|(d, r)| {
+                    let n = d.iter().map(|x| x * x).sum::<f64>().sqrt().max(1e-3);
+                    d.map(|x| x / n * (1.0 + dr * r))
+                })
+                .collect();
+            let boxes: Vec<[Iv; 3]> = p.iter().map(|&q| iv_box(q, w)).collect();
+            let cell = [boxes[0], boxes[1], boxes[2], boxes[3]];
+            let centres = [p[0], p[1], p[2], p[3], p[4]];
+            for k in 0..4 {
+                let c4 = even_front([centres[0], centres[1], centres[2], centres[3]], k);
+                let l = lifted_centred(
+                    even_front(cell, k),
+                    boxes[4],
+                    [c4[0], c4[1], c4[2], c4[3], centres[4]],
+                );
+                let natural = lifted_iv(even_front(cell, k), boxes[4]);
+                // Both enclose the same value set: they must overlap.
+                prop_assert!(l.lo <= natural.hi && natural.lo <= l.hi, "{l:?} {natural:?}");
+                for pick in picks.chunks(5) {
+                    if pick.len() < 5 { break; }
+                    let q: Vec<[f64; 3]> = (0..5)
+                        .map(|i| std::array::from_fn(|j| p[i][j] + w * pick[i][j]))
+                        .collect();
+                    // Both are the 5×5 determinant of rows (q, |q|², 1), up to a
+                    // positive factor and the sign (an even permutation keeps it):
+                    // the lifted determinant is minus insphere.
+                    let ins = insphere(q[0], q[1], q[2], q[3], q[4]);
+                    if l.lo > 0.0 { prop_assert!(ins < 0.0, "{l:?} insphere {ins}"); }
+                    if l.hi < 0.0 { prop_assert!(ins > 0.0, "{l:?} insphere {ins}"); }
+                }
+            }
+        }
+    }
+
+    /// Where the mean-value form earns its place: five points of the unit sphere, the
+    /// fifth moved 10⁻¹³ in or out, boxes of half-width 10⁻¹⁵. The natural enclosure
+    /// of the lifted determinant straddles 0; the centred one decides, with the exact
+    /// sign.
+    #[test]
+    fn centred_form_decides_what_the_natural_one_cannot() {
+        let unit = |v: [f64; 3]| {
+            let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            v.map(|x| x / n)
+        };
+        let base = [
+            unit([0.3, 0.9, -0.2]),
+            unit([-0.8, 0.1, 0.5]),
+            unit([0.2, -0.7, 0.6]),
+            unit([0.6, 0.2, 0.7]),
+        ];
+        let base = if orient3d(base[0], base[1], base[2], base[3]) > 0.0 {
+            base
+        } else {
+            [base[1], base[0], base[2], base[3]]
+        };
+        let w = 1e-15;
+        for sign in [-1.0, 1.0] {
+            let e = unit([-0.1, -0.4, -0.9]).map(|x| x * (1.0 + sign * 1e-13));
+            let cell = base.map(|p| iv_box(p, w));
+            let natural = lifted_iv(cell, iv_box(e, w));
+            let centred = lifted_centred(cell, iv_box(e, w), [base[0], base[1], base[2], base[3], e]);
+            assert!(natural.lo <= 0.0 && natural.hi >= 0.0, "natural {natural:?}");
+            let ins = insphere(base[0], base[1], base[2], base[3], e);
+            // Inside (sign −1): insphere > 0 and the lifted determinant < 0.
+            assert_eq!(ins > 0.0, sign < 0.0);
+            if sign < 0.0 {
+                assert!(centred.hi < 0.0, "{centred:?}");
+            } else {
+                assert!(centred.lo > 0.0, "{centred:?}");
             }
         }
     }
@@ -758,6 +857,13 @@ mod perturbed_primitives {
                 lo <= 1.0 + 1e-15 && hi >= 1.0 - 1e-15,
                 "box misses the sphere: {lo} {hi}"
             );
+            // Tight: the box reaches no further from p than S is, plus a few ulps
+            // (the root's bracket is narrowed on proven signs).
+            let to_s = (p.iter().map(|x| x * x).sum::<f64>().sqrt() - 1.0).abs();
+            let reach = (0..3)
+                .map(|k| (b[k].sup() - p[k]).max(p[k] - b[k].inf()))
+                .fold(0.0f64, f64::max);
+            assert!(reach <= to_s + 2e-15, "box reaches {reach}, S is {to_s} away");
         }
         assert_eq!(boxed, 200);
         // A point 0.1 off S: its box reaches the sphere at (0, 0, 1), and the offset
@@ -768,14 +874,25 @@ mod perturbed_primitives {
         assert!(vb.failure.is_none());
         let b = vb.boxes[v as usize].unwrap();
         assert!(b[2].inf() <= 1.0 && b[2].sup() >= 1.1 && vb.max_offset >= 0.1);
-        // A point whose search leaves the domain (the segment along grad f from
-        // (0, 0, 0.5) is long enough only past the domain) is named, with no box.
+        // A point far inside: the search along grad f from (0, 0, 0.5) needs a
+        // segment reaching past the domain, but the box is the hull of the point and
+        // the root's bracket, [0.5, 1] in z, inside it.
         let mut t = Delaunay::with_domain(e.domain.min, e.domain.max, 7).unwrap();
         let inner = [0.0, 0.0, 0.5];
-        t.insert(inner).unwrap();
+        let v = t.insert(inner).unwrap();
         let vb = vertex_boxes(&t, &f, &e.domain, SegmentBudget::default());
-        let (p, why) = vb.failure.expect("no box inside the domain");
-        assert_eq!(p, inner, "{why}");
+        assert!(vb.failure.is_none(), "{:?}", vb.failure);
+        let b = vb.boxes[v as usize].unwrap();
+        assert!(b[2].inf() <= 0.5 && b[2].contains(1.0) && b[2].sup() < 1.0 + 1e-12, "{b:?}");
+        assert!(vb.max_offset >= 0.5);
+        // The centre, where grad f = 0, gets no box and is named.
+        let mut t = Delaunay::with_domain(e.domain.min, e.domain.max, 7).unwrap();
+        let centre = [0.0, 0.0, 0.0];
+        t.insert(centre).unwrap();
+        let vb = vertex_boxes(&t, &f, &e.domain, SegmentBudget::default());
+        let (p, why) = vb.failure.expect("no box where grad f = 0");
+        assert_eq!(p, centre, "{why}");
+        assert!(why.contains("grad f is zero"), "{why}");
     }
 }
 
