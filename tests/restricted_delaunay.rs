@@ -641,28 +641,39 @@ fn round_sphere_is_recognised_exactly_and_nothing_else() {
     }
 }
 
-/// Release only (`cargo test --release --test restricted_delaunay -- --ignored`): the
-/// ellipsoid (about 81 000 vertices at psi) is certified isotopic; the torus at the
-/// reach bound of octree depth 8 (tau >= 0.106 of 0.25; about 36 000 vertices) is
-/// certified restricted and a weak sample, but not isotopic: a few hundred
-/// near-cocircular cells spanning its hole are not robust over the vertex boxes, and
-/// the reason says so.
+/// The unit sphere written as sqrt(x² + y² + z²) − 1 is not recognised as a round
+/// sphere (not a polynomial), so its cospherical samples are not accepted exactly:
+/// its interior cells are degenerate over the vertex boxes, and the isotopy claim is
+/// withheld with that reason, while the restricted triangulation and the weak sample
+/// are still proven.
 #[test]
-#[ignore]
-fn ellipsoid_isotopic_and_torus_reported_release() {
-    isotopy_through_p_star("ellipsoid", "6", &[0]);
-    let (_, _, out, _) = run("torus", &bo_reach("8"));
+fn cospherical_samples_without_the_exact_sphere_test_are_reported() {
+    let f = Formula::surface("sqrt(x^2 + y^2 + z^2) - 1").unwrap();
+    let domain = catalog::get("sphere").unwrap().domain;
+    let out = bo_reach("7").mesh(&f, &domain, &NoProgress).unwrap();
     let c = &out.certificate;
-    assert!(!c.proves_topology());
-    assert!(c
-        .claims_typed()
-        .iter()
-        .any(|c| matches!(c, Claim::WeakSample { .. })));
+    assert!(!c.proves_topology(), "{c:?}");
+    let claims = c.claims_typed();
+    assert!(claims.iter().any(|c| matches!(c, Claim::WeakSample { .. })));
+    assert!(claims.iter().any(|c| matches!(c, Claim::RestrictedDelaunay { .. })));
+    assert!(!claims.iter().any(|c| matches!(c, Claim::Isotopic { .. })));
     let reason = c.reason().unwrap();
     assert!(
         reason.contains("not proven strictly locally Delaunay"),
         "{reason}"
     );
+}
+
+/// Release only (`cargo test --release --test restricted_delaunay -- --ignored`): the
+/// ellipsoid (about 81 000 vertices at psi), genus 2 (about 256 000 at the reach
+/// bound of depth 7) and the tanglecube (about 546 000) are certified isotopic, with
+/// the same independent check as in CI. About 10 minutes and 3 GB.
+#[test]
+#[ignore]
+fn ellipsoid_genus2_and_tanglecube_isotopic_release() {
+    isotopy_through_p_star("ellipsoid", "6", &[0]);
+    isotopy_through_p_star("genus2", "7", &[2]);
+    isotopy_through_p_star("tanglecube", "7", &[5]);
 }
 
 mod perturbed_primitives {
