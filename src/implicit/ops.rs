@@ -667,6 +667,13 @@ pub fn isolate_segment(
             }
             within = (0..3).all(|k| d[k].inf() <= x[k].inf() && x[k].sup() <= d[k].sup());
         }
+        // The value enclosure alone first: most pieces (a Voronoi edge far from S)
+        // end here, without the gradient or the regularity pass. Exclusion needs no
+        // smoothness: a piece whose enclosure misses 0 holds no zero of f.
+        let v0 = f.eval_interval(&x);
+        if !v0.is_empty() && excludes_zero(v0) {
+            continue;
+        }
         let reg = f.regularity(&x);
         let d = f.grad_interval(&x);
         let mut enc = d.v;
