@@ -226,6 +226,28 @@ fn check_output(
     }
 }
 
+/// Every smooth closed surface of the catalog at bo's default criteria (facet size
+/// diam/20, distance diam/200), manifold variant: the catalog's components and genus,
+/// angles, criteria, the certified restricted triangulation checked against sampling.
+#[test]
+fn every_smooth_catalog_surface_at_default_criteria() {
+    let mut done = Vec::new();
+    for e in catalog::entries() {
+        if e.dim != 3 || !e.smooth {
+            continue;
+        }
+        let Some(top) = e.topology else { continue };
+        let d = e.domain;
+        let diam = (0..3)
+            .map(|k| (d.max[k] - d.min[k]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        check_output(e.name, diam / 20.0, diam / 200.0, true, top.components, &top.genus);
+        done.push(e.name);
+    }
+    assert!(done.len() >= 11, "{done:?}");
+}
+
 #[test]
 fn sphere_is_meshed_to_the_criteria_and_certified_restricted() {
     check_output("sphere", 0.3, 0.03, false, 1, &[0]);
