@@ -313,6 +313,12 @@ impl Implicit for Formula {
         }
     }
     fn regularity(&self, b: &IBox) -> Regularity {
+        // A polynomial tape (the sparse program exists only for +, −, ×, squares,
+        // non-negative integer powers and division by constants that exclude 0) is
+        // smooth on every non-empty box: no tape pass needed.
+        if self.sparse.is_some() && b.iter().all(|x| !x.is_empty()) {
+            return Regularity::Smooth;
+        }
         let v = b.map(|x| Dec::var(Iv::from_interval(x)));
         regularity::finish(S_DEC.with(|s| self.tape.eval(&v, &mut s.borrow_mut())))
     }
