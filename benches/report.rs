@@ -36,8 +36,15 @@ fn bench(c: &mut Criterion) {
     g.bench_function("angles_full", |b| {
         b.iter(|| angles::triangle_ranges(black_box(&surf)).unwrap())
     });
+    g.bench_function("angles_fast", |b| {
+        b.iter(|| angles::triangle_extremes(black_box(&surf)).unwrap())
+    });
     for (name, level) in [("fast", Metrics::Fast), ("full", Metrics::Full)] {
-        let p = params.clone().hausdorff_only(level == Metrics::Fast);
+        // What `evaluate_with` asks at each level.
+        let p = params
+            .clone()
+            .hausdorff_only(level == Metrics::Fast)
+            .project_vertices(level != Metrics::Fast);
         g.bench_function(format!("fidelity_{name}"), |b| {
             b.iter(|| fidelity::surface_fidelity(black_box(&surf), &f, &p).unwrap())
         });

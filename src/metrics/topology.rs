@@ -19,7 +19,7 @@
 use super::{check_curve, check_tetmesh, check_trimesh};
 use crate::catalog::Topology;
 use crate::error::Result;
-use crate::mesh::{Buckets, Curve2, TetMesh, TriMesh};
+use crate::mesh::{Curve2, TetMesh, TriMesh};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -256,17 +256,51 @@ fn small_link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]]) -> boo
     count == n
 }
 
-/// Every vertex's non-degenerate faces, in face order: the stars of [`stars_of`].
-fn star_buckets(nv: usize, tris: &[[u32; 3]], degenerate: &[bool]) -> Buckets<u32> {
-    Buckets::build(nv, |emit| {
-        for (f, t) in tris.iter().enumerate() {
-            if !degenerate[f] {
-                for &v in t {
-                    emit(v, f as u32);
-                }
+/// Every vertex's faces (a counting sort by vertex: `faces[start[v]..start[v + 1]]`).
+struct StarLists {
+    start: Vec<u32>,
+    faces: Vec<u32>,
+}
+
+impl StarLists {
+    #[inline]
+    fn bucket(&self, v: usize) -> &[u32] {
+        &self.faces[self.start[v] as usize..self.start[v + 1] as usize]
+    }
+}
+
+/// Every vertex's non-degenerate faces, in face order: the stars of [`stars_of`]. A
+/// counting sort written out (count, prefix sums, fill), the two passes over the faces
+/// without a closure call per incidence.
+fn star_buckets(nv: usize, tris: &[[u32; 3]], degenerate: &[bool]) -> StarLists {
+    assert!(
+        (tris.len() as u64) * 3 < u32::MAX as u64,
+        "{} faces: too many to bucket",
+        tris.len()
+    );
+    let mut start = vec![0u32; nv + 1];
+    for (t, &d) in tris.iter().zip(degenerate) {
+        if !d {
+            for &v in t {
+                start[v as usize + 1] += 1;
             }
         }
-    })
+    }
+    for k in 0..nv {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start[..nv].to_vec();
+    let mut faces = vec![0u32; start[nv] as usize];
+    for (f, (t, &d)) in tris.iter().zip(degenerate).enumerate() {
+        if !d {
+            for &v in t {
+                let slot = &mut fill[v as usize];
+                faces[*slot as usize] = f as u32;
+                *slot += 1;
+            }
+        }
+    }
+    StarLists { start, faces }
 }
 
 /// Vertices per task of the star pass of [`analyze`].
@@ -300,7 +334,28 @@ struct Stars {
 /// per edge, with its faces ascending (what a global sort of the half-edges by (lo, hi,
 /// face) gives, edge by edge); v's link; and the vertex sets of the faces whose
 /// smallest vertex is v.
-fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &Buckets<u32>) -> Stars {
+#[cfg(test)]
+fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &StarLists) -> Stars {
+    stars_of_with(range, tris, vfaces, false)
+}
+
+/// [`stars_of`], with `fast`: a vertex whose star is one consistently oriented disk
+/// cycle of 3 to [`SMALL_LINK`] faces ([`is_one_directed_cycle`]: the common vertex of a
+/// closed or bordered manifold) is settled from that cycle alone: each link vertex u
+/// starts exactly one link edge (the face runs v → u) and ends exactly one (u → v),
+/// so the edge {v, u} is in exactly those two faces, traversed in opposite directions
+/// (manifold, not boundary, not inconsistent); v's link is a cycle; and no two faces of
+/// the star have the same vertex set (with n ≥ 3 faces, v a b and v b a would close a
+/// 2-cycle, and a repeated v a b a repeated start). So the counts are those of the
+/// general pass; only the face pairs of [`Stars::adjacent`] are not listed (the
+/// orientation search needs them only when some edge is inconsistent, and [`analyze`]
+/// then runs the general pass).
+fn stars_of_with(
+    range: std::ops::Range<usize>,
+    tris: &[[u32; 3]],
+    vfaces: &StarLists,
+    fast: bool,
+) -> Stars {
     let mut out = Stars {
         first: range.start,
         at: vec![StarCounts::default(); range.len()],
@@ -318,6 +373,19 @@ fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &Buckets<u
             continue;
         }
         let v32 = v as u32;
+        if fast && fs.len() >= 3 && fs.len() <= SMALL_LINK {
+            let mut ends = [(0u32, 0u32); SMALL_LINK];
+            for (e, &f) in ends.iter_mut().zip(fs) {
+                let t = tris[f as usize];
+                let k = t.iter().position(|&x| x == v32).unwrap_or(0);
+                *e = (t[(k + 1) % 3], t[(k + 2) % 3]);
+            }
+            let ends = &ends[..fs.len()];
+            if is_one_directed_cycle(ends) {
+                out.at[k].edges = ends.iter().filter(|e| e.0 > v32).count() as u32;
+                continue;
+            }
+        }
         half.clear();
         sets.clear();
         for &f in fs {
@@ -347,7 +415,9 @@ fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &Buckets<u
                 2 => {
                     let same = run[0].2 == run[1].2;
                     out.inconsistent_edges += same as usize;
-                    out.adjacent.push((run[0].1, run[1].1, same));
+                    if !fast {
+                        out.adjacent.push((run[0].1, run[1].1, same));
+                    }
                 }
                 _ => at.non_manifold_edges += 1,
             }
@@ -359,6 +429,21 @@ fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &Buckets<u
         at.bad_link = !link_is_disk_or_sphere(v32, fs, tris, &mut scratch);
     }
     out
+}
+
+/// [`stars_of_with`] over every vertex, in parallel chunks, in vertex order.
+fn all_stars(nv: usize, tris: &[[u32; 3]], vfaces: &StarLists, fast: bool) -> Vec<Stars> {
+    (0..nv.div_ceil(STAR_CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            stars_of_with(
+                c * STAR_CHUNK..((c + 1) * STAR_CHUNK).min(nv),
+                tris,
+                vfaces,
+                fast,
+            )
+        })
+        .collect()
 }
 
 impl TopologyReport {
@@ -380,12 +465,12 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         .map(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
         .collect();
 
-    // Every vertex's faces (the non-degenerate ones, in face order): its star.
-    let vfaces = star_buckets(nv, tris, &degenerate);
-    // Components (union the vertices of every face) beside one parallel pass over the
-    // stars, which finds every edge at its smaller vertex, the link of every vertex and
-    // the duplicate faces at their smallest vertex.
-    let ((used, root, comp_of_root, ncomp), stars) = rayon::join(
+    // Components (union the vertices of every face) beside the stars (every vertex's
+    // non-degenerate faces, in face order) and one parallel pass over them, which
+    // finds every edge at its smaller vertex, the link of every vertex and the
+    // duplicate faces at their smallest vertex; consistently oriented disk stars are
+    // settled on the fast path of [`stars_of_with`].
+    let ((used, root, comp_of_root, ncomp), (vfaces, stars)) = rayon::join(
         || {
             let mut uf = UnionFind::new(nv);
             let mut used = vec![false; nv];
@@ -408,20 +493,28 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
             (used, root, comp_of_root, ncomp)
         },
         || {
-            (0..nv.div_ceil(STAR_CHUNK))
-                .into_par_iter()
-                .map(|c| {
-                    stars_of(
-                        c * STAR_CHUNK..((c + 1) * STAR_CHUNK).min(nv),
-                        tris,
-                        &vfaces,
-                    )
-                })
-                .collect::<Vec<Stars>>()
+            let vfaces = star_buckets(nv, tris, &degenerate);
+            let stars = all_stars(nv, tris, &vfaces, true);
+            (vfaces, stars)
         },
     );
+    // Some edge is traversed twice in the same direction: the orientation search needs
+    // the face pairs of every manifold edge, which the general pass lists (the same
+    // counts as the fast one).
+    let stars = if stars.iter().any(|s| s.inconsistent_edges > 0) {
+        all_stars(nv, tris, &vfaces, false)
+    } else {
+        stars
+    };
     drop(vfaces);
-    let comp = |v: u32| comp_of_root[root[v as usize] as usize] as usize;
+    // (One component: no lookups.)
+    let comp = |v: u32| {
+        if ncomp == 1 {
+            0
+        } else {
+            comp_of_root[root[v as usize] as usize] as usize
+        }
+    };
 
     let mut c_edges = vec![0usize; ncomp];
     let mut c_faces = vec![0usize; ncomp];
@@ -487,8 +580,12 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         }
     }
 
-    // Orientability (two-colour faces by "flipped or not" along manifold edges).
-    let nonorientable = {
+    // Orientability (two-colour faces by "flipped or not" along manifold edges). With
+    // no inconsistent edge, every pair is "not flipped": no face is flipped and there
+    // is no conflict, so the search is skipped.
+    let nonorientable = if inconsistent_edges == 0 {
+        Vec::new()
+    } else {
         let mut nonorientable = Vec::new();
         let mut start = vec![0u32; nf + 1];
         for &(f, g, _) in &adj_pairs {
@@ -534,16 +631,20 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         c_nonorientable[comp(tris[f as usize][0])] = true;
     }
 
-    // Boundary loops: cycle rank of the boundary graph, per component.
-    let mut buf = UnionFind::new(nv);
-    let mut on_boundary = vec![false; nv];
+    // Boundary loops: cycle rank of the boundary graph, per component (none without
+    // boundary edges).
+    let mut c_loops: Vec<i64> = c_bedges.iter().map(|&e| e as i64).collect();
+    let (mut buf, mut on_boundary) = if boundary.is_empty() {
+        (UnionFind::default(), Vec::new())
+    } else {
+        (UnionFind::new(nv), vec![false; nv])
+    };
     for &(a, b) in &boundary {
         buf.union(a, b);
         on_boundary[a as usize] = true;
         on_boundary[b as usize] = true;
     }
-    let mut c_loops: Vec<i64> = c_bedges.iter().map(|&e| e as i64).collect();
-    for v in 0..nv {
+    for v in 0..on_boundary.len() {
         if on_boundary[v] {
             let c = comp(v as u32);
             c_loops[c] -= 1; // − V_b
