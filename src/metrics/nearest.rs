@@ -43,6 +43,29 @@ struct Item {
     centre: [f64; 3],
     radius: f64,
     tri: u32,
+    /// The cell (during the build; `u32::MAX`: larger than a cell, kept apart).
+    cell: u32,
+}
+
+/// Triangle `t`'s bounding sphere: its centroid and the largest distance to a corner
+/// (up to rounding, which the skip tests' margin covers).
+#[inline]
+fn sphere(mesh: &TriMesh, t: usize) -> Item {
+    let [a, b, c] = mesh.corners(t);
+    let centre = [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) * (1.0 / 3.0));
+    let r2 = [a, b, c]
+        .iter()
+        .map(|&p| {
+            let d = geom::sub(p, centre);
+            geom::dot(d, d)
+        })
+        .fold(0.0, f64::max);
+    Item {
+        centre,
+        radius: r2.sqrt(),
+        tri: t as u32,
+        cell: 0,
+    }
 }
 
 /// The grid (see the module documentation).
@@ -70,50 +93,6 @@ impl<'a> CentroidGrid<'a> {
     /// caller has checked: [`super::check_trimesh`]).
     pub fn new(mesh: &'a TriMesh) -> Self {
         let nf = mesh.triangles.len();
-        let spheres: Vec<Item> = (0..nf)
-            .into_par_iter()
-            .with_min_len(4096)
-            .map(|t| {
-                let [a, b, c] = mesh.corners(t);
-                let centre = [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) * (1.0 / 3.0));
-                let r2 = [a, b, c]
-                    .iter()
-                    .map(|&p| {
-                        let d = geom::sub(p, centre);
-                        geom::dot(d, d)
-                    })
-                    .fold(0.0, f64::max);
-                Item {
-                    centre,
-                    radius: r2.sqrt(),
-                    tri: t as u32,
-                }
-            })
-            .collect();
-        type Bounds = Option<([f64; 3], [f64; 3])>;
-        let bb: Bounds = spheres
-            .par_iter()
-            .with_min_len(4096)
-            .fold(
-                || None,
-                |b: Bounds, s| {
-                    let c = s.centre;
-                    Some(match b {
-                        None => (c, c),
-                        Some((lo, hi)) => ([0, 1, 2].map(|k| lo[k].min(c[k])), [0, 1, 2].map(|k| hi[k].max(c[k]))),
-                    })
-                },
-            )
-            .reduce(
-                || None,
-                |a, b| match (a, b) {
-                    (Some((l0, h0)), Some((l1, h1))) => Some((
-                        [0, 1, 2].map(|k| l0[k].min(l1[k])),
-                        [0, 1, 2].map(|k| h0[k].max(h1[k])),
-                    )),
-                    (x, None) | (None, x) => x,
-                },
-            );
         let mut g = CentroidGrid {
             mesh,
             min: [0.0; 3],
@@ -126,71 +105,73 @@ impl<'a> CentroidGrid<'a> {
             rmax: 0.0,
             slack: 0.0,
         };
-        let Some((bmin, bmax)) = bb else {
+        if nf == 0 {
             return g;
-        };
-        let ext = [0, 1, 2].map(|k| bmax[k] - bmin[k]);
-        let longest = ext.iter().copied().fold(0.0, f64::max);
-        let scale = bmin
-            .iter()
-            .chain(&bmax)
-            .fold(0.0f64, |m, x| m.max(x.abs()));
-        let rlargest = spheres.iter().map(|s| s.radius).fold(0.0, f64::max);
-        // Cubic cells; coarser while more than a sixteenth of the triangles (and more
-        // than a few hundred) are larger than a cell.
-        let mut per_axis = ((nf as f64 * CELLS_PER_TRIANGLE).cbrt().ceil() as usize).clamp(1, MAX_CELLS);
-        let mut size;
-        loop {
-            size = if longest > 0.0 {
-                longest / per_axis as f64
-            } else {
-                rlargest.max(1.0)
-            };
-            let big = spheres.par_iter().filter(|s| s.radius > size).count();
-            if per_axis == 1 || big <= 256.max(nf / 16) {
-                break;
-            }
-            per_axis = per_axis.div_ceil(2);
         }
-        g.min = bmin;
+        // The box of all vertices (used or not: it only places the cells; centroids
+        // lie in it).
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for p in &mesh.vertices {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let ext = [0, 1, 2].map(|k| hi[k] - lo[k]);
+        let longest = ext.iter().copied().fold(0.0, f64::max);
+        let scale = lo.iter().chain(&hi).fold(0.0f64, |m, x| m.max(x.abs()));
+        let per_axis =
+            ((nf as f64 * CELLS_PER_TRIANGLE).cbrt().ceil() as usize).clamp(1, MAX_CELLS);
+        let size = if longest > 0.0 {
+            longest / per_axis as f64
+        } else {
+            1.0
+        };
+        g.min = lo;
         g.size = size;
         g.inv = 1.0 / size;
         g.n = ext.map(|e| ((e * g.inv).floor() as usize + 1).clamp(1, MAX_CELLS + 1));
-        g.slack = SLACK_REL * (size + scale + rlargest);
+        // (The largest coordinate bounds every centroid and radius's size too.)
+        g.slack = SLACK_REL * (size + scale);
         let cells = g.n[0] * g.n[1] * g.n[2];
-        // Each triangle's cell (u32::MAX: kept apart as big).
-        let cell_of: Vec<u32> = spheres
-            .par_iter()
+        // Each triangle's sphere and cell (u32::MAX: larger than a cell, kept
+        // apart), in parallel.
+        let spheres: Vec<Item> = (0..nf)
+            .into_par_iter()
             .with_min_len(4096)
-            .map(|s| {
-                if s.radius > size {
+            .map(|t| {
+                let mut it = sphere(mesh, t);
+                it.cell = if it.radius > size {
                     u32::MAX
                 } else {
-                    g.index(g.cell(s.centre)) as u32
-                }
+                    g.index(g.cell(it.centre)) as u32
+                };
+                it
             })
             .collect();
         let mut start = vec![0u32; cells + 1];
-        for &k in &cell_of {
-            if k != u32::MAX {
-                start[k as usize + 1] += 1;
+        for it in &spheres {
+            if it.cell != u32::MAX {
+                start[it.cell as usize + 1] += 1;
             }
         }
         for k in 0..cells {
             start[k + 1] += start[k];
         }
-        let mut fill = start.clone();
+        let mut fill = start[..cells].to_vec();
         let mut items = vec![Item::default(); start[cells] as usize];
-        for (s, &k) in spheres.iter().zip(&cell_of) {
-            if k == u32::MAX {
-                g.big.push(*s);
+        let mut rmax = 0.0f64;
+        for it in &spheres {
+            if it.cell == u32::MAX {
+                g.big.push(*it);
             } else {
-                let slot = &mut fill[k as usize];
-                items[*slot as usize] = *s;
+                let slot = &mut fill[it.cell as usize];
+                items[*slot as usize] = *it;
                 *slot += 1;
-                g.rmax = g.rmax.max(s.radius);
+                rmax = rmax.max(it.radius);
             }
         }
+        g.rmax = rmax;
         g.start = start;
         g.items = items;
         g
@@ -214,19 +195,26 @@ impl<'a> CentroidGrid<'a> {
         (c[2] * self.n[1] + c[1]) * self.n[0] + c[0]
     }
 
-    /// Test one triangle against the best squared distance so far: skipped when its
-    /// sphere is farther than the best distance by more than twice the slack.
+    /// Test one triangle against the best squared distance so far, `best`, whose
+    /// square root (rounded up by 1e-12 relative) is `sb`: skipped when its sphere is
+    /// farther than `sb` by more than twice the slack, tested as squares (no square
+    /// root per triangle). The computed squares are within a few ulps (relative) of the
+    /// true ones, far inside the 1e-12 and the slack.
     #[inline]
-    fn offer(&self, p: [f64; 3], it: &Item, best: &mut f64) {
+    fn offer(&self, p: [f64; 3], it: &Item, best: &mut f64, sb: &mut f64) {
         let d = geom::sub(p, it.centre);
-        let s = geom::dot(d, d).sqrt() - it.radius - 2.0 * self.slack;
-        if s > 0.0 && s * s > *best {
+        let reach = *sb + it.radius + 2.0 * self.slack;
+        if geom::dot(d, d) > reach * reach {
             return;
         }
         let [a, b, c] = self.mesh.corners(it.tri as usize);
         let q = closest_on_triangle(p, a, b, c);
         let e = geom::sub(p, q.point);
-        *best = best.min(geom::dot(e, e));
+        let d2 = geom::dot(e, e);
+        if d2 < *best {
+            *best = d2;
+            *sb = d2.sqrt() * (1.0 + 1e-12);
+        }
     }
 
     /// The squared distance from `p` to the nearest triangle (`None`: no triangle).
@@ -234,29 +222,58 @@ impl<'a> CentroidGrid<'a> {
         if self.items.is_empty() && self.big.is_empty() {
             return None;
         }
-        let mut best = f64::INFINITY;
+        let (mut best, mut sb) = (f64::INFINITY, f64::INFINITY);
         for it in &self.big {
-            self.offer(p, it, &mut best);
+            self.offer(p, it, &mut best, &mut sb);
         }
         if self.items.is_empty() {
             return Some(best);
         }
-        let c0 = self.cell(p).map(|x| x as i64);
+        // How far a listed triangle can reach beyond its cell, with the margin.
+        let reach = self.rmax + 2.0 * self.slack;
+        // p's own cell first; then, when it held a triangle, every cell that can hold
+        // the centroid of a closer one: within sb + reach of p along each axis (the
+        // box's corners rounded outwards by another slack; `cell` is monotonic, so
+        // such a centroid's cell is in the range).
+        let c0 = self.cell(p);
+        let k0 = self.index(c0);
+        for it in &self.items[self.start[k0] as usize..self.start[k0 + 1] as usize] {
+            self.offer(p, it, &mut best, &mut sb);
+        }
+        if sb.is_finite() {
+            let r = sb + reach + self.slack;
+            let lo = self.cell([0, 1, 2].map(|k| p[k] - r));
+            let hi = self.cell([0, 1, 2].map(|k| p[k] + r));
+            for z in lo[2]..=hi[2] {
+                for y in lo[1]..=hi[1] {
+                    for x in lo[0]..=hi[0] {
+                        let k = self.index([x, y, z]);
+                        if k == k0 {
+                            continue;
+                        }
+                        for it in &self.items[self.start[k] as usize..self.start[k + 1] as usize] {
+                            self.offer(p, it, &mut best, &mut sb);
+                        }
+                    }
+                }
+            }
+            return Some(best);
+        }
+        // Nothing in p's cell: rings of cells around it.
+        let c0 = c0.map(|x| x as i64);
         let n = self.n.map(|x| x as i64);
         let rings = (0..3)
             .map(|k| c0[k].max(n[k] - 1 - c0[k]))
             .max()
             .unwrap_or(0);
-        // How far a listed triangle can reach beyond its cell, with the margin.
-        let reach = self.rmax + 2.0 * self.slack;
         // The distance from p to the slab of cells at index c along axis k (0 inside).
         let gap = |k: usize, c: i64| {
             let lo = self.min[k] + c as f64 * self.size;
             (lo - p[k]).max(p[k] - (lo + self.size)).max(0.0)
         };
-        // Cells farther than this hold nothing closer than `best`.
-        let within = |best: f64| {
-            let r = best.sqrt() + reach;
+        // Cells farther than this (squared) hold nothing closer than `best`.
+        let within = |sb: f64| {
+            let r = sb + reach;
             r * r
         };
         for r in 0..=rings {
@@ -265,7 +282,7 @@ impl<'a> CentroidGrid<'a> {
             // at least (r - 1) cells away from p along some axis.
             if r >= 1 {
                 let lb = (r - 1) as f64 * self.size - 2.0 * self.slack;
-                if lb > 0.0 && lb * lb > within(best) {
+                if lb > 0.0 && lb * lb > within(sb) {
                     break;
                 }
             }
@@ -276,7 +293,7 @@ impl<'a> CentroidGrid<'a> {
                 }
                 let gz = gap(2, z);
                 let gz2 = gz * gz;
-                if gz2 > within(best) {
+                if gz2 > within(sb) {
                     continue;
                 }
                 for dy in -r..=r {
@@ -286,7 +303,7 @@ impl<'a> CentroidGrid<'a> {
                     }
                     let gy = gap(1, y);
                     let gy2 = gz2 + gy * gy;
-                    if gy2 > within(best) {
+                    if gy2 > within(sb) {
                         continue;
                     }
                     let shell = dz.abs() == r || dy.abs() == r;
@@ -295,11 +312,11 @@ impl<'a> CentroidGrid<'a> {
                         let x = c0[0] + dx;
                         if x >= 0 && x < n[0] {
                             let gx = gap(0, x);
-                            if gy2 + gx * gx <= within(best) {
+                            if gy2 + gx * gx <= within(sb) {
                                 let k = self.index([x as usize, y as usize, z as usize]);
                                 let (s, e) = (self.start[k] as usize, self.start[k + 1] as usize);
                                 for it in &self.items[s..e] {
-                                    self.offer(p, it, &mut best);
+                                    self.offer(p, it, &mut best, &mut sb);
                                 }
                             }
                         }

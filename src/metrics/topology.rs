@@ -1123,6 +1123,351 @@ mod tests {
             .collect()
     }
 
+    /// Every field of [`analyze`]'s report, computed the plain way (issue 20: the
+    /// reference of the fast paths): edges in a sorted map, links and orientations by
+    /// searches over explicit lists, components by a union-find over the faces, one
+    /// component at a time; nothing shared with `analyze` but [`UnionFind`].
+    fn reference(nv: usize, tris: &[[u32; 3]]) -> TopologyReport {
+        use std::collections::{BTreeMap, BTreeSet};
+        let degenerate = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+        let mut used = vec![false; nv];
+        let mut uf = UnionFind::new(nv);
+        for t in tris {
+            for &v in t {
+                used[v as usize] = true;
+            }
+            uf.union(t[0], t[1]);
+            uf.union(t[1], t[2]);
+        }
+        // Components numbered by their smallest vertex.
+        let mut id = BTreeMap::new();
+        for v in 0..nv as u32 {
+            if used[v as usize] {
+                let r = uf.find(v);
+                let k = id.len();
+                id.entry(r).or_insert(k);
+            }
+        }
+        let ncomp = id.len();
+        let comp = |uf: &mut UnionFind, v: u32| id[&uf.find(v)];
+        // Edges: (lo, hi) -> [(face, traversed lo -> hi)].
+        let mut edges: BTreeMap<(u32, u32), Vec<(usize, bool)>> = BTreeMap::new();
+        for (f, t) in tris.iter().enumerate() {
+            if degenerate(t) {
+                continue;
+            }
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                edges.entry((a.min(b), a.max(b))).or_default().push((f, a < b));
+            }
+        }
+        // Links: v -> its faces' opposite edges.
+        let mut link: Vec<Vec<(u32, u32)>> = vec![Vec::new(); nv];
+        for t in tris.iter().filter(|t| !degenerate(t)) {
+            for k in 0..3 {
+                link[t[k] as usize].push((t[(k + 1) % 3], t[(k + 2) % 3]));
+            }
+        }
+        let link_ok = |l: &Vec<(u32, u32)>| {
+            if l.is_empty() {
+                return true;
+            }
+            let mut deg: BTreeMap<u32, usize> = BTreeMap::new();
+            for &(a, b) in l {
+                *deg.entry(a).or_default() += 1;
+                *deg.entry(b).or_default() += 1;
+            }
+            // Connected: grow from the first edge.
+            let mut reached: BTreeSet<u32> = [l[0].0, l[0].1].into();
+            loop {
+                let before = reached.len();
+                for &(a, b) in l {
+                    if reached.contains(&a) || reached.contains(&b) {
+                        reached.insert(a);
+                        reached.insert(b);
+                    }
+                }
+                if reached.len() == before {
+                    break;
+                }
+            }
+            reached.len() == deg.len() && deg.values().all(|&d| d <= 2)
+        };
+        let bad_vertex: Vec<bool> = (0..nv).map(|v| used[v] && !link_ok(&link[v])).collect();
+        // Orientation: two-colour the faces over manifold edges, per component.
+        let mut flip: Vec<Option<bool>> = vec![None; tris.len()];
+        let mut nonorientable = vec![false; ncomp];
+        let mut pairs: Vec<Vec<(usize, bool)>> = vec![Vec::new(); tris.len()];
+        for fs in edges.values() {
+            if fs.len() == 2 {
+                let same = fs[0].1 == fs[1].1;
+                pairs[fs[0].0].push((fs[1].0, same));
+                pairs[fs[1].0].push((fs[0].0, same));
+            }
+        }
+        for f0 in 0..tris.len() {
+            if flip[f0].is_some() || degenerate(&tris[f0]) {
+                continue;
+            }
+            flip[f0] = Some(false);
+            let mut stack = vec![f0];
+            while let Some(f) = stack.pop() {
+                for &(g, same) in &pairs[f] {
+                    let want = flip[f].unwrap() ^ same;
+                    match flip[g] {
+                        None => {
+                            flip[g] = Some(want);
+                            stack.push(g);
+                        }
+                        Some(x) if x != want => nonorientable[comp(&mut uf, tris[f][0])] = true,
+                        _ => {}
+                    }
+                }
+            }
+        }
+        // Per component.
+        let mut cv = vec![0usize; ncomp];
+        let mut ce = vec![0usize; ncomp];
+        let mut cf = vec![0usize; ncomp];
+        let mut cb = vec![0usize; ncomp];
+        let mut bad = vec![false; ncomp];
+        for v in 0..nv {
+            if used[v] {
+                let c = comp(&mut uf, v as u32);
+                cv[c] += 1;
+                bad[c] |= bad_vertex[v];
+            }
+        }
+        let mut bverts: BTreeSet<u32> = BTreeSet::new();
+        let mut buf = UnionFind::new(nv);
+        for (&(a, _b), fs) in &edges {
+            let c = comp(&mut uf, a);
+            ce[c] += 1;
+            if fs.len() == 1 {
+                cb[c] += 1;
+                bverts.insert(a);
+                bverts.insert(_b);
+                buf.union(a, _b);
+            }
+            bad[c] |= fs.len() > 2;
+        }
+        for t in tris {
+            let c = comp(&mut uf, t[0]);
+            if degenerate(t) {
+                bad[c] = true;
+            } else {
+                cf[c] += 1;
+            }
+        }
+        let mut loops: Vec<i64> = cb.iter().map(|&b| b as i64).collect();
+        for &v in &bverts {
+            let c = comp(&mut uf, v);
+            loops[c] -= 1;
+            if buf.find(v) == v {
+                loops[c] += 1;
+            }
+        }
+        let mut list: Vec<ComponentReport> = (0..ncomp)
+            .map(|c| {
+                let chi = cv[c] as i64 - ce[c] as i64 + cf[c] as i64;
+                let b = loops[c].max(0) as usize;
+                let twice_g = 2 - chi - b as i64;
+                let (manifold, orientable) = (!bad[c], !nonorientable[c]);
+                ComponentReport {
+                    vertices: cv[c],
+                    edges: ce[c],
+                    faces: cf[c],
+                    euler_characteristic: chi,
+                    boundary_edges: cb[c],
+                    boundary_loops: b,
+                    closed: cb[c] == 0,
+                    manifold,
+                    orientable,
+                    genus: (manifold && orientable && twice_g >= 0 && twice_g % 2 == 0)
+                        .then_some((twice_g / 2) as usize),
+                }
+            })
+            .collect();
+        list.sort_by(|a, b| b.faces.cmp(&a.faces).then(b.vertices.cmp(&a.vertices)));
+        let mut sets = BTreeSet::new();
+        let mut duplicate_faces = 0;
+        for t in tris {
+            let mut k = *t;
+            k.sort_unstable();
+            duplicate_faces += !sets.insert(k) as usize;
+        }
+        let vertices = used.iter().filter(|&&u| u).count();
+        let degenerate_faces = tris.iter().filter(|t| degenerate(t)).count();
+        let non_manifold_edges = edges.values().filter(|f| f.len() > 2).count();
+        let non_manifold_vertices = bad_vertex.iter().filter(|&&b| b).count();
+        let inconsistent_edges = edges
+            .values()
+            .filter(|f| f.len() == 2 && f[0].1 == f[1].1)
+            .count();
+        let boundary_edges = edges.values().filter(|f| f.len() == 1).count();
+        let mut genus: Vec<usize> = list.iter().filter(|c| c.closed).filter_map(|c| c.genus).collect();
+        genus.sort_unstable();
+        let orientable = !nonorientable.contains(&true);
+        TopologyReport {
+            vertices,
+            isolated_vertices: nv - vertices,
+            edges: edges.len(),
+            faces: tris.len(),
+            euler_characteristic: vertices as i64 - edges.len() as i64
+                + (tris.len() - degenerate_faces) as i64,
+            components: ncomp,
+            boundary_edges,
+            boundary_loops: list.iter().map(|c| c.boundary_loops).sum(),
+            non_manifold_edges,
+            non_manifold_vertices,
+            degenerate_faces,
+            duplicate_faces,
+            inconsistent_edges,
+            closed: boundary_edges == 0,
+            manifold: non_manifold_edges == 0 && non_manifold_vertices == 0 && degenerate_faces == 0,
+            orientable,
+            consistently_oriented: orientable && inconsistent_edges == 0,
+            genus,
+            component_list: list,
+        }
+    }
+
+    /// A closed, consistently oriented torus of n × m quads (each two triangles), its
+    /// vertices from `base`: every star a disk cycle of six faces (the fast path).
+    fn torus_grid(n: u32, m: u32, base: u32) -> Vec<[u32; 3]> {
+        let id = |i: u32, j: u32| base + (i % n) * m + (j % m);
+        (0..n)
+            .flat_map(|i| {
+                (0..m).flat_map(move |j| {
+                    [
+                        [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
+                        [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
+                    ]
+                })
+            })
+            .collect()
+    }
+
+    /// Closed oriented pieces (tetrahedra, octahedra, tori) edited by random changes
+    /// (flipped, deleted, repeated, degenerate and extra faces, two pieces pinched
+    /// together at a vertex), relabelled by a random permutation and shuffled: the
+    /// fast paths' meshes and their near misses.
+    fn edited_meshes() -> impl Strategy<Value = (usize, Vec<[u32; 3]>)> {
+        let piece = prop_oneof![
+            Just(0u32..0).prop_map(|_| (0u32, 0u32)),
+            Just(()).prop_map(|_| (1u32, 0u32)),
+            (3u32..6, 3u32..6),
+        ];
+        (
+            prop::collection::vec(piece, 1..4),
+            prop::collection::vec((0u8..6, any::<prop::sample::Index>(), 0u32..1000), 0..6),
+            0usize..3,
+            any::<u64>(),
+        )
+            .prop_map(|(pieces, edits, isolated, seed)| {
+                let mut tris: Vec<[u32; 3]> = Vec::new();
+                let mut nv = 0u32;
+                for (a, b) in pieces {
+                    let b0 = nv;
+                    match (a, b) {
+                        (0, 0) => {
+                            // Tetrahedron, outward orientation.
+                            tris.extend([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]].map(|t| t.map(|x| x + b0)));
+                            nv += 4;
+                        }
+                        (1, 0) => {
+                            // Octahedron: poles 0, 5; equator 1..=4.
+                            for k in 0..4u32 {
+                                let (p, q) = (1 + k, 1 + (k + 1) % 4);
+                                tris.push([b0, b0 + p, b0 + q]);
+                                tris.push([b0 + 5, b0 + q, b0 + p]);
+                            }
+                            nv += 6;
+                        }
+                        (n, m) => {
+                            tris.extend(torus_grid(n, m, b0));
+                            nv += n * m;
+                        }
+                    }
+                }
+                for (kind, at, x) in edits {
+                    if tris.is_empty() {
+                        break;
+                    }
+                    let i = at.index(tris.len());
+                    match kind {
+                        0 => tris[i].swap(0, 1),
+                        1 => {
+                            tris.remove(i);
+                        }
+                        2 => tris.push(tris[i]),
+                        3 => tris.push([tris[i][0], tris[i][0], tris[i][1]]),
+                        4 => tris.push([tris[i][0], tris[i][1], x % nv]),
+                        _ => {
+                            // Pinch: one vertex of another face becomes this face's first.
+                            let (v, w) = (tris[i][0], tris[(i + 1 + x as usize) % tris.len()][1]);
+                            for t in tris.iter_mut() {
+                                for c in t.iter_mut() {
+                                    if *c == w {
+                                        *c = v;
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+                let nv = nv as usize + isolated;
+                // Relabel and shuffle (a small LCG from the seed).
+                let mut s = seed | 1;
+                let mut next = move |n: usize| {
+                    s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                    ((s >> 33) as usize) % n.max(1)
+                };
+                let mut perm: Vec<u32> = (0..nv as u32).collect();
+                for k in (1..nv).rev() {
+                    perm.swap(k, next(k + 1));
+                }
+                let mut tris: Vec<[u32; 3]> = tris.iter().map(|t| t.map(|v| perm[v as usize])).collect();
+                for k in (1..tris.len()).rev() {
+                    tris.swap(k, next(k + 1));
+                }
+                (nv, tris)
+            })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+        /// `analyze` (the fast disk-star path, the skipped orientation search and
+        /// boundary union-find, the written-out star lists) equals the plain
+        /// reference in every field, on edited closed meshes and on random soups.
+        #[test]
+        fn analyze_equals_reference_on_edited_meshes((nv, tris) in edited_meshes()) {
+            let m = TriMesh { vertices: vec![[0.0; 3]; nv], triangles: tris.clone() };
+            prop_assert_eq!(analyze(&m).unwrap(), reference(nv, &tris), "{:?}", tris);
+        }
+
+        #[test]
+        fn analyze_equals_reference_on_soups(tris in soup::<3>(9, 30)) {
+            let m = TriMesh { vertices: vec![[0.0; 3]; 9], triangles: tris.clone() };
+            prop_assert_eq!(analyze(&m).unwrap(), reference(9, &tris), "{:?}", tris);
+        }
+    }
+
+    /// The reference itself on known meshes: a torus grid is one closed orientable
+    /// genus-1 component; two tetrahedra are two spheres.
+    #[test]
+    fn reference_knows_a_torus_and_two_spheres() {
+        let t = torus_grid(4, 5, 0);
+        let r = reference(20, &t);
+        assert_eq!((r.components, r.genus.clone(), r.euler_characteristic), (1, vec![1], 0));
+        assert!(r.closed && r.manifold && r.consistently_oriented);
+        let mut two: Vec<[u32; 3]> = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]].to_vec();
+        two.extend(two.clone().iter().map(|t| t.map(|x| x + 4)));
+        let r = reference(8, &two);
+        assert_eq!((r.components, r.genus.clone()), (2, vec![0, 0]));
+        assert!(r.is_closed_oriented_manifold());
+    }
+
     fn soup<const K: usize>(nv: u32, n: usize) -> impl Strategy<Value = Vec<[u32; K]>> {
         proptest::collection::vec(proptest::array::uniform(0..nv), 0..n)
     }
