@@ -1740,9 +1740,18 @@ fn metrics_levels_keep_the_keys() {
         fast["hausdorff"].as_f64().unwrap(),
         full["hausdorff"].as_f64().unwrap(),
     );
-    assert!(hf > 0.0 && hf <= hu && hf >= 0.5 * hu, "fast {hf}, full {hu}");
-    assert!(fast["hausdorff_kind"].as_str().unwrap().contains("sampled estimate"));
-    assert!(fast["hausdorff_kind"].as_str().unwrap().contains("vertices left out"));
+    assert!(
+        hf > 0.0 && hf <= hu && hf >= 0.5 * hu,
+        "fast {hf}, full {hu}"
+    );
+    assert!(fast["hausdorff_kind"]
+        .as_str()
+        .unwrap()
+        .contains("sampled estimate"));
+    assert!(fast["hausdorff_kind"]
+        .as_str()
+        .unwrap()
+        .contains("vertices left out"));
     assert!(!full["hausdorff_kind"].as_str().unwrap().contains("sampled"));
     assert_eq!(fast["hausdorff_mesh_samples"], serde_json::json!(20_000));
     assert!(full["hausdorff_mesh_samples"].as_u64().unwrap() > 20_000);

@@ -828,10 +828,16 @@ fn fast_hausdorff_is_a_sampled_lower_estimate_of_full() {
                 "{what}"
             );
             assert_eq!(fast.fidelity_surface_samples, full.fidelity_surface_samples);
-            assert!(fast.hausdorff_mesh_to_surface <= full.hausdorff_mesh_to_surface, "{what}");
+            assert!(
+                fast.hausdorff_mesh_to_surface <= full.hausdorff_mesh_to_surface,
+                "{what}"
+            );
             assert!(fast.hausdorff <= full.hausdorff, "{what}");
             assert!(fast.hausdorff >= 0.5 * full.hausdorff, "{what}");
-            assert!(fast.hausdorff_mesh_to_surface >= 0.5 * full.hausdorff_mesh_to_surface, "{what}");
+            assert!(
+                fast.hausdorff_mesh_to_surface >= 0.5 * full.hausdorff_mesh_to_surface,
+                "{what}"
+            );
             assert_eq!(fast.hausdorff_kind, fidelity::HAUSDORFF_KIND_SAMPLED);
             assert_eq!(full.hausdorff_kind, fidelity::HAUSDORFF_KIND);
             // The fixed budget: the samples only (all converge on these meshes), and
@@ -842,11 +848,20 @@ fn fast_hausdorff_is_a_sampled_lower_estimate_of_full() {
                 angles::triangle_ranges(surf).unwrap(),
                 angles::triangle_extremes(surf).unwrap(),
             );
-            assert_eq!(a.min_angle_deg.map(f64::to_bits), b.min_angle_deg.map(f64::to_bits));
-            assert_eq!(a.max_angle_deg.map(f64::to_bits), b.max_angle_deg.map(f64::to_bits));
+            assert_eq!(
+                a.min_angle_deg.map(f64::to_bits),
+                b.min_angle_deg.map(f64::to_bits)
+            );
+            assert_eq!(
+                a.max_angle_deg.map(f64::to_bits),
+                b.max_angle_deg.map(f64::to_bits)
+            );
             // The topology the report computes is the one of the general pass.
             let t = metrics::analyze(surf).unwrap();
-            assert!(t.closed && t.manifold && t.consistently_oriented, "{name} {res}");
+            assert!(
+                t.closed && t.manifold && t.consistently_oriented,
+                "{name} {res}"
+            );
         }
     }
 }

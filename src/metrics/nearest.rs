@@ -340,7 +340,14 @@ mod tests {
         let cg = CentroidGrid::new(m);
         for &p in queries {
             let (a, b) = (grid.closest_dist2(p), cg.closest_dist2(p));
-            prop_assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "at {:?}: {:?} vs {:?}", p, a, b);
+            prop_assert_eq!(
+                a.map(f64::to_bits),
+                b.map(f64::to_bits),
+                "at {:?}: {:?} vs {:?}",
+                p,
+                a,
+                b
+            );
         }
         Ok(())
     }

@@ -1158,7 +1158,10 @@ mod tests {
             }
             for k in 0..3 {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
-                edges.entry((a.min(b), a.max(b))).or_default().push((f, a < b));
+                edges
+                    .entry((a.min(b), a.max(b)))
+                    .or_default()
+                    .push((f, a < b));
             }
         }
         // Links: v -> its faces' opposite edges.
@@ -1305,7 +1308,11 @@ mod tests {
             .filter(|f| f.len() == 2 && f[0].1 == f[1].1)
             .count();
         let boundary_edges = edges.values().filter(|f| f.len() == 1).count();
-        let mut genus: Vec<usize> = list.iter().filter(|c| c.closed).filter_map(|c| c.genus).collect();
+        let mut genus: Vec<usize> = list
+            .iter()
+            .filter(|c| c.closed)
+            .filter_map(|c| c.genus)
+            .collect();
         genus.sort_unstable();
         let orientable = !nonorientable.contains(&true);
         TopologyReport {
@@ -1324,7 +1331,9 @@ mod tests {
             duplicate_faces,
             inconsistent_edges,
             closed: boundary_edges == 0,
-            manifold: non_manifold_edges == 0 && non_manifold_vertices == 0 && degenerate_faces == 0,
+            manifold: non_manifold_edges == 0
+                && non_manifold_vertices == 0
+                && degenerate_faces == 0,
             orientable,
             consistently_oriented: orientable && inconsistent_edges == 0,
             genus,
@@ -1372,7 +1381,10 @@ mod tests {
                     match (a, b) {
                         (0, 0) => {
                             // Tetrahedron, outward orientation.
-                            tris.extend([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]].map(|t| t.map(|x| x + b0)));
+                            tris.extend(
+                                [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]
+                                    .map(|t| t.map(|x| x + b0)),
+                            );
                             nv += 4;
                         }
                         (1, 0) => {
@@ -1420,14 +1432,17 @@ mod tests {
                 // Relabel and shuffle (a small LCG from the seed).
                 let mut s = seed | 1;
                 let mut next = move |n: usize| {
-                    s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                    s = s
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
                     ((s >> 33) as usize) % n.max(1)
                 };
                 let mut perm: Vec<u32> = (0..nv as u32).collect();
                 for k in (1..nv).rev() {
                     perm.swap(k, next(k + 1));
                 }
-                let mut tris: Vec<[u32; 3]> = tris.iter().map(|t| t.map(|v| perm[v as usize])).collect();
+                let mut tris: Vec<[u32; 3]> =
+                    tris.iter().map(|t| t.map(|v| perm[v as usize])).collect();
                 for k in (1..tris.len()).rev() {
                     tris.swap(k, next(k + 1));
                 }
@@ -1459,7 +1474,10 @@ mod tests {
     fn reference_knows_a_torus_and_two_spheres() {
         let t = torus_grid(4, 5, 0);
         let r = reference(20, &t);
-        assert_eq!((r.components, r.genus.clone(), r.euler_characteristic), (1, vec![1], 0));
+        assert_eq!(
+            (r.components, r.genus.clone(), r.euler_characteristic),
+            (1, vec![1], 0)
+        );
         assert!(r.closed && r.manifold && r.consistently_oriented);
         let mut two: Vec<[u32; 3]> = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]].to_vec();
         two.extend(two.clone().iter().map(|t| t.map(|x| x + 4)));
