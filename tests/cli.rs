@@ -1702,9 +1702,11 @@ fn delaunay_errors_are_clear() {
     }
 }
 
-/// `--metrics` (issue 20): `fast` (the default) and `full` give the same report;
-/// `none` keeps every key, leaves topology and Hausdorff empty and says why; other
-/// levels are refused.
+/// `--metrics` (issue 20): `fast` (the default) and `full` give the same report but for
+/// the Hausdorff estimate, which `fast` takes over a fixed budget of mesh samples
+/// without the vertices (at most `full`'s, and says so: `hausdorff_kind`,
+/// `hausdorff_mesh_samples`); `none` keeps every key, leaves topology and Hausdorff
+/// empty and says why; other levels are refused.
 #[test]
 fn metrics_levels_keep_the_keys() {
     let run = |level: Option<&str>| {
@@ -1734,8 +1736,38 @@ fn metrics_levels_keep_the_keys() {
         run(Some("none")),
     );
     assert_eq!(default, fast);
-    assert_eq!(fast, full);
-    assert!(fast["hausdorff"].as_f64().unwrap() > 0.0);
+    let (hf, hu) = (
+        fast["hausdorff"].as_f64().unwrap(),
+        full["hausdorff"].as_f64().unwrap(),
+    );
+    assert!(
+        hf > 0.0 && hf <= hu && hf >= 0.5 * hu,
+        "fast {hf}, full {hu}"
+    );
+    assert!(fast["hausdorff_kind"]
+        .as_str()
+        .unwrap()
+        .contains("sampled estimate"));
+    assert!(fast["hausdorff_kind"]
+        .as_str()
+        .unwrap()
+        .contains("vertices left out"));
+    assert!(!full["hausdorff_kind"].as_str().unwrap().contains("sampled"));
+    assert_eq!(fast["hausdorff_mesh_samples"], serde_json::json!(20_000));
+    assert!(full["hausdorff_mesh_samples"].as_u64().unwrap() > 20_000);
+    assert_eq!(
+        fast["hausdorff_surface_samples"],
+        full["hausdorff_surface_samples"]
+    );
+    let rest = |v: &serde_json::Value| {
+        let mut v = v.clone();
+        let o = v.as_object_mut().unwrap();
+        for k in ["hausdorff", "hausdorff_kind", "hausdorff_mesh_samples"] {
+            o.remove(k);
+        }
+        v
+    };
+    assert_eq!(rest(&fast), rest(&full));
     assert_eq!(fast["topology_ok"], serde_json::json!(true));
     let keys = |v: &serde_json::Value| v.as_object().unwrap().keys().cloned().collect::<Vec<_>>();
     assert_eq!(keys(&none), keys(&fast));

@@ -773,5 +773,95 @@ proptest! {
         prop_assert_eq!(bits(fast.mean_min_angle_deg), bits(full.mean_min_angle_deg));
         prop_assert_eq!(bits(fast.min_edge_ratio), bits(full.min_edge_ratio));
         prop_assert_eq!(bits(fast.max_edge_ratio), bits(full.max_edge_ratio));
+        // `--metrics fast`'s extremes (one cross product per triangle, atan2 only for
+        // a possible extreme): the same range, bit for bit, and no mean or ratios.
+        let ext = angles::triangle_extremes(&m).unwrap();
+        prop_assert_eq!(ext.degenerate, full.degenerate);
+        prop_assert_eq!(bits(ext.min_angle_deg), bits(full.min_angle_deg));
+        prop_assert_eq!(bits(ext.max_angle_deg), bits(full.max_angle_deg));
+        prop_assert!(ext.mean_min_angle_deg.is_none() && ext.max_edge_ratio.is_none());
+    }
+}
+
+/// `--metrics fast`'s sampled Hausdorff estimate (issue 20) against `full`'s, on the
+/// catalog torus and sphere meshed by marching cubes at two resolutions, with the
+/// report's sampling (`fidelity_params`). What holds by construction: the surface →
+/// mesh side is the same, bit for bit (the same surface points, the same exact
+/// distances through the centroid grid); the mesh → surface side is a maximum over a
+/// subset of `full`'s points (the samples, not the vertices), each projected the same
+/// way, so it is at most `full`'s; hence the two-sided estimate is at most `full`'s.
+/// What is measured, not proven: it is not much lower (at least half here). The
+/// angle range of `fast` is `full`'s, bit for bit.
+#[test]
+fn fast_hausdorff_is_a_sampled_lower_estimate_of_full() {
+    use certmesh::harness::compare::fidelity_params;
+    use certmesh::mesher::{self, registry, NoProgress};
+    for name in ["torus", "sphere"] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        let dom: Aabb = e.domain.into();
+        for res in [32, 96] {
+            let o = certmesh::MesherOptions {
+                resolution: Some(res),
+                ..Default::default()
+            };
+            let m = registry::build("mc", 3, &o).unwrap();
+            let run = mesher::run(m.as_ref(), &f, &e.domain, &NoProgress).unwrap();
+            let surf = run.output.mesh.surface().unwrap();
+            let params = fidelity_params(&dom, 3);
+            let full = fidelity::surface_fidelity(surf, &f, &params).unwrap();
+            let fast = fidelity::surface_fidelity(
+                surf,
+                &f,
+                &params.clone().hausdorff_only(true).project_vertices(false),
+            )
+            .unwrap();
+            let what = format!("{name} at {res}: fast {fast:?}, full {full:?}");
+            assert_eq!(
+                fast.hausdorff_surface_to_mesh.to_bits(),
+                full.hausdorff_surface_to_mesh.to_bits(),
+                "{what}"
+            );
+            assert_eq!(
+                fast.mean_surface_to_mesh.to_bits(),
+                full.mean_surface_to_mesh.to_bits(),
+                "{what}"
+            );
+            assert_eq!(fast.fidelity_surface_samples, full.fidelity_surface_samples);
+            assert!(
+                fast.hausdorff_mesh_to_surface <= full.hausdorff_mesh_to_surface,
+                "{what}"
+            );
+            assert!(fast.hausdorff <= full.hausdorff, "{what}");
+            assert!(fast.hausdorff >= 0.5 * full.hausdorff, "{what}");
+            assert!(
+                fast.hausdorff_mesh_to_surface >= 0.5 * full.hausdorff_mesh_to_surface,
+                "{what}"
+            );
+            assert_eq!(fast.hausdorff_kind, fidelity::HAUSDORFF_KIND_SAMPLED);
+            assert_eq!(full.hausdorff_kind, fidelity::HAUSDORFF_KIND);
+            // The fixed budget: the samples only (all converge on these meshes), and
+            // every vertex besides them under `full`.
+            assert_eq!(fast.fidelity_mesh_samples, params.mesh_samples, "{what}");
+            assert!(full.fidelity_mesh_samples > params.mesh_samples);
+            let (a, b) = (
+                angles::triangle_ranges(surf).unwrap(),
+                angles::triangle_extremes(surf).unwrap(),
+            );
+            assert_eq!(
+                a.min_angle_deg.map(f64::to_bits),
+                b.min_angle_deg.map(f64::to_bits)
+            );
+            assert_eq!(
+                a.max_angle_deg.map(f64::to_bits),
+                b.max_angle_deg.map(f64::to_bits)
+            );
+            // The topology the report computes is the one of the general pass.
+            let t = metrics::analyze(surf).unwrap();
+            assert!(
+                t.closed && t.manifold && t.consistently_oriented,
+                "{name} {res}"
+            );
+        }
     }
 }

@@ -330,6 +330,82 @@ pub fn triangle_ranges(mesh: &TriMesh) -> Result<TriangleAngles> {
     })
 }
 
+/// The smallest and largest triangle angle, the same values as [`triangle_ranges`]
+/// (bit for bit), and the number of degenerate triangles; without the mean smallest
+/// angle and the edge ratios (`None`: the report's `--metrics fast`, which prints only
+/// the range). Per triangle: the three edge vectors, one cross product (its norm is
+/// the degeneracy test's doubled area, and the sine part of every angle's atan2 pair
+/// up to rounding) and three dot products; an angle's exact pair ([`angle_pair`]) and
+/// its atan2 are computed only when the approximate pair may beat an extreme
+/// ([`Extremes`], with a margin covering the difference: see below). No atan2 for the
+/// others, and no per-triangle smallest angle.
+pub fn triangle_extremes(mesh: &TriMesh) -> Result<TriangleAngles> {
+    super::check_trimesh(mesh)?;
+    const CHUNK: usize = 8192;
+    let tris = &mesh.triangles;
+    let parts: Vec<(Extremes, usize)> = tris
+        .par_chunks(CHUNK)
+        .map(|ch| {
+            let mut ext = Extremes::EMPTY;
+            let mut ok = 0usize;
+            for t in ch {
+                if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
+                    continue;
+                }
+                let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+                let (ab, bc, ca) = (sub(b, a), sub(c, b), sub(a, c));
+                let l2max = dot(ab, ab).max(dot(bc, bc)).max(dot(ca, ca));
+                // The pair of the angle at a, exactly as `triangle_pairs` (and
+                // `triangle_is_degenerate`) compute it.
+                let y = norm(cross(ca, ab));
+                if !(y > DEGENERATE_REL * l2max) {
+                    continue;
+                }
+                ok += 1;
+                let xs = [-dot(ca, ab), -dot(ab, bc), -dot(bc, ca)];
+                // The exact pairs of the angles at b and c have |u×v| of their own edge
+                // vectors for y: the same doubled area, computed from other products.
+                // Each computed norm is within a few ulps of |u| |v| ≤ l2max of the
+                // true doubled area, so |y − y_exact| ≤ 1e-14 l2max (generously);
+                // adding twice that to Extremes' margin (and doubling its relative
+                // part) keeps every skip proven for the exact pair: its test value is
+                // then still above 1e-9 (|x| + |y|).
+                let slack = 2e-14 * l2max;
+                for (k, &x) in xs.iter().enumerate() {
+                    let r = 2e-9 * (y + x.abs()) + slack;
+                    let above_min = ext.min_dir[0] * y - ext.min_dir[1] * x > r;
+                    let below_max = ext.max_dir[0] * y - ext.max_dir[1] * x < -r;
+                    if above_min && below_max {
+                        continue;
+                    }
+                    ext.offer(match k {
+                        0 => (y, x),
+                        1 => (norm(cross(ab, bc)), x),
+                        _ => (norm(cross(bc, ca)), x),
+                    });
+                }
+            }
+            (ext, ok)
+        })
+        .collect();
+    let mut ext = Extremes::EMPTY;
+    let mut ok = 0;
+    for (e, n) in parts {
+        ext.merge(e);
+        ok += n;
+    }
+    Ok(TriangleAngles {
+        triangles: tris.len(),
+        degenerate: tris.len() - ok,
+        min_angle_deg: (ok > 0).then_some(ext.min),
+        max_angle_deg: (ok > 0).then_some(ext.max),
+        mean_min_angle_deg: None,
+        min_edge_ratio: None,
+        max_edge_ratio: None,
+        histogram: Histogram::empty(0.0, 180.0, 180.0),
+    })
+}
+
 /// Summary of the triangle angles, with a histogram of `bin_width` degrees.
 pub fn triangle_summary(mesh: &TriMesh, bin_width: f64) -> Result<TriangleAngles> {
     let per = per_triangle(mesh)?;

@@ -25,6 +25,12 @@ use std::collections::BTreeMap;
 /// What the Hausdorff fields are: maxima over finite samples, so estimates, not bounds.
 pub const HAUSDORFF_KIND: &str = "estimate (maximum over samples; not a bound)";
 
+/// What the Hausdorff fields are when [`FidelityParams::project_vertices`] is off (the
+/// report's `--metrics fast`): the mesh side from the fixed budget of area-proportional
+/// samples alone, so a lower estimate of the mesh → surface side than with every vertex.
+pub const HAUSDORFF_KIND_SAMPLED: &str = "sampled estimate (maximum over a fixed budget of \
+     area-proportional mesh samples, vertices left out, and over surface points; not a bound)";
+
 /// How much sampling to do. Defaults: 50 000 mesh samples, a 48³ (curves: 256²) seed
 /// grid, 16 Newton steps, domain = mesh bounding box grown by 10% of its diagonal.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,6 +48,14 @@ pub struct FidelityParams {
     /// projection) per vertex and per element, are left undefined with the reason
     /// [`NOT_COMPUTED`]. The Hausdorff values are the same as without it.
     pub hausdorff_only: bool,
+    /// Project every vertex onto f = 0 for the mesh → surface side, besides the
+    /// `mesh_samples` (default). Off (the report's `--metrics fast`): the samples alone,
+    /// a fixed budget whatever the mesh's size, and the surface → mesh distances through
+    /// [`super::nearest::CentroidGrid`] (the same distances as with it on, for a
+    /// cheaper index). Every sample is one of the points projected with it on, so the
+    /// mesh → surface estimate is at most the one with it on, and the surface → mesh
+    /// side is the same; [`Fidelity::hausdorff_kind`] says which was done.
+    pub project_vertices: bool,
 }
 
 /// Why a field is undefined when [`FidelityParams::hausdorff_only`] skipped it.
@@ -55,6 +69,7 @@ impl Default for FidelityParams {
             newton_steps: 16,
             domain: None,
             hausdorff_only: false,
+            project_vertices: true,
         }
     }
 }
@@ -81,6 +96,10 @@ impl FidelityParams {
         self.hausdorff_only = yes;
         self
     }
+    pub fn project_vertices(mut self, yes: bool) -> Self {
+        self.project_vertices = yes;
+        self
+    }
 }
 
 /// Fidelity of a mesh to f = 0. Distances are in model units.
@@ -90,7 +109,8 @@ pub struct Fidelity {
     /// (infinite if ∇f vanishes at a vertex where f does not).
     pub max_distance_estimate: f64,
     pub mean_distance_estimate: f64,
-    /// Mesh → surface: max over vertices and samples of the distance to their Newton
+    /// Mesh → surface: max over vertices and samples (samples only when
+    /// [`FidelityParams::project_vertices`] is off) of the distance to their Newton
     /// projection onto f = 0. Each distance bounds the distance to the surface from
     /// above (the projection is a point of the surface, not always the nearest one).
     pub hausdorff_mesh_to_surface: f64,
@@ -112,7 +132,8 @@ pub struct Fidelity {
     /// Elements whose normal points against ∇f (θ > 90°): against the convention that
     /// normals point towards f > 0. Always 0 for curves (which carry no orientation).
     pub flipped_normals: usize,
-    /// What the `hausdorff*` numbers are: [`HAUSDORFF_KIND`] (sampled estimates).
+    /// What the `hausdorff*` numbers are: [`HAUSDORFF_KIND`] (sampled estimates), or
+    /// [`HAUSDORFF_KIND_SAMPLED`] when the vertices were left out.
     pub hausdorff_kind: &'static str,
     /// For each field above that is undefined (NaN, `null` in JSON) or infinite: why.
     /// Empty when every number was measured.
@@ -454,8 +475,10 @@ struct Elements<'a> {
     weights: Vec<f64>,
     /// Sample `i` of element `e` (a deterministic low-discrepancy point on it).
     sample: &'a (dyn Fn(usize, usize) -> [f64; 3] + Sync),
-    /// The distance from a point to the mesh.
-    closest: &'a (dyn Fn([f64; 3]) -> Option<f64> + Sync),
+    /// The distances from points to the mesh (of those that have one: none when the
+    /// mesh has no element); it builds its index itself, beside the mesh → surface
+    /// projections.
+    closest: &'a (dyn Fn(&[[f64; 3]]) -> Vec<f64> + Sync),
     /// The normal of element `e` and the point where ∇f is compared with it.
     normal: &'a (dyn Fn(usize) -> Option<([f64; 3], [f64; 3])> + Sync),
     /// Seed grid when `params.seed_grid` is 0.
@@ -491,43 +514,56 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
         distance_estimates(&est, &mut undefined)
     };
 
-    // Measure-proportional deterministic samples: stratified along the cumulative
-    // measure.
-    let mut cum = Vec::with_capacity(el.weights.len());
-    let mut acc = 0.0;
-    for w in &el.weights {
-        acc += w;
-        cum.push(acc);
-    }
-    let total = acc;
-    let ns = if total > 0.0 { params.mesh_samples } else { 0 };
-    let samples: Vec<[f64; 3]> = (0..ns)
-        .into_par_iter()
-        .map(|i| {
-            let u = (i as f64 + 0.5) / ns as f64 * total;
-            let e = cum.partition_point(|&c| c < u).min(el.weights.len() - 1);
-            (el.sample)(e, i)
-        })
-        .collect();
-    let from: Vec<[f64; 3]> = verts.iter().chain(&samples).copied().collect();
-    let m2s: Vec<Option<f64>> = project_samples(f, &from, steps, tol)
-        .into_iter()
-        .zip(&from)
-        .map(|(q, &p)| q.map(|q| geom::dist(p, q)))
-        .collect();
-    let attempted = m2s.len();
-    let unconverged = m2s.iter().filter(|d| d.is_none()).count();
-    let m2s: Vec<f64> = m2s.into_iter().flatten().collect();
+    // Two independent sides, side by side: the mesh → surface projections, and the
+    // surface points with their distances to the mesh (whose index is built there).
+    let ((m2s, attempted, unconverged), (s2m, spts_len, candidates)) = rayon::join(
+        || {
+            // Measure-proportional deterministic samples: stratified along the
+            // cumulative measure.
+            let mut cum = Vec::with_capacity(el.weights.len());
+            let mut acc = 0.0;
+            for w in &el.weights {
+                acc += w;
+                cum.push(acc);
+            }
+            let total = acc;
+            let ns = if total > 0.0 { params.mesh_samples } else { 0 };
+            let samples: Vec<[f64; 3]> = (0..ns)
+                .into_par_iter()
+                .map(|i| {
+                    let u = (i as f64 + 0.5) / ns as f64 * total;
+                    let e = cum.partition_point(|&c| c < u).min(el.weights.len() - 1);
+                    (el.sample)(e, i)
+                })
+                .collect();
+            let from: Vec<[f64; 3]> = if params.project_vertices {
+                verts.iter().chain(&samples).copied().collect()
+            } else {
+                samples
+            };
+            let m2s: Vec<Option<f64>> = project_samples(f, &from, steps, tol)
+                .into_iter()
+                .zip(&from)
+                .map(|(q, &p)| q.map(|q| geom::dist(p, q)))
+                .collect();
+            let attempted = m2s.len();
+            let unconverged = m2s.iter().filter(|d| d.is_none()).count();
+            let m2s: Vec<f64> = m2s.into_iter().flatten().collect();
+            (m2s, attempted, unconverged)
+        },
+        || {
+            let n = if params.seed_grid == 0 {
+                el.default_seed_grid
+            } else {
+                params.seed_grid
+            };
+            let (spts, candidates) = surface_points_counted(f, &domain, n, steps, tol);
+            ((el.closest)(&spts), spts.len(), candidates)
+        },
+    );
     let (h_ms, mean_ms) = mesh_to_surface(&m2s, attempted, &mut undefined);
 
-    let n = if params.seed_grid == 0 {
-        el.default_seed_grid
-    } else {
-        params.seed_grid
-    };
-    let (spts, candidates) = surface_points_counted(f, &domain, n, steps, tol);
-    let s2m: Vec<f64> = spts.par_iter().filter_map(|&p| (el.closest)(p)).collect();
-    let (h_sm, mean_sm) = surface_to_mesh(&s2m, candidates, spts.len(), &mut undefined);
+    let (h_sm, mean_sm) = surface_to_mesh(&s2m, candidates, spts_len, &mut undefined);
 
     let (dmax, dmean, flipped) = if params.hausdorff_only {
         let (a, b) = skip(
@@ -594,7 +630,11 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
         normal_dev_max_deg: dmax,
         normal_dev_mean_deg: dmean,
         flipped_normals: flipped,
-        hausdorff_kind: HAUSDORFF_KIND,
+        hausdorff_kind: if params.project_vertices {
+            HAUSDORFF_KIND
+        } else {
+            HAUSDORFF_KIND_SAMPLED
+        },
         fidelity_undefined: undefined,
     })
 }
@@ -612,18 +652,33 @@ pub fn surface_fidelity(
             f.dim()
         )));
     }
-    let verts: Vec<[f64; 3]> = used_vertices(mesh.vertices.len(), &mesh.triangles)
-        .map(|v| mesh.vertices[v as usize])
-        .collect();
+    // The used vertices, unless nothing needs them (the report's `--metrics fast`
+    // with its domain given).
+    let need_verts = !params.hausdorff_only || params.project_vertices || params.domain.is_none();
+    let verts: Vec<[f64; 3]> = if need_verts {
+        used_vertices(mesh.vertices.len(), &mesh.triangles)
+            .map(|v| mesh.vertices[v as usize])
+            .collect()
+    } else {
+        Vec::new()
+    };
     let weights: Vec<f64> = (0..mesh.triangles.len())
+        .into_par_iter()
+        .with_min_len(4096)
         .map(|t| {
             let [a, b, c] = mesh.corners(t);
             0.5 * geom::norm(geom::cross(geom::sub(b, a), geom::sub(c, a)))
         })
         .collect();
     // A uniform grid, not a BVH: a linear build for the few thousand surface points
-    // (the same exact distances, see `kernel::cellgrid`).
-    let grid = TriGrid::new(mesh)?;
+    // (the same exact distances, see `kernel::cellgrid`); with the vertices left out,
+    // the cheaper centroid grid (the same distances again, see `super::nearest`),
+    // built beside the mesh → surface projections.
+    let grid = if params.project_vertices {
+        Some(TriGrid::new(mesh)?)
+    } else {
+        None
+    };
     let sample = |t: usize, i: usize| {
         let [a, b, c] = mesh.corners(t);
         let (r1, r2) = r2(i);
@@ -631,7 +686,20 @@ pub fn surface_fidelity(
         let (wa, wb, wc) = (1.0 - s, s * (1.0 - r2), s * r2);
         [0, 1, 2].map(|k| wa * a[k] + wb * b[k] + wc * c[k])
     };
-    let closest = |p: [f64; 3]| grid.closest_dist2(p).map(f64::sqrt);
+    let closest = |pts: &[[f64; 3]]| -> Vec<f64> {
+        match &grid {
+            Some(g) => pts
+                .par_iter()
+                .filter_map(|&p| g.closest_dist2(p).map(f64::sqrt))
+                .collect(),
+            None => {
+                let g = super::nearest::CentroidGrid::new(mesh);
+                pts.par_iter()
+                    .filter_map(|&p| g.closest_dist2(p).map(f64::sqrt))
+                    .collect()
+            }
+        }
+    };
     let normal = |t: usize| {
         let [a, b, c] = mesh.corners(t);
         let n = geom::cross(geom::sub(b, a), geom::sub(c, a));
@@ -683,7 +751,11 @@ pub fn curve_fidelity(
         let [a, b] = curve.segments[s];
         geom::lerp(lift(a), lift(b), r2(i).0)
     };
-    let closest = |p: [f64; 3]| bvh.closest([p[0], p[1]]).map(|c| c.dist2.sqrt());
+    let closest = |pts: &[[f64; 3]]| -> Vec<f64> {
+        pts.par_iter()
+            .filter_map(|&p| bvh.closest([p[0], p[1]]).map(|c| c.dist2.sqrt()))
+            .collect()
+    };
     let normal = |s: usize| {
         let [a, b] = curve.segments[s];
         let (a, b) = (lift(a), lift(b));

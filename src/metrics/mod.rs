@@ -4,6 +4,7 @@
 pub mod angles;
 pub mod embedding;
 pub mod fidelity;
+pub mod nearest;
 pub mod topology;
 
 pub use angles::{Histogram, TetAngles, TetRanges, TriangleAngles};
@@ -48,6 +49,14 @@ pub fn components(mesh: &TriMesh) -> Result<usize> {
 pub const ANGLE_BIN_DEG: f64 = 5.0;
 
 fn check_indices<const N: usize>(nv: usize, what: &str, elems: &[[u32; N]]) -> Result<()> {
+    // The largest index first (a branch-free fold the compiler vectorises); only a
+    // mesh that fails is searched for the first bad element, to name it.
+    let largest = elems
+        .iter()
+        .fold(0u32, |m, e| e.iter().fold(m, |m, &v| m.max(v)));
+    if elems.is_empty() || (largest as usize) < nv {
+        return Ok(());
+    }
     for (i, e) in elems.iter().enumerate() {
         if let Some(&v) = e.iter().find(|&&v| v as usize >= nv) {
             return Err(Error::Param(format!(
@@ -59,6 +68,14 @@ fn check_indices<const N: usize>(nv: usize, what: &str, elems: &[[u32; N]]) -> R
 }
 
 fn check_finite<const D: usize>(verts: &[[f64; D]]) -> Result<()> {
+    // A branch-free pass (an OR of comparisons, which the compiler vectorises); the
+    // first bad vertex is searched only when there is one.
+    let bad = verts
+        .iter()
+        .fold(false, |b, p| p.iter().fold(b, |b, x| b | !x.is_finite()));
+    if !bad {
+        return Ok(());
+    }
     match verts.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
         Some(i) => Err(Error::NotFinite(format!(
             "vertex {i} has coordinates {:?}",
@@ -139,13 +156,40 @@ pub fn stats_and_topology(
     f: Option<&dyn Implicit>,
     params: &FidelityParams,
 ) -> Result<(Stats, TopologyReport)> {
+    stats_and_topology_at(mesh, f, params, true)
+}
+
+/// [`stats_and_topology`] for the report's `--metrics fast`: the angle range without
+/// the mean smallest angle and the edge ratios (`None`; [`angles::triangle_extremes`],
+/// the same range bit for bit), every other field as [`stats_and_topology`] computes
+/// it with `params`.
+pub fn stats_and_topology_fast(
+    mesh: &TriMesh,
+    f: Option<&dyn Implicit>,
+    params: &FidelityParams,
+) -> Result<(Stats, TopologyReport)> {
+    stats_and_topology_at(mesh, f, params, false)
+}
+
+fn stats_and_topology_at(
+    mesh: &TriMesh,
+    f: Option<&dyn Implicit>,
+    params: &FidelityParams,
+    full_angles: bool,
+) -> Result<(Stats, TopologyReport)> {
     // Three independent measures, side by side on rayon's threads (each is parallel
     // inside too; the serial parts of one overlap the others).
     let (topo, (ang, fidelity)) = rayon::join(
         || analyze(mesh),
         || {
             rayon::join(
-                || angles::triangle_ranges(mesh),
+                || {
+                    if full_angles {
+                        angles::triangle_ranges(mesh)
+                    } else {
+                        angles::triangle_extremes(mesh)
+                    }
+                },
                 || {
                     f.map(|f| fidelity::surface_fidelity(mesh, f, params))
                         .transpose()

@@ -19,7 +19,7 @@
 use super::{check_curve, check_tetmesh, check_trimesh};
 use crate::catalog::Topology;
 use crate::error::Result;
-use crate::mesh::{Buckets, Curve2, TetMesh, TriMesh};
+use crate::mesh::{Curve2, TetMesh, TriMesh};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -256,17 +256,51 @@ fn small_link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]]) -> boo
     count == n
 }
 
-/// Every vertex's non-degenerate faces, in face order: the stars of [`stars_of`].
-fn star_buckets(nv: usize, tris: &[[u32; 3]], degenerate: &[bool]) -> Buckets<u32> {
-    Buckets::build(nv, |emit| {
-        for (f, t) in tris.iter().enumerate() {
-            if !degenerate[f] {
-                for &v in t {
-                    emit(v, f as u32);
-                }
+/// Every vertex's faces (a counting sort by vertex: `faces[start[v]..start[v + 1]]`).
+struct StarLists {
+    start: Vec<u32>,
+    faces: Vec<u32>,
+}
+
+impl StarLists {
+    #[inline]
+    fn bucket(&self, v: usize) -> &[u32] {
+        &self.faces[self.start[v] as usize..self.start[v + 1] as usize]
+    }
+}
+
+/// Every vertex's non-degenerate faces, in face order: the stars of [`stars_of`]. A
+/// counting sort written out (count, prefix sums, fill), the two passes over the faces
+/// without a closure call per incidence.
+fn star_buckets(nv: usize, tris: &[[u32; 3]], degenerate: &[bool]) -> StarLists {
+    assert!(
+        (tris.len() as u64) * 3 < u32::MAX as u64,
+        "{} faces: too many to bucket",
+        tris.len()
+    );
+    let mut start = vec![0u32; nv + 1];
+    for (t, &d) in tris.iter().zip(degenerate) {
+        if !d {
+            for &v in t {
+                start[v as usize + 1] += 1;
             }
         }
-    })
+    }
+    for k in 0..nv {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start[..nv].to_vec();
+    let mut faces = vec![0u32; start[nv] as usize];
+    for (f, (t, &d)) in tris.iter().zip(degenerate).enumerate() {
+        if !d {
+            for &v in t {
+                let slot = &mut fill[v as usize];
+                faces[*slot as usize] = f as u32;
+                *slot += 1;
+            }
+        }
+    }
+    StarLists { start, faces }
 }
 
 /// Vertices per task of the star pass of [`analyze`].
@@ -300,7 +334,28 @@ struct Stars {
 /// per edge, with its faces ascending (what a global sort of the half-edges by (lo, hi,
 /// face) gives, edge by edge); v's link; and the vertex sets of the faces whose
 /// smallest vertex is v.
-fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &Buckets<u32>) -> Stars {
+#[cfg(test)]
+fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &StarLists) -> Stars {
+    stars_of_with(range, tris, vfaces, false)
+}
+
+/// [`stars_of`], with `fast`: a vertex whose star is one consistently oriented disk
+/// cycle of 3 to [`SMALL_LINK`] faces ([`is_one_directed_cycle`]: the common vertex of a
+/// closed or bordered manifold) is settled from that cycle alone: each link vertex u
+/// starts exactly one link edge (the face runs v → u) and ends exactly one (u → v),
+/// so the edge {v, u} is in exactly those two faces, traversed in opposite directions
+/// (manifold, not boundary, not inconsistent); v's link is a cycle; and no two faces of
+/// the star have the same vertex set (with n ≥ 3 faces, v a b and v b a would close a
+/// 2-cycle, and a repeated v a b a repeated start). So the counts are those of the
+/// general pass; only the face pairs of [`Stars::adjacent`] are not listed (the
+/// orientation search needs them only when some edge is inconsistent, and [`analyze`]
+/// then runs the general pass).
+fn stars_of_with(
+    range: std::ops::Range<usize>,
+    tris: &[[u32; 3]],
+    vfaces: &StarLists,
+    fast: bool,
+) -> Stars {
     let mut out = Stars {
         first: range.start,
         at: vec![StarCounts::default(); range.len()],
@@ -318,6 +373,19 @@ fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &Buckets<u
             continue;
         }
         let v32 = v as u32;
+        if fast && fs.len() >= 3 && fs.len() <= SMALL_LINK {
+            let mut ends = [(0u32, 0u32); SMALL_LINK];
+            for (e, &f) in ends.iter_mut().zip(fs) {
+                let t = tris[f as usize];
+                let k = t.iter().position(|&x| x == v32).unwrap_or(0);
+                *e = (t[(k + 1) % 3], t[(k + 2) % 3]);
+            }
+            let ends = &ends[..fs.len()];
+            if is_one_directed_cycle(ends) {
+                out.at[k].edges = ends.iter().filter(|e| e.0 > v32).count() as u32;
+                continue;
+            }
+        }
         half.clear();
         sets.clear();
         for &f in fs {
@@ -347,7 +415,9 @@ fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &Buckets<u
                 2 => {
                     let same = run[0].2 == run[1].2;
                     out.inconsistent_edges += same as usize;
-                    out.adjacent.push((run[0].1, run[1].1, same));
+                    if !fast {
+                        out.adjacent.push((run[0].1, run[1].1, same));
+                    }
                 }
                 _ => at.non_manifold_edges += 1,
             }
@@ -359,6 +429,21 @@ fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &Buckets<u
         at.bad_link = !link_is_disk_or_sphere(v32, fs, tris, &mut scratch);
     }
     out
+}
+
+/// [`stars_of_with`] over every vertex, in parallel chunks, in vertex order.
+fn all_stars(nv: usize, tris: &[[u32; 3]], vfaces: &StarLists, fast: bool) -> Vec<Stars> {
+    (0..nv.div_ceil(STAR_CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            stars_of_with(
+                c * STAR_CHUNK..((c + 1) * STAR_CHUNK).min(nv),
+                tris,
+                vfaces,
+                fast,
+            )
+        })
+        .collect()
 }
 
 impl TopologyReport {
@@ -380,12 +465,12 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         .map(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
         .collect();
 
-    // Every vertex's faces (the non-degenerate ones, in face order): its star.
-    let vfaces = star_buckets(nv, tris, &degenerate);
-    // Components (union the vertices of every face) beside one parallel pass over the
-    // stars, which finds every edge at its smaller vertex, the link of every vertex and
-    // the duplicate faces at their smallest vertex.
-    let ((used, root, comp_of_root, ncomp), stars) = rayon::join(
+    // Components (union the vertices of every face) beside the stars (every vertex's
+    // non-degenerate faces, in face order) and one parallel pass over them, which
+    // finds every edge at its smaller vertex, the link of every vertex and the
+    // duplicate faces at their smallest vertex; consistently oriented disk stars are
+    // settled on the fast path of [`stars_of_with`].
+    let ((used, root, comp_of_root, ncomp), (vfaces, stars)) = rayon::join(
         || {
             let mut uf = UnionFind::new(nv);
             let mut used = vec![false; nv];
@@ -408,20 +493,28 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
             (used, root, comp_of_root, ncomp)
         },
         || {
-            (0..nv.div_ceil(STAR_CHUNK))
-                .into_par_iter()
-                .map(|c| {
-                    stars_of(
-                        c * STAR_CHUNK..((c + 1) * STAR_CHUNK).min(nv),
-                        tris,
-                        &vfaces,
-                    )
-                })
-                .collect::<Vec<Stars>>()
+            let vfaces = star_buckets(nv, tris, &degenerate);
+            let stars = all_stars(nv, tris, &vfaces, true);
+            (vfaces, stars)
         },
     );
+    // Some edge is traversed twice in the same direction: the orientation search needs
+    // the face pairs of every manifold edge, which the general pass lists (the same
+    // counts as the fast one).
+    let stars = if stars.iter().any(|s| s.inconsistent_edges > 0) {
+        all_stars(nv, tris, &vfaces, false)
+    } else {
+        stars
+    };
     drop(vfaces);
-    let comp = |v: u32| comp_of_root[root[v as usize] as usize] as usize;
+    // (One component: no lookups.)
+    let comp = |v: u32| {
+        if ncomp == 1 {
+            0
+        } else {
+            comp_of_root[root[v as usize] as usize] as usize
+        }
+    };
 
     let mut c_edges = vec![0usize; ncomp];
     let mut c_faces = vec![0usize; ncomp];
@@ -487,8 +580,12 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         }
     }
 
-    // Orientability (two-colour faces by "flipped or not" along manifold edges).
-    let nonorientable = {
+    // Orientability (two-colour faces by "flipped or not" along manifold edges). With
+    // no inconsistent edge, every pair is "not flipped": no face is flipped and there
+    // is no conflict, so the search is skipped.
+    let nonorientable = if inconsistent_edges == 0 {
+        Vec::new()
+    } else {
         let mut nonorientable = Vec::new();
         let mut start = vec![0u32; nf + 1];
         for &(f, g, _) in &adj_pairs {
@@ -534,16 +631,20 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         c_nonorientable[comp(tris[f as usize][0])] = true;
     }
 
-    // Boundary loops: cycle rank of the boundary graph, per component.
-    let mut buf = UnionFind::new(nv);
-    let mut on_boundary = vec![false; nv];
+    // Boundary loops: cycle rank of the boundary graph, per component (none without
+    // boundary edges).
+    let mut c_loops: Vec<i64> = c_bedges.iter().map(|&e| e as i64).collect();
+    let (mut buf, mut on_boundary) = if boundary.is_empty() {
+        (UnionFind::default(), Vec::new())
+    } else {
+        (UnionFind::new(nv), vec![false; nv])
+    };
     for &(a, b) in &boundary {
         buf.union(a, b);
         on_boundary[a as usize] = true;
         on_boundary[b as usize] = true;
     }
-    let mut c_loops: Vec<i64> = c_bedges.iter().map(|&e| e as i64).collect();
-    for v in 0..nv {
+    for v in 0..on_boundary.len() {
         if on_boundary[v] {
             let c = comp(v as u32);
             c_loops[c] -= 1; // − V_b
@@ -1020,6 +1121,369 @@ mod tests {
             .chunk_by(|x, y| x.0 == y.0)
             .map(|r| r.to_vec())
             .collect()
+    }
+
+    /// Every field of [`analyze`]'s report, computed the plain way (issue 20: the
+    /// reference of the fast paths): edges in a sorted map, links and orientations by
+    /// searches over explicit lists, components by a union-find over the faces, one
+    /// component at a time; nothing shared with `analyze` but [`UnionFind`].
+    fn reference(nv: usize, tris: &[[u32; 3]]) -> TopologyReport {
+        use std::collections::{BTreeMap, BTreeSet};
+        let degenerate = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+        let mut used = vec![false; nv];
+        let mut uf = UnionFind::new(nv);
+        for t in tris {
+            for &v in t {
+                used[v as usize] = true;
+            }
+            uf.union(t[0], t[1]);
+            uf.union(t[1], t[2]);
+        }
+        // Components numbered by their smallest vertex.
+        let mut id = BTreeMap::new();
+        for v in 0..nv as u32 {
+            if used[v as usize] {
+                let r = uf.find(v);
+                let k = id.len();
+                id.entry(r).or_insert(k);
+            }
+        }
+        let ncomp = id.len();
+        let comp = |uf: &mut UnionFind, v: u32| id[&uf.find(v)];
+        // Edges: (lo, hi) -> [(face, traversed lo -> hi)].
+        let mut edges: BTreeMap<(u32, u32), Vec<(usize, bool)>> = BTreeMap::new();
+        for (f, t) in tris.iter().enumerate() {
+            if degenerate(t) {
+                continue;
+            }
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                edges
+                    .entry((a.min(b), a.max(b)))
+                    .or_default()
+                    .push((f, a < b));
+            }
+        }
+        // Links: v -> its faces' opposite edges.
+        let mut link: Vec<Vec<(u32, u32)>> = vec![Vec::new(); nv];
+        for t in tris.iter().filter(|t| !degenerate(t)) {
+            for k in 0..3 {
+                link[t[k] as usize].push((t[(k + 1) % 3], t[(k + 2) % 3]));
+            }
+        }
+        let link_ok = |l: &Vec<(u32, u32)>| {
+            if l.is_empty() {
+                return true;
+            }
+            let mut deg: BTreeMap<u32, usize> = BTreeMap::new();
+            for &(a, b) in l {
+                *deg.entry(a).or_default() += 1;
+                *deg.entry(b).or_default() += 1;
+            }
+            // Connected: grow from the first edge.
+            let mut reached: BTreeSet<u32> = [l[0].0, l[0].1].into();
+            loop {
+                let before = reached.len();
+                for &(a, b) in l {
+                    if reached.contains(&a) || reached.contains(&b) {
+                        reached.insert(a);
+                        reached.insert(b);
+                    }
+                }
+                if reached.len() == before {
+                    break;
+                }
+            }
+            reached.len() == deg.len() && deg.values().all(|&d| d <= 2)
+        };
+        let bad_vertex: Vec<bool> = (0..nv).map(|v| used[v] && !link_ok(&link[v])).collect();
+        // Orientation: two-colour the faces over manifold edges, per component.
+        let mut flip: Vec<Option<bool>> = vec![None; tris.len()];
+        let mut nonorientable = vec![false; ncomp];
+        let mut pairs: Vec<Vec<(usize, bool)>> = vec![Vec::new(); tris.len()];
+        for fs in edges.values() {
+            if fs.len() == 2 {
+                let same = fs[0].1 == fs[1].1;
+                pairs[fs[0].0].push((fs[1].0, same));
+                pairs[fs[1].0].push((fs[0].0, same));
+            }
+        }
+        for f0 in 0..tris.len() {
+            if flip[f0].is_some() || degenerate(&tris[f0]) {
+                continue;
+            }
+            flip[f0] = Some(false);
+            let mut stack = vec![f0];
+            while let Some(f) = stack.pop() {
+                for &(g, same) in &pairs[f] {
+                    let want = flip[f].unwrap() ^ same;
+                    match flip[g] {
+                        None => {
+                            flip[g] = Some(want);
+                            stack.push(g);
+                        }
+                        Some(x) if x != want => nonorientable[comp(&mut uf, tris[f][0])] = true,
+                        _ => {}
+                    }
+                }
+            }
+        }
+        // Per component.
+        let mut cv = vec![0usize; ncomp];
+        let mut ce = vec![0usize; ncomp];
+        let mut cf = vec![0usize; ncomp];
+        let mut cb = vec![0usize; ncomp];
+        let mut bad = vec![false; ncomp];
+        for v in 0..nv {
+            if used[v] {
+                let c = comp(&mut uf, v as u32);
+                cv[c] += 1;
+                bad[c] |= bad_vertex[v];
+            }
+        }
+        let mut bverts: BTreeSet<u32> = BTreeSet::new();
+        let mut buf = UnionFind::new(nv);
+        for (&(a, _b), fs) in &edges {
+            let c = comp(&mut uf, a);
+            ce[c] += 1;
+            if fs.len() == 1 {
+                cb[c] += 1;
+                bverts.insert(a);
+                bverts.insert(_b);
+                buf.union(a, _b);
+            }
+            bad[c] |= fs.len() > 2;
+        }
+        for t in tris {
+            let c = comp(&mut uf, t[0]);
+            if degenerate(t) {
+                bad[c] = true;
+            } else {
+                cf[c] += 1;
+            }
+        }
+        let mut loops: Vec<i64> = cb.iter().map(|&b| b as i64).collect();
+        for &v in &bverts {
+            let c = comp(&mut uf, v);
+            loops[c] -= 1;
+            if buf.find(v) == v {
+                loops[c] += 1;
+            }
+        }
+        let mut list: Vec<ComponentReport> = (0..ncomp)
+            .map(|c| {
+                let chi = cv[c] as i64 - ce[c] as i64 + cf[c] as i64;
+                let b = loops[c].max(0) as usize;
+                let twice_g = 2 - chi - b as i64;
+                let (manifold, orientable) = (!bad[c], !nonorientable[c]);
+                ComponentReport {
+                    vertices: cv[c],
+                    edges: ce[c],
+                    faces: cf[c],
+                    euler_characteristic: chi,
+                    boundary_edges: cb[c],
+                    boundary_loops: b,
+                    closed: cb[c] == 0,
+                    manifold,
+                    orientable,
+                    genus: (manifold && orientable && twice_g >= 0 && twice_g % 2 == 0)
+                        .then_some((twice_g / 2) as usize),
+                }
+            })
+            .collect();
+        list.sort_by(|a, b| b.faces.cmp(&a.faces).then(b.vertices.cmp(&a.vertices)));
+        let mut sets = BTreeSet::new();
+        let mut duplicate_faces = 0;
+        for t in tris {
+            let mut k = *t;
+            k.sort_unstable();
+            duplicate_faces += !sets.insert(k) as usize;
+        }
+        let vertices = used.iter().filter(|&&u| u).count();
+        let degenerate_faces = tris.iter().filter(|t| degenerate(t)).count();
+        let non_manifold_edges = edges.values().filter(|f| f.len() > 2).count();
+        let non_manifold_vertices = bad_vertex.iter().filter(|&&b| b).count();
+        let inconsistent_edges = edges
+            .values()
+            .filter(|f| f.len() == 2 && f[0].1 == f[1].1)
+            .count();
+        let boundary_edges = edges.values().filter(|f| f.len() == 1).count();
+        let mut genus: Vec<usize> = list
+            .iter()
+            .filter(|c| c.closed)
+            .filter_map(|c| c.genus)
+            .collect();
+        genus.sort_unstable();
+        let orientable = !nonorientable.contains(&true);
+        TopologyReport {
+            vertices,
+            isolated_vertices: nv - vertices,
+            edges: edges.len(),
+            faces: tris.len(),
+            euler_characteristic: vertices as i64 - edges.len() as i64
+                + (tris.len() - degenerate_faces) as i64,
+            components: ncomp,
+            boundary_edges,
+            boundary_loops: list.iter().map(|c| c.boundary_loops).sum(),
+            non_manifold_edges,
+            non_manifold_vertices,
+            degenerate_faces,
+            duplicate_faces,
+            inconsistent_edges,
+            closed: boundary_edges == 0,
+            manifold: non_manifold_edges == 0
+                && non_manifold_vertices == 0
+                && degenerate_faces == 0,
+            orientable,
+            consistently_oriented: orientable && inconsistent_edges == 0,
+            genus,
+            component_list: list,
+        }
+    }
+
+    /// A closed, consistently oriented torus of n × m quads (each two triangles), its
+    /// vertices from `base`: every star a disk cycle of six faces (the fast path).
+    fn torus_grid(n: u32, m: u32, base: u32) -> Vec<[u32; 3]> {
+        let id = |i: u32, j: u32| base + (i % n) * m + (j % m);
+        (0..n)
+            .flat_map(|i| {
+                (0..m).flat_map(move |j| {
+                    [
+                        [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
+                        [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
+                    ]
+                })
+            })
+            .collect()
+    }
+
+    /// Closed oriented pieces (tetrahedra, octahedra, tori) edited by random changes
+    /// (flipped, deleted, repeated, degenerate and extra faces, two pieces pinched
+    /// together at a vertex), relabelled by a random permutation and shuffled: the
+    /// fast paths' meshes and their near misses.
+    fn edited_meshes() -> impl Strategy<Value = (usize, Vec<[u32; 3]>)> {
+        let piece = prop_oneof![
+            Just(0u32..0).prop_map(|_| (0u32, 0u32)),
+            Just(()).prop_map(|_| (1u32, 0u32)),
+            (3u32..6, 3u32..6),
+        ];
+        (
+            prop::collection::vec(piece, 1..4),
+            prop::collection::vec((0u8..6, any::<prop::sample::Index>(), 0u32..1000), 0..6),
+            0usize..3,
+            any::<u64>(),
+        )
+            .prop_map(|(pieces, edits, isolated, seed)| {
+                let mut tris: Vec<[u32; 3]> = Vec::new();
+                let mut nv = 0u32;
+                for (a, b) in pieces {
+                    let b0 = nv;
+                    match (a, b) {
+                        (0, 0) => {
+                            // Tetrahedron, outward orientation.
+                            tris.extend(
+                                [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]
+                                    .map(|t| t.map(|x| x + b0)),
+                            );
+                            nv += 4;
+                        }
+                        (1, 0) => {
+                            // Octahedron: poles 0, 5; equator 1..=4.
+                            for k in 0..4u32 {
+                                let (p, q) = (1 + k, 1 + (k + 1) % 4);
+                                tris.push([b0, b0 + p, b0 + q]);
+                                tris.push([b0 + 5, b0 + q, b0 + p]);
+                            }
+                            nv += 6;
+                        }
+                        (n, m) => {
+                            tris.extend(torus_grid(n, m, b0));
+                            nv += n * m;
+                        }
+                    }
+                }
+                for (kind, at, x) in edits {
+                    if tris.is_empty() {
+                        break;
+                    }
+                    let i = at.index(tris.len());
+                    match kind {
+                        0 => tris[i].swap(0, 1),
+                        1 => {
+                            tris.remove(i);
+                        }
+                        2 => tris.push(tris[i]),
+                        3 => tris.push([tris[i][0], tris[i][0], tris[i][1]]),
+                        4 => tris.push([tris[i][0], tris[i][1], x % nv]),
+                        _ => {
+                            // Pinch: one vertex of another face becomes this face's first.
+                            let (v, w) = (tris[i][0], tris[(i + 1 + x as usize) % tris.len()][1]);
+                            for t in tris.iter_mut() {
+                                for c in t.iter_mut() {
+                                    if *c == w {
+                                        *c = v;
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+                let nv = nv as usize + isolated;
+                // Relabel and shuffle (a small LCG from the seed).
+                let mut s = seed | 1;
+                let mut next = move |n: usize| {
+                    s = s
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    ((s >> 33) as usize) % n.max(1)
+                };
+                let mut perm: Vec<u32> = (0..nv as u32).collect();
+                for k in (1..nv).rev() {
+                    perm.swap(k, next(k + 1));
+                }
+                let mut tris: Vec<[u32; 3]> =
+                    tris.iter().map(|t| t.map(|v| perm[v as usize])).collect();
+                for k in (1..tris.len()).rev() {
+                    tris.swap(k, next(k + 1));
+                }
+                (nv, tris)
+            })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+        /// `analyze` (the fast disk-star path, the skipped orientation search and
+        /// boundary union-find, the written-out star lists) equals the plain
+        /// reference in every field, on edited closed meshes and on random soups.
+        #[test]
+        fn analyze_equals_reference_on_edited_meshes((nv, tris) in edited_meshes()) {
+            let m = TriMesh { vertices: vec![[0.0; 3]; nv], triangles: tris.clone() };
+            prop_assert_eq!(analyze(&m).unwrap(), reference(nv, &tris), "{:?}", tris);
+        }
+
+        #[test]
+        fn analyze_equals_reference_on_soups(tris in soup::<3>(9, 30)) {
+            let m = TriMesh { vertices: vec![[0.0; 3]; 9], triangles: tris.clone() };
+            prop_assert_eq!(analyze(&m).unwrap(), reference(9, &tris), "{:?}", tris);
+        }
+    }
+
+    /// The reference itself on known meshes: a torus grid is one closed orientable
+    /// genus-1 component; two tetrahedra are two spheres.
+    #[test]
+    fn reference_knows_a_torus_and_two_spheres() {
+        let t = torus_grid(4, 5, 0);
+        let r = reference(20, &t);
+        assert_eq!(
+            (r.components, r.genus.clone(), r.euler_characteristic),
+            (1, vec![1], 0)
+        );
+        assert!(r.closed && r.manifold && r.consistently_oriented);
+        let mut two: Vec<[u32; 3]> = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]].to_vec();
+        two.extend(two.clone().iter().map(|t| t.map(|x| x + 4)));
+        let r = reference(8, &two);
+        assert_eq!((r.components, r.genus.clone()), (2, vec![0, 0]));
+        assert!(r.is_closed_oriented_manifold());
     }
 
     fn soup<const K: usize>(nv: u32, n: usize) -> impl Strategy<Value = Vec<[u32; K]>> {
