@@ -114,19 +114,12 @@ impl<'a> TriGrid<'a> {
     /// The cell holding `p`, clamped into the grid.
     #[inline]
     fn cell(&self, p: [f64; 3]) -> [usize; 3] {
-        [0, 1, 2].map(|k| {
-            let i = ((p[k] - self.min[k]) / self.h[k]).floor();
-            if i >= 0.0 {
-                (i as usize).min(self.n[k] - 1)
-            } else {
-                0
-            }
-        })
+        [0, 1, 2].map(|k| clamp_cell((p[k] - self.min[k]) / self.h[k], self.n[k]))
     }
 
     #[inline]
     fn index(&self, c: [usize; 3]) -> usize {
-        (c[2] * self.n[1] + c[1]) * self.n[0] + c[0]
+        flat_index(c, self.n)
     }
 
     /// The squared distance from `p` to the nearest triangle (`None`: no triangle).
@@ -251,4 +244,22 @@ mod tests {
             None
         );
     }
+}
+
+/// The cell index along one axis of a grid of `n` cells, for the coordinate `t` in
+/// cell units (floored, clamped into 0..n).
+#[inline]
+pub(crate) fn clamp_cell(t: f64, n: usize) -> usize {
+    let i = t.floor();
+    if i >= 0.0 {
+        (i as usize).min(n - 1)
+    } else {
+        0
+    }
+}
+
+/// The position of cell `c` in a grid of `n` cells stored x fastest.
+#[inline]
+pub(crate) fn flat_index(c: [usize; 3], n: [usize; 3]) -> usize {
+    (c[2] * n[1] + c[1]) * n[0] + c[0]
 }

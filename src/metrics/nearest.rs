@@ -20,6 +20,7 @@
 //! [`TriGrid`]: crate::kernel::cellgrid::TriGrid
 //! [`TriGrid::closest_dist2`]: crate::kernel::cellgrid::TriGrid::closest_dist2
 use crate::kernel::bvh::closest_on_triangle;
+use crate::kernel::cellgrid::{clamp_cell, flat_index};
 use crate::kernel::geom;
 use crate::mesh::TriMesh;
 use rayon::prelude::*;
@@ -180,19 +181,12 @@ impl<'a> CentroidGrid<'a> {
     /// The cell holding `p`, clamped into the grid.
     #[inline]
     fn cell(&self, p: [f64; 3]) -> [usize; 3] {
-        [0, 1, 2].map(|k| {
-            let i = ((p[k] - self.min[k]) * self.inv).floor();
-            if i >= 0.0 {
-                (i as usize).min(self.n[k] - 1)
-            } else {
-                0
-            }
-        })
+        [0, 1, 2].map(|k| clamp_cell((p[k] - self.min[k]) * self.inv, self.n[k]))
     }
 
     #[inline]
     fn index(&self, c: [usize; 3]) -> usize {
-        (c[2] * self.n[1] + c[1]) * self.n[0] + c[0]
+        flat_index(c, self.n)
     }
 
     /// Test one triangle against the best squared distance so far, `best`, whose
