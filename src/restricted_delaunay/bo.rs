@@ -58,6 +58,9 @@ use std::collections::{BinaryHeap, HashMap};
 /// ε of the weak ε-sample: Theorem 3 of the chapter needs ε < 0.1 (strictly).
 pub const EPSILON: f64 = 0.099;
 
+/// Rounds of refinement after a certified scan that found grazing crossings.
+const MAX_CERTIFY_ROUNDS: usize = 3;
+
 /// The `--set` keys of `bo`.
 pub const SETTINGS: &[&str] = &[
     "seed",
@@ -246,6 +249,9 @@ pub struct BoStats {
     pub refused: usize,
     pub undecided_insertions: usize,
     pub manifold_rounds: usize,
+    /// Rounds in which the certified scan found grazing crossings the float refinement
+    /// had not, and their tangency points were inserted (`--certify`).
+    pub certify_rounds: usize,
     pub dual_tests: usize,
     pub interval_pieces: u64,
     pub multiple_crossing_segments: usize,
@@ -879,26 +885,56 @@ fn mesh_bo(
     progress.start("bo refinement", 0);
     let mut stop = None;
     let mut scan;
+    // With --certify: the certified scan of the final triangulation, when it was
+    // computed here (see below).
+    let mut certified_scan: Option<Scan> = None;
     loop {
-        if stop.is_none() {
-            stop = run.refine(t0, progress);
+        loop {
+            if stop.is_none() {
+                stop = run.refine(t0, progress);
+            }
+            scan = restricted::scan(&run.t, f, domain, &run.cc, Ends3::Float, run.budget);
+            if stop.is_some() || !p.manifold {
+                break;
+            }
+            if run.stats.manifold_rounds >= p.max_manifold_rounds {
+                stop = Some(format!(
+                    "manifold phase stopped after {} rounds",
+                    p.max_manifold_rounds
+                ));
+                break;
+            }
+            let queued = run.queue_manifold(&scan);
+            if queued == 0 {
+                break;
+            }
+            run.stats.manifold_rounds += 1;
         }
-        scan = restricted::scan(&run.t, f, domain, &run.cc, Ends3::Float, run.budget);
-        if stop.is_some() || !p.manifold {
+        if !p.certify || stop.is_some() {
             break;
         }
-        if run.stats.manifold_rounds >= p.max_manifold_rounds {
-            stop = Some(format!(
-                "manifold phase stopped after {} rounds",
-                p.max_manifold_rounds
-            ));
+        // The certified scan (interval circumcentres) can find a grazing crossing the
+        // float refinement did not: insert its tangency point (projected onto S) and
+        // refine again, a few rounds at most; what is left is reported below.
+        let cert = restricted::scan(&run.t, f, domain, &run.cc, Ends3::Certified, run.budget);
+        if cert.undecided.is_empty() || run.stats.certify_rounds >= MAX_CERTIFY_ROUNDS {
+            certified_scan = Some(cert);
             break;
         }
-        let queued = run.queue_manifold(&scan);
-        if queued == 0 {
+        run.stats.certify_rounds += 1;
+        let mut inserted = 0;
+        for u in &cert.undecided {
+            let Some(&x) = u.points.first() else { continue };
+            let q = project(f, x, 30, 1e-14 * domain.diagonal()).unwrap_or(x);
+            let q = if domain.contains(q) { q } else { x };
+            if run.insert(q, u.cell, "undecided (certify)") {
+                inserted += 1;
+            }
+        }
+        if inserted == 0 {
+            certified_scan = Some(cert);
             break;
         }
-        run.stats.manifold_rounds += 1;
     }
     for u in &run.reported_undecided {
         regions.push(Uncertified::new(
@@ -929,7 +965,10 @@ fn mesh_bo(
         progress.start("bo certify", 0);
         let check = run.t.check();
         run.stats.delaunay_valid = Some(check.valid);
-        let cert = restricted::scan(&run.t, f, domain, &run.cc, Ends3::Certified, run.budget);
+        let cert = match certified_scan.take() {
+            Some(c) => c,
+            None => restricted::scan(&run.t, f, domain, &run.cc, Ends3::Certified, run.budget),
+        };
         let mut a: Vec<[VertexId; 3]> = scan.facets.iter().map(|x| key(x.v)).collect();
         let mut b: Vec<[VertexId; 3]> = cert.facets.iter().map(|x| key(x.v)).collect();
         a.sort_unstable();
