@@ -242,7 +242,14 @@ fn every_smooth_catalog_surface_at_default_criteria() {
             .map(|k| (d.max[k] - d.min[k]).powi(2))
             .sum::<f64>()
             .sqrt();
-        check_output(e.name, diam / 20.0, diam / 200.0, true, top.components, &top.genus);
+        check_output(
+            e.name,
+            diam / 20.0,
+            diam / 200.0,
+            true,
+            top.components,
+            &top.genus,
+        );
         done.push(e.name);
     }
     assert!(done.len() >= 11, "{done:?}");
@@ -721,7 +728,9 @@ fn cospherical_samples_without_the_exact_sphere_test_are_reported() {
     assert!(!c.proves_topology(), "{c:?}");
     let claims = c.claims_typed();
     assert!(claims.iter().any(|c| matches!(c, Claim::WeakSample { .. })));
-    assert!(claims.iter().any(|c| matches!(c, Claim::RestrictedDelaunay { .. })));
+    assert!(claims
+        .iter()
+        .any(|c| matches!(c, Claim::RestrictedDelaunay { .. })));
     assert!(!claims.iter().any(|c| matches!(c, Claim::Isotopic { .. })));
     let reason = c.reason().unwrap();
     assert!(
@@ -873,8 +882,12 @@ mod perturbed_primitives {
             let e = unit([-0.1, -0.4, -0.9]).map(|x| x * (1.0 + sign * 1e-13));
             let cell = base.map(|p| iv_box(p, w));
             let natural = lifted_iv(cell, iv_box(e, w));
-            let centred = lifted_centred(cell, iv_box(e, w), [base[0], base[1], base[2], base[3], e]);
-            assert!(natural.lo <= 0.0 && natural.hi >= 0.0, "natural {natural:?}");
+            let centred =
+                lifted_centred(cell, iv_box(e, w), [base[0], base[1], base[2], base[3], e]);
+            assert!(
+                natural.lo <= 0.0 && natural.hi >= 0.0,
+                "natural {natural:?}"
+            );
             let ins = insphere(base[0], base[1], base[2], base[3], e);
             // Inside (sign −1): insphere > 0 and the lifted determinant < 0.
             assert_eq!(ins > 0.0, sign < 0.0);
@@ -940,7 +953,10 @@ mod perturbed_primitives {
             let reach = (0..3)
                 .map(|k| (b[k].sup() - p[k]).max(p[k] - b[k].inf()))
                 .fold(0.0f64, f64::max);
-            assert!(reach <= to_s + 2e-15, "box reaches {reach}, S is {to_s} away");
+            assert!(
+                reach <= to_s + 2e-15,
+                "box reaches {reach}, S is {to_s} away"
+            );
         }
         assert_eq!(boxed, 200);
         // A point 0.1 off S: its box reaches the sphere at (0, 0, 1), and the offset
@@ -960,7 +976,10 @@ mod perturbed_primitives {
         let vb = vertex_boxes(&t, &f, &e.domain, SegmentBudget::default());
         assert!(vb.failure.is_none(), "{:?}", vb.failure);
         let b = vb.boxes[v as usize].unwrap();
-        assert!(b[2].inf() <= 0.5 && b[2].contains(1.0) && b[2].sup() < 1.0 + 1e-12, "{b:?}");
+        assert!(
+            b[2].inf() <= 0.5 && b[2].contains(1.0) && b[2].sup() < 1.0 + 1e-12,
+            "{b:?}"
+        );
         assert!(vb.max_offset >= 0.5);
         // The centre, where grad f = 0, gets no box and is named.
         let mut t = Delaunay::with_domain(e.domain.min, e.domain.max, 7).unwrap();

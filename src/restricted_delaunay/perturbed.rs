@@ -228,7 +228,8 @@ pub fn lifted_centred(p: [[Iv; 3]; 4], e: [Iv; 3], c: [[f64; 3]; 5]) -> Iv {
     let cof = |i: usize, j: usize| -> Iv {
         let rows: Vec<usize> = (0..4).filter(|&x| x != i).collect();
         let cols: Vec<usize> = (0..4).filter(|&x| x != j).collect();
-        let sub: [[Iv; 3]; 3] = std::array::from_fn(|a| std::array::from_fn(|b| m[rows[a]][cols[b]]));
+        let sub: [[Iv; 3]; 3] =
+            std::array::from_fn(|a| std::array::from_fn(|b| m[rows[a]][cols[b]]));
         let d = det3(sub);
         if (i + j) % 2 == 0 {
             d
