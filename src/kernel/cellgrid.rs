@@ -127,18 +127,11 @@ impl<'a> TriGrid<'a> {
         if self.cells.is_empty() {
             return None;
         }
-        let c0 = self.cell(p).map(|x| x as i64);
-        let n = self.n.map(|x| x as i64);
         let hmin = self.h.iter().copied().fold(f64::INFINITY, f64::min);
-        let rings = (0..3)
-            .map(|k| c0[k].max(n[k] - 1 - c0[k]))
-            .max()
-            .unwrap_or(0);
-        let mut best = f64::INFINITY;
-        // The squared distance from p to the slab of cells at offset d from p's cell
-        // along axis k, the cells grown by the slack (0 inside p's own slab): the same
-        // per-axis terms as the cell box bound below, so a cell, a row or a plane of
-        // cells can be skipped on a partial sum.
+        // The squared distance from p to the slab of cells at index c along axis k,
+        // the cells grown by the slack (0 inside p's own slab): the same per-axis terms
+        // as the cell box bound, so a cell, a row or a plane of cells can be skipped on
+        // a partial sum.
         let gap2 = |k: usize, c: i64| {
             let lo = self.min[k] + c as f64 * self.h[k] - self.slack;
             let d = (lo - p[k])
@@ -146,55 +139,23 @@ impl<'a> TriGrid<'a> {
                 .max(0.0);
             d * d
         };
-        let scan = |c: [i64; 3], lb: f64, best: &mut f64| {
+        // Every point of a cell in ring r is at least (r - 1) cells from p along some
+        // axis.
+        let ring_lb2 = |r: i64| {
+            let lb = ((r - 1).max(0) as f64 * hmin - 2.0 * self.slack).max(0.0);
+            lb * lb
+        };
+        let mut best = f64::INFINITY;
+        ring_search(self.cell(p), self.n, f64::INFINITY, gap2, ring_lb2, |c| {
             // The cell's box is a lower bound for what it lists (each triangle meets it).
-            if lb > *best {
-                return;
-            }
-            for &t in self.cells.bucket(self.index(c.map(|x| x as usize))) {
+            for &t in self.cells.bucket(self.index(c)) {
                 let [a, b, c] = self.mesh.corners(t as usize);
                 let q = closest_on_triangle(p, a, b, c);
                 let d = geom::sub(p, q.point);
-                *best = best.min(geom::dot(d, d));
+                best = best.min(geom::dot(d, d));
             }
-        };
-        for r in 0..=rings {
-            // Every point of a cell in ring r (Chebyshev distance r from p's clamped
-            // cell) is at least (r - 1) cells from p along some axis.
-            let lb = ((r - 1).max(0) as f64 * hmin - 2.0 * self.slack).max(0.0);
-            if lb * lb > best {
-                break;
-            }
-            for dz in -r..=r {
-                let z = c0[2] + dz;
-                if z < 0 || z >= n[2] {
-                    continue;
-                }
-                let gz = gap2(2, z);
-                if gz > best {
-                    continue;
-                }
-                for dy in -r..=r {
-                    let y = c0[1] + dy;
-                    if y < 0 || y >= n[1] {
-                        continue;
-                    }
-                    let gy = gz + gap2(1, y);
-                    if gy > best {
-                        continue;
-                    }
-                    let shell = dz.abs() == r || dy.abs() == r;
-                    let mut dx = -r;
-                    while dx <= r {
-                        let x = c0[0] + dx;
-                        if x >= 0 && x < n[0] {
-                            scan([x, y, z], gy + gap2(0, x), &mut best);
-                        }
-                        dx += if shell || r == 0 { 1 } else { 2 * r };
-                    }
-                }
-            }
-        }
+            best
+        });
         best.is_finite().then_some(best)
     }
 }
@@ -262,4 +223,62 @@ pub(crate) fn clamp_cell(t: f64, n: usize) -> usize {
 #[inline]
 pub(crate) fn flat_index(c: [usize; 3], n: [usize; 3]) -> usize {
     (c[2] * n[1] + c[1]) * n[0] + c[0]
+}
+
+/// Visit the cells of a grid of `n` cells in rings of growing Chebyshev distance from
+/// cell `c0`, skipping every cell whose lower bound exceeds the current bound (a
+/// squared distance, `bound` at the start): `gap2(k, c)` bounds from below the squared
+/// distance along axis k to the slab of cells at index c (summed over the axes for a
+/// cell, so a plane or a row is skipped on a partial sum), `ring_lb2(r)` that to any
+/// cell of ring r; `visit(cell)` scans a cell and returns the new bound. Stops when a
+/// whole ring is beyond the bound.
+pub(crate) fn ring_search(
+    c0: [usize; 3],
+    n: [usize; 3],
+    mut bound: f64,
+    gap2: impl Fn(usize, i64) -> f64,
+    ring_lb2: impl Fn(i64) -> f64,
+    mut visit: impl FnMut([usize; 3]) -> f64,
+) {
+    let c0 = c0.map(|x| x as i64);
+    let n = n.map(|x| x as i64);
+    let rings = (0..3)
+        .map(|k| c0[k].max(n[k] - 1 - c0[k]))
+        .max()
+        .unwrap_or(0);
+    for r in 0..=rings {
+        if ring_lb2(r) > bound {
+            break;
+        }
+        for dz in -r..=r {
+            let z = c0[2] + dz;
+            if z < 0 || z >= n[2] {
+                continue;
+            }
+            let gz = gap2(2, z);
+            if gz > bound {
+                continue;
+            }
+            for dy in -r..=r {
+                let y = c0[1] + dy;
+                if y < 0 || y >= n[1] {
+                    continue;
+                }
+                let gy = gz + gap2(1, y);
+                if gy > bound {
+                    continue;
+                }
+                // Inside the shell only the two end cells of the row are in ring r.
+                let shell = dz.abs() == r || dy.abs() == r;
+                let mut dx = -r;
+                while dx <= r {
+                    let x = c0[0] + dx;
+                    if x >= 0 && x < n[0] && gy + gap2(0, x) <= bound {
+                        bound = visit([x as usize, y as usize, z as usize]);
+                    }
+                    dx += if shell || r == 0 { 1 } else { 2 * r };
+                }
+            }
+        }
+    }
 }

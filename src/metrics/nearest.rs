@@ -20,7 +20,7 @@
 //! [`TriGrid`]: crate::kernel::cellgrid::TriGrid
 //! [`TriGrid::closest_dist2`]: crate::kernel::cellgrid::TriGrid::closest_dist2
 use crate::kernel::bvh::closest_on_triangle;
-use crate::kernel::cellgrid::{clamp_cell, flat_index};
+use crate::kernel::cellgrid::{clamp_cell, flat_index, ring_search};
 use crate::kernel::geom;
 use crate::mesh::TriMesh;
 use rayon::prelude::*;
@@ -254,71 +254,32 @@ impl<'a> CentroidGrid<'a> {
             return Some(best);
         }
         // Nothing in p's cell: rings of cells around it.
-        let c0 = c0.map(|x| x as i64);
-        let n = self.n.map(|x| x as i64);
-        let rings = (0..3)
-            .map(|k| c0[k].max(n[k] - 1 - c0[k]))
-            .max()
-            .unwrap_or(0);
         // The distance from p to the slab of cells at index c along axis k (0 inside).
-        let gap = |k: usize, c: i64| {
+        let gap2 = |k: usize, c: i64| {
             let lo = self.min[k] + c as f64 * self.size;
-            (lo - p[k]).max(p[k] - (lo + self.size)).max(0.0)
+            let d = (lo - p[k]).max(p[k] - (lo + self.size)).max(0.0);
+            d * d
+        };
+        // A point of a cell at Chebyshev index distance r from p's cell (p clamped into
+        // the grid: projecting onto the box shortens every distance to it) is at least
+        // (r - 1) cells away from p along some axis.
+        let ring_lb2 = |r: i64| {
+            let lb = ((r - 1) as f64 * self.size - 2.0 * self.slack).max(0.0);
+            lb * lb
         };
         // Cells farther than this (squared) hold nothing closer than `best`.
         let within = |sb: f64| {
             let r = sb + reach;
             r * r
         };
-        for r in 0..=rings {
-            // A point of a cell at Chebyshev index distance r from p's cell (p clamped
-            // into the grid: projecting onto the box shortens every distance to it) is
-            // at least (r - 1) cells away from p along some axis.
-            if r >= 1 {
-                let lb = (r - 1) as f64 * self.size - 2.0 * self.slack;
-                if lb > 0.0 && lb * lb > within(sb) {
-                    break;
-                }
+        ring_search(c0, self.n, within(sb), gap2, ring_lb2, |c| {
+            let k = self.index(c);
+            let (s, e) = (self.start[k] as usize, self.start[k + 1] as usize);
+            for it in &self.items[s..e] {
+                self.offer(p, it, &mut best, &mut sb);
             }
-            for dz in -r..=r {
-                let z = c0[2] + dz;
-                if z < 0 || z >= n[2] {
-                    continue;
-                }
-                let gz = gap(2, z);
-                let gz2 = gz * gz;
-                if gz2 > within(sb) {
-                    continue;
-                }
-                for dy in -r..=r {
-                    let y = c0[1] + dy;
-                    if y < 0 || y >= n[1] {
-                        continue;
-                    }
-                    let gy = gap(1, y);
-                    let gy2 = gz2 + gy * gy;
-                    if gy2 > within(sb) {
-                        continue;
-                    }
-                    let shell = dz.abs() == r || dy.abs() == r;
-                    let mut dx = -r;
-                    while dx <= r {
-                        let x = c0[0] + dx;
-                        if x >= 0 && x < n[0] {
-                            let gx = gap(0, x);
-                            if gy2 + gx * gx <= within(sb) {
-                                let k = self.index([x as usize, y as usize, z as usize]);
-                                let (s, e) = (self.start[k] as usize, self.start[k + 1] as usize);
-                                for it in &self.items[s..e] {
-                                    self.offer(p, it, &mut best, &mut sb);
-                                }
-                            }
-                        }
-                        dx += if shell || r == 0 { 1 } else { 2 * r };
-                    }
-                }
-            }
-        }
+            within(sb)
+        });
         Some(best)
     }
 }
