@@ -71,6 +71,9 @@ pub struct MeshReport {
     /// The mesh file written.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub output: Option<String>,
+    /// Wall time of the report's measures (topology, angles, Hausdorff estimate at the
+    /// `--metrics` level), in seconds, beside the mesher's `seconds`.
+    pub metrics_seconds: f64,
 }
 
 /// Why a run stopped before its refinement was complete (a budget), if it did.
@@ -107,7 +110,9 @@ pub fn mesh_report(
     run: &Run,
     metrics: compare::Metrics,
 ) -> Result<MeshReport> {
+    let clock = std::time::Instant::now();
     let row = compare::evaluate_with(surface, f, domain, expected, run, metrics)?;
+    let metrics_seconds = clock.elapsed().as_secs_f64();
     let c = &run.output.certificate;
     Ok(MeshReport {
         row,
@@ -128,6 +133,7 @@ pub fn mesh_report(
         stopped: stop_reason(run),
         notes: Vec::new(),
         output: None,
+        metrics_seconds,
     })
 }
 

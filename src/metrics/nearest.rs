@@ -44,14 +44,11 @@ struct Item {
     centre: [f64; 3],
     radius: f64,
     tri: u32,
-    /// The cell (during the build; `u32::MAX`: larger than a cell, kept apart).
-    cell: u32,
 }
 
-/// Triangle `t`'s bounding sphere: its centroid and the largest distance to a corner
-/// (up to rounding, which the skip tests' margin covers).
-#[inline]
-fn sphere(mesh: &TriMesh, t: usize) -> Item {
+/// Triangle `t`'s centroid and the largest squared distance to a corner.
+#[inline(always)]
+fn centre_r2(mesh: &TriMesh, t: usize) -> ([f64; 3], f64) {
     let [a, b, c] = mesh.corners(t);
     let centre = [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) * (1.0 / 3.0));
     let r2 = [a, b, c]
@@ -61,11 +58,18 @@ fn sphere(mesh: &TriMesh, t: usize) -> Item {
             geom::dot(d, d)
         })
         .fold(0.0, f64::max);
+    (centre, r2)
+}
+
+/// Triangle `t`'s bounding sphere: its centroid and the largest distance to a corner
+/// (up to rounding, which the skip tests' margin covers).
+#[inline(always)]
+fn sphere(mesh: &TriMesh, t: usize) -> Item {
+    let (centre, r2) = centre_r2(mesh, t);
     Item {
         centre,
         radius: r2.sqrt(),
         tri: t as u32,
-        cell: 0,
     }
 }
 
@@ -111,13 +115,33 @@ impl<'a> CentroidGrid<'a> {
         }
         // The box of all vertices (used or not: it only places the cells; centroids
         // lie in it).
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for p in &mesh.vertices {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
+        // (Finite coordinates: plain comparisons, in parallel chunks.)
+        let (lo, hi) = mesh
+            .vertices
+            .par_chunks(8192)
+            .map(|c| {
+                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+                for p in c {
+                    for k in 0..3 {
+                        if p[k] < lo[k] {
+                            lo[k] = p[k];
+                        }
+                        if p[k] > hi[k] {
+                            hi[k] = p[k];
+                        }
+                    }
+                }
+                (lo, hi)
+            })
+            .reduce(
+                || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+                |(a, b), (c, d)| {
+                    (
+                        [0, 1, 2].map(|k| if c[k] < a[k] { c[k] } else { a[k] }),
+                        [0, 1, 2].map(|k| if d[k] > b[k] { d[k] } else { b[k] }),
+                    )
+                },
+            );
         let ext = [0, 1, 2].map(|k| hi[k] - lo[k]);
         let longest = ext.iter().copied().fold(0.0, f64::max);
         let scale = lo.iter().chain(&hi).fold(0.0f64, |m, x| m.max(x.abs()));
@@ -135,43 +159,49 @@ impl<'a> CentroidGrid<'a> {
         // (The largest coordinate bounds every centroid and radius's size too.)
         g.slack = SLACK_REL * (size + scale);
         let cells = g.n[0] * g.n[1] * g.n[2];
-        // Each triangle's sphere and cell (u32::MAX: larger than a cell, kept
-        // apart), in parallel.
-        let spheres: Vec<Item> = (0..nf)
+        // Each triangle's cell (u32::MAX: larger than a cell, kept apart), in
+        // parallel; a counting sort of the triangle indices by cell (the one serial
+        // pass, over 4-byte indices); then the spheres computed again in cell order,
+        // in parallel.
+        let cells_of: Vec<u32> = (0..nf)
             .into_par_iter()
             .with_min_len(4096)
             .map(|t| {
-                let mut it = sphere(mesh, t);
-                it.cell = if it.radius > size {
+                let (centre, r2) = centre_r2(mesh, t);
+                if r2 > size * size {
                     u32::MAX
                 } else {
-                    g.index(g.cell(it.centre)) as u32
-                };
-                it
+                    g.index(g.cell(centre)) as u32
+                }
             })
             .collect();
         let mut start = vec![0u32; cells + 1];
-        for it in &spheres {
-            if it.cell != u32::MAX {
-                start[it.cell as usize + 1] += 1;
+        for &c in &cells_of {
+            if c != u32::MAX {
+                start[c as usize + 1] += 1;
             }
         }
         for k in 0..cells {
             start[k + 1] += start[k];
         }
         let mut fill = start[..cells].to_vec();
-        let mut items = vec![Item::default(); start[cells] as usize];
-        let mut rmax = 0.0f64;
-        for it in &spheres {
-            if it.cell == u32::MAX {
-                g.big.push(*it);
+        let mut order = vec![0u32; start[cells] as usize];
+        for (t, &c) in cells_of.iter().enumerate() {
+            if c == u32::MAX {
+                g.big.push(sphere(mesh, t));
             } else {
-                let slot = &mut fill[it.cell as usize];
-                items[*slot as usize] = *it;
+                let slot = &mut fill[c as usize];
+                order[*slot as usize] = t as u32;
                 *slot += 1;
-                rmax = rmax.max(it.radius);
             }
         }
+        drop(cells_of);
+        let items: Vec<Item> = order
+            .par_iter()
+            .with_min_len(4096)
+            .map(|&t| sphere(mesh, t as usize))
+            .collect();
+        let rmax = items.iter().map(|it| it.radius).fold(0.0f64, f64::max);
         g.rmax = rmax;
         g.start = start;
         g.items = items;
@@ -231,8 +261,28 @@ impl<'a> CentroidGrid<'a> {
         // such a centroid's cell is in the range).
         let c0 = self.cell(p);
         let k0 = self.index(c0);
-        for it in &self.items[self.start[k0] as usize..self.start[k0 + 1] as usize] {
-            self.offer(p, it, &mut best, &mut sb);
+        let own = &self.items[self.start[k0] as usize..self.start[k0 + 1] as usize];
+        // The triangle whose centre is nearest first (a tight bound early skips most
+        // of the others on their spheres), then the rest.
+        let first = own
+            .iter()
+            .enumerate()
+            .map(|(i, it)| {
+                let d = geom::sub(p, it.centre);
+                (geom::dot(d, d), i)
+            })
+            .fold(
+                (f64::INFINITY, usize::MAX),
+                |a, b| if b.0 < a.0 { b } else { a },
+            )
+            .1;
+        if first != usize::MAX {
+            self.offer(p, &own[first], &mut best, &mut sb);
+        }
+        for (i, it) in own.iter().enumerate() {
+            if i != first {
+                self.offer(p, it, &mut best, &mut sb);
+            }
         }
         if sb.is_finite() {
             let r = sb + reach + self.slack;

@@ -45,29 +45,37 @@ pub(crate) fn mesh_cmd(a: MeshArgs, dim: usize, quiet: bool) -> CliResult<()> {
         std::fs::write(path, text)
             .map_err(|e| CliError::from(certmesh::error::Error::io(path, e)).runtime())?;
     }
-    bar.phase("writing");
-    if let Some(out) = &a.output {
-        io::write_mesh(out, &run.output.mesh).runtime()?;
-    }
-    let mut notes = Vec::new();
-    match (&a.boundary, &run.output.mesh) {
-        (Some(b), Mesh::Volume { boundary, .. }) => io::write_tri(b, boundary).runtime()?,
-        (Some(_), _) => notes.push(format!(
-            "--boundary ignored: '{}' produces no volume mesh",
-            a.algo
-        )),
-        _ => {}
-    }
-    bar.phase("fidelity");
-    let mut report = report::mesh_report(
-        &t.name,
-        t.f.as_ref(),
-        &t.domain,
-        t.domain_source,
-        t.entry.as_ref().and_then(|e| e.topology.as_ref()),
-        &run,
-        metrics,
-    )?;
+    bar.phase("writing and measuring");
+    // The mesh is written while the report is computed (side by side on rayon's
+    // threads; one after the other on one thread).
+    let write = || -> CliResult<Vec<String>> {
+        if let Some(out) = &a.output {
+            io::write_mesh(out, &run.output.mesh).runtime()?;
+        }
+        let mut notes = Vec::new();
+        match (&a.boundary, &run.output.mesh) {
+            (Some(b), Mesh::Volume { boundary, .. }) => io::write_tri(b, boundary).runtime()?,
+            (Some(_), _) => notes.push(format!(
+                "--boundary ignored: '{}' produces no volume mesh",
+                a.algo
+            )),
+            _ => {}
+        }
+        Ok(notes)
+    };
+    let measure = || {
+        report::mesh_report(
+            &t.name,
+            t.f.as_ref(),
+            &t.domain,
+            t.domain_source,
+            t.entry.as_ref().and_then(|e| e.topology.as_ref()),
+            &run,
+            metrics,
+        )
+    };
+    let (notes, report) = rayon::join(write, measure);
+    let (notes, mut report) = (notes?, report?);
     bar.finish();
     report.notes = notes;
     report.output = a.output.as_ref().map(|o| o.display().to_string());
