@@ -1727,6 +1727,9 @@ fn metrics_levels_keep_the_keys() {
         let mut v: serde_json::Value = serde_json::from_str(&out).expect("json");
         let o = v.as_object_mut().unwrap();
         o.remove("seconds");
+        // The report's own wall time, beside the mesher's.
+        let t = o.remove("metrics_seconds").expect("metrics_seconds");
+        assert!(t.as_f64().is_some_and(|t| t >= 0.0 && t < 60.0), "{t}");
         v
     };
     let (default, fast, full, none) = (
