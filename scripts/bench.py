@@ -207,6 +207,7 @@ def main():
         "fill passes of the vertex buckets (a counting sort), the counting sort of the centroid "
         "grid's triangle indices, and writing the file (on its own thread beside the measures); "
         "in stuffing, the fill passes of the face buckets.",
+        "",
         "\"Metrics\" is the report's own time (`metrics_seconds` of the JSON: topology, angles, "
         "Hausdorff estimate at the default `--metrics fast`), measured in the process while the "
         "mesh file is written beside it; its share of the mesher's time is the issue's target "
