@@ -55,7 +55,9 @@ pub(crate) struct MeshArgs {
     /// `fast` (every field of the report, skipping measures it does not print; the
     /// Hausdorff estimate's mesh side from a fixed budget of 20,000 area-proportional
     /// samples, not every vertex: `hausdorff_kind`, `hausdorff_mesh_samples`) or
-    /// `full` (every measure, as `certmesh compare`).
+    /// `full` (every measure, as `certmesh compare`). The mesh file is written while the
+    /// report is computed; the report's own time is `metrics_seconds` in JSON, beside
+    /// the mesher's `seconds`.
     #[arg(long, default_value = "fast", value_parser = ["none", "fast", "full"])]
     pub(crate) metrics: String,
 }
