@@ -1,31 +1,33 @@
 //! The report of `certmesh mesh` (issue 20: at most 25% of the mesher's time on metrics
-//! and writing), part by part, on the 256³ marching-cubes torus (pruned, 278,272
-//! triangles): the mesher itself for scale, the topology analysis, the angle ranges,
-//! the fidelity at each `--metrics` level, the whole report at each level, and writing
-//! the mesh as binary PLY to a memory buffer. Run on 1 and 2 threads with
+//! and writing), part by part, on three workloads: the 256³ marching-cubes torus
+//! (pruned, 278,272 triangles), and the marching-cubes torus and the GradNormal genus-2
+//! surface at their default settings (16,912 and 28,364 triangles). Each group times
+//! the mesher itself for scale, the topology analysis, the angle ranges, the fidelity at
+//! each `--metrics` level, the whole report at each level, and writing the mesh as
+//! binary PLY to a memory buffer; and two floors, what any report that looks at every
+//! triangle once would pay beside the topology and the angles: one gradient of f per
+//! triangle (the cheapest first-order distance estimate) and one Newton projection per
+//! triangle (the cheapest mesh → surface distance). Run on 1 and 2 threads with
 //! `RAYON_NUM_THREADS=1 cargo bench --bench report` (and `=2`).
 use certmesh::catalog;
 use certmesh::harness::compare::{fidelity_params, Metrics};
 use certmesh::harness::report::{self, DomainSource};
+use certmesh::implicit::{ops, Dual, Implicit};
 use certmesh::io::ply::{self, PlyEncoding};
 use certmesh::mesher::options::MesherOptions;
 use certmesh::mesher::{self, registry, NoProgress};
 use certmesh::metrics::{self, angles, fidelity};
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 
-fn bench(c: &mut Criterion) {
-    let e = catalog::get("torus").unwrap();
+/// One workload's group: `name` of the catalog, `algo` at `opts`.
+fn workload(c: &mut Criterion, group: &str, name: &str, algo: &str, opts: &MesherOptions) {
+    let e = catalog::get(name).unwrap();
     let f = e.function();
-    let o = MesherOptions {
-        resolution: Some(256),
-        prune: true,
-        ..Default::default()
-    };
-    let m = registry::build("mc", 3, &o).unwrap();
+    let m = registry::build(algo, 3, opts).unwrap();
     let run = mesher::run(m.as_ref(), &f, &e.domain, &NoProgress).unwrap();
     let surf = run.output.mesh.surface().unwrap().clone();
     let params = fidelity_params(&e.domain, 3);
-    let mut g = c.benchmark_group("report_mc_torus_256");
+    let mut g = c.benchmark_group(group);
     g.sample_size(20);
     g.bench_function("mesher", |b| {
         b.iter(|| mesher::run(m.as_ref(), &f, &e.domain, &NoProgress).unwrap())
@@ -39,21 +41,21 @@ fn bench(c: &mut Criterion) {
     g.bench_function("angles_fast", |b| {
         b.iter(|| angles::triangle_extremes(black_box(&surf)).unwrap())
     });
-    for (name, level) in [("fast", Metrics::Fast), ("full", Metrics::Full)] {
+    for (level_name, level) in [("fast", Metrics::Fast), ("full", Metrics::Full)] {
         // What `evaluate_with` asks at each level.
         let p = params
             .clone()
             .hausdorff_only(level == Metrics::Fast)
             .project_vertices(level != Metrics::Fast);
-        g.bench_function(format!("fidelity_{name}"), |b| {
+        g.bench_function(format!("fidelity_{level_name}"), |b| {
             b.iter(|| fidelity::surface_fidelity(black_box(&surf), &f, &p).unwrap())
         });
     }
-    for (name, level) in [("fast", Metrics::Fast), ("full", Metrics::Full)] {
-        g.bench_function(format!("whole_report_{name}"), |b| {
+    for (level_name, level) in [("fast", Metrics::Fast), ("full", Metrics::Full)] {
+        g.bench_function(format!("whole_report_{level_name}"), |b| {
             b.iter(|| {
                 report::mesh_report(
-                    "torus",
+                    name,
                     &f,
                     &e.domain,
                     DomainSource::Catalog,
@@ -72,7 +74,45 @@ fn bench(c: &mut Criterion) {
             buf.len()
         })
     });
+    // The floors: f and ∇f once at every triangle's centroid (batch gradient, one
+    // thread: the floor of the work, not of its spreading), and one Newton projection
+    // of every centroid with the report's own steps and tolerance.
+    let centroids: Vec<[f64; 3]> = (0..surf.triangles.len())
+        .map(|t| {
+            let [a, b, c] = surf.corners(t);
+            [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0)
+        })
+        .collect();
+    let mut d = vec![Dual::ZERO; centroids.len()];
+    g.bench_function("floor_one_gradient_per_triangle", |b| {
+        b.iter(|| {
+            f.grad_batch(black_box(&centroids), &mut d);
+            d[0].v
+        })
+    });
+    let tol = 1e-10 * e.domain.diagonal();
+    g.bench_function("floor_one_projection_per_triangle", |b| {
+        b.iter(|| ops::project_batch(&f, black_box(&centroids), params.newton_steps, tol).len())
+    });
     g.finish();
+}
+
+fn bench(c: &mut Criterion) {
+    let mc256 = MesherOptions {
+        resolution: Some(256),
+        prune: true,
+        ..Default::default()
+    };
+    workload(c, "report_mc_torus_256", "torus", "mc", &mc256);
+    let defaults = MesherOptions::default();
+    workload(c, "report_mc_torus_default", "torus", "mc", &defaults);
+    workload(
+        c,
+        "report_gradnormal_genus2_default",
+        "genus2",
+        "gradnormal",
+        &defaults,
+    );
 }
 
 criterion_group!(benches, bench);

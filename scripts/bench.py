@@ -224,7 +224,10 @@ def main():
         "Criterion benches per workload: `cargo bench --bench end_to_end` (evaluation + mesh + "
         "report + writing to a memory buffer), `--bench evaluator` (batch evaluation), "
         "`--bench marching`, `--bench gradnormal`, `--bench stuffing`, `--bench bvh`, and "
-        "`--bench report` (the report of the 256³ MC torus part by part, on 1 and 2 threads).",
+        "`--bench report` (the report part by part, on 1 and 2 threads: the 256³ MC torus, and the "
+        "MC torus and GradNormal genus 2 at their defaults, each with the floors of a report "
+        "that looks at every triangle once: one gradient, or one Newton projection, per "
+        "triangle).",
         "",
         "Where the report's time goes, part by part, measured by hand and dated: "
         "`papers/bench-report.md` (not rewritten by this script).",
