@@ -157,22 +157,24 @@ fn write_parts(
         vertices.len()
     )
     .map_err(io_err)?;
+    let mut o = text::TextOut::new(&mut *w);
     for v in vertices {
-        writeln!(w, "{} {} {} 0", text::f(v[0]), text::f(v[1]), text::f(v[2])).map_err(io_err)?;
+        o.fs(v).s(" 0").nl()?;
     }
     if !tris.is_empty() {
-        writeln!(w, "\nTriangles\n{}", tris.len()).map_err(io_err)?;
+        o.s("\nTriangles\n").int(tris.len()).nl()?;
         for t in tris {
-            writeln!(w, "{} {} {} 0", t[0] + 1, t[1] + 1, t[2] + 1).map_err(io_err)?;
+            o.ints(&t.map(|i| i as u64 + 1)).s(" 0").nl()?;
         }
     }
     if !tets.is_empty() {
-        writeln!(w, "\nTetrahedra\n{}", tets.len()).map_err(io_err)?;
+        o.s("\nTetrahedra\n").int(tets.len()).nl()?;
         for t in tets {
-            writeln!(w, "{} {} {} {} 0", t[0] + 1, t[1] + 1, t[2] + 1, t[3] + 1).map_err(io_err)?;
+            o.ints(&t.map(|i| i as u64 + 1)).s(" 0").nl()?;
         }
     }
-    writeln!(w, "\nEnd").map_err(io_err)?;
+    o.s("\nEnd").nl()?;
+    o.finish()?;
     w.flush().map_err(io_err)
 }
 

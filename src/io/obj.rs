@@ -133,12 +133,14 @@ pub fn write(mut w: impl Write, mesh: &TriMesh) -> Result<()> {
         mesh.triangles.len()
     )
     .map_err(io_err)?;
+    let mut o = text::TextOut::new(&mut w);
     for v in &mesh.vertices {
-        writeln!(w, "v {} {} {}", text::f(v[0]), text::f(v[1]), text::f(v[2])).map_err(io_err)?;
+        o.s("v ").fs(v).nl()?;
     }
     for t in &mesh.triangles {
-        writeln!(w, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1).map_err(io_err)?;
+        o.s("f ").ints(&t.map(|i| i as u64 + 1)).nl()?;
     }
+    o.finish()?;
     w.flush().map_err(io_err)
 }
 

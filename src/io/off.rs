@@ -108,12 +108,14 @@ pub fn parse(data: &[u8]) -> Result<TriMesh> {
 pub fn write(mut w: impl Write, mesh: &TriMesh) -> Result<()> {
     super::check_tri(mesh)?;
     writeln!(w, "OFF\n{} {} 0", mesh.vertices.len(), mesh.triangles.len()).map_err(io_err)?;
+    let mut o = text::TextOut::new(&mut w);
     for v in &mesh.vertices {
-        writeln!(w, "{} {} {}", text::f(v[0]), text::f(v[1]), text::f(v[2])).map_err(io_err)?;
+        o.fs(v).nl()?;
     }
     for t in &mesh.triangles {
-        writeln!(w, "3 {} {} {}", t[0], t[1], t[2]).map_err(io_err)?;
+        o.s("3 ").ints(t).nl()?;
     }
+    o.finish()?;
     w.flush().map_err(io_err)
 }
 

@@ -520,13 +520,14 @@ pub fn write(mut w: impl Write, mesh: &TriMesh, encoding: PlyEncoding) -> Result
     .map_err(io_err)?;
     match encoding {
         PlyEncoding::Ascii => {
+            let mut o = text::TextOut::new(&mut w);
             for v in &mesh.vertices {
-                writeln!(w, "{} {} {}", text::f(v[0]), text::f(v[1]), text::f(v[2]))
-                    .map_err(io_err)?;
+                o.fs(v).nl()?;
             }
             for t in &mesh.triangles {
-                writeln!(w, "3 {} {} {}", t[0], t[1], t[2]).map_err(io_err)?;
+                o.s("3 ").ints(t).nl()?;
             }
+            o.finish()?;
         }
         e => {
             let big = e == PlyEncoding::BinaryBigEndian;

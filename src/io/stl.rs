@@ -223,31 +223,21 @@ pub fn write(mut w: impl Write, mesh: &TriMesh, encoding: StlEncoding) -> Result
     super::check_tri(mesh)?;
     match encoding {
         StlEncoding::Ascii => {
-            writeln!(w, "solid certmesh").map_err(io_err)?;
+            let mut o = text::TextOut::new(&mut w);
+            o.s("solid certmesh").nl()?;
             for t in 0..mesh.triangles.len() {
                 let c = mesh.corners(t);
-                let nn = normal(c);
-                writeln!(
-                    w,
-                    "facet normal {} {} {}\n outer loop",
-                    text::f(nn[0]),
-                    text::f(nn[1]),
-                    text::f(nn[2])
-                )
-                .map_err(io_err)?;
+                o.s("facet normal ")
+                    .fs(&normal(c))
+                    .s("\n outer loop")
+                    .nl()?;
                 for p in c {
-                    writeln!(
-                        w,
-                        "  vertex {} {} {}",
-                        text::f(p[0]),
-                        text::f(p[1]),
-                        text::f(p[2])
-                    )
-                    .map_err(io_err)?;
+                    o.s("  vertex ").fs(&p).nl()?;
                 }
-                writeln!(w, " endloop\nendfacet").map_err(io_err)?;
+                o.s(" endloop\nendfacet").nl()?;
             }
-            writeln!(w, "endsolid certmesh").map_err(io_err)?;
+            o.s("endsolid certmesh").nl()?;
+            o.finish()?;
         }
         StlEncoding::Binary => {
             let n = u32::try_from(mesh.triangles.len()).map_err(|_| {

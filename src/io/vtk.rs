@@ -292,21 +292,19 @@ fn write_cells<const K: usize>(
         vertices.len()
     )
     .map_err(io_err)?;
+    let mut o = text::TextOut::new(&mut *w);
     for v in vertices {
-        writeln!(w, "{} {} {}", text::f(v[0]), text::f(v[1]), text::f(v[2])).map_err(io_err)?;
+        o.fs(v).nl()?;
     }
-    writeln!(w, "CELLS {m} {}", (K + 1) * m).map_err(io_err)?;
+    o.s("CELLS ").int(m).s(" ").int((K + 1) * m).nl()?;
     for c in cells {
-        write!(w, "{K}").map_err(io_err)?;
-        for i in c {
-            write!(w, " {i}").map_err(io_err)?;
-        }
-        writeln!(w).map_err(io_err)?;
+        o.int(K).s(" ").ints(c).nl()?;
     }
-    writeln!(w, "CELL_TYPES {m}").map_err(io_err)?;
+    o.s("CELL_TYPES ").int(m).nl()?;
     for _ in 0..m {
-        writeln!(w, "{ty}").map_err(io_err)?;
+        o.int(ty).nl()?;
     }
+    o.finish()?;
     w.flush().map_err(io_err)
 }
 

@@ -41,10 +41,11 @@ pub fn read(r: impl BufRead) -> Result<Vec<[f64; 3]>> {
 
 /// Write points, one `x y z` line each (shortest round-trip decimals).
 pub fn write(mut w: impl Write, points: &[[f64; 3]]) -> Result<()> {
+    let mut o = super::text::TextOut::new(&mut w);
     for p in points {
-        writeln!(w, "{:?} {:?} {:?}", p[0], p[1], p[2]).map_err(super::text::io_err)?;
+        o.fs(p).nl()?;
     }
-    Ok(())
+    o.finish()
 }
 
 #[cfg(test)]
