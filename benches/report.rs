@@ -4,15 +4,16 @@
 //! surface at their default settings (16,912 and 28,364 triangles). Each group times
 //! the mesher itself for scale, the topology analysis, the angle ranges, the fidelity at
 //! each `--metrics` level, the whole report at each level, and writing the mesh as
-//! binary PLY to a memory buffer; and two floors, what any report that looks at every
-//! triangle once would pay beside the topology and the angles: one gradient of f per
-//! triangle (the cheapest first-order distance estimate) and one Newton projection per
-//! triangle (the cheapest mesh → surface distance). Run on 1 and 2 threads with
+//! binary PLY and as OBJ to a memory buffer; and two floors, what any report that looks
+//! at every triangle once would pay beside the topology and the angles: one gradient of
+//! f per triangle (the cheapest first-order distance estimate) and one Newton
+//! projection per triangle (the cheapest mesh → surface distance). Run on 1 and 2 threads with
 //! `RAYON_NUM_THREADS=1 cargo bench --bench report` (and `=2`).
 use certmesh::catalog;
 use certmesh::harness::compare::{fidelity_params, Metrics};
 use certmesh::harness::report::{self, DomainSource};
 use certmesh::implicit::{ops, Dual, Implicit};
+use certmesh::io::obj;
 use certmesh::io::ply::{self, PlyEncoding};
 use certmesh::mesher::options::MesherOptions;
 use certmesh::mesher::{self, registry, NoProgress};
@@ -71,6 +72,13 @@ fn workload(c: &mut Criterion, group: &str, name: &str, algo: &str, opts: &Meshe
         b.iter(|| {
             let mut buf = Vec::with_capacity(8 << 20);
             ply::write(&mut buf, &surf, PlyEncoding::BinaryLittleEndian).unwrap();
+            buf.len()
+        })
+    });
+    g.bench_function("write_obj_memory", |b| {
+        b.iter(|| {
+            let mut buf = Vec::with_capacity(16 << 20);
+            obj::write(&mut buf, &surf).unwrap();
             buf.len()
         })
     });
