@@ -323,22 +323,20 @@ impl<'w, W: Write + ?Sized> TextOut<'w, W> {
     /// Floats separated by single spaces.
     #[inline]
     pub(crate) fn fs(&mut self, xs: &[f64]) -> &mut Self {
-        for (i, &x) in xs.iter().enumerate() {
-            if i > 0 {
-                self.buf.push(b' ');
-            }
-            self.f(x);
-        }
-        self
+        self.spaced(xs, Self::f)
     }
     /// Integers separated by single spaces.
     #[inline]
     pub(crate) fn ints<I: itoa::Integer + Copy>(&mut self, xs: &[I]) -> &mut Self {
+        self.spaced(xs, Self::int)
+    }
+    #[inline]
+    fn spaced<T: Copy>(&mut self, xs: &[T], put: impl Fn(&mut Self, T) -> &mut Self) -> &mut Self {
         for (i, &x) in xs.iter().enumerate() {
             if i > 0 {
                 self.buf.push(b' ');
             }
-            self.int(x);
+            put(self, x);
         }
         self
     }

@@ -21,7 +21,7 @@
 //! [`TriGrid::closest_dist2`]: crate::kernel::cellgrid::TriGrid::closest_dist2
 use crate::kernel::bvh::closest_on_triangle;
 use crate::kernel::cellgrid::{clamp_cell, flat_index, ring_search};
-use crate::kernel::geom;
+use crate::kernel::geom::{self, Aabb};
 use crate::mesh::TriMesh;
 use rayon::prelude::*;
 
@@ -115,33 +115,13 @@ impl<'a> CentroidGrid<'a> {
         }
         // The box of all vertices (used or not: it only places the cells; centroids
         // lie in it).
-        // (Finite coordinates: plain comparisons, in parallel chunks.)
-        let (lo, hi) = mesh
+        // (In parallel chunks; a mesh with a triangle has a vertex.)
+        let Aabb { min: lo, max: hi } = mesh
             .vertices
             .par_chunks(8192)
-            .map(|c| {
-                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-                for p in c {
-                    for k in 0..3 {
-                        if p[k] < lo[k] {
-                            lo[k] = p[k];
-                        }
-                        if p[k] > hi[k] {
-                            hi[k] = p[k];
-                        }
-                    }
-                }
-                (lo, hi)
-            })
-            .reduce(
-                || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-                |(a, b), (c, d)| {
-                    (
-                        [0, 1, 2].map(|k| if c[k] < a[k] { c[k] } else { a[k] }),
-                        [0, 1, 2].map(|k| if d[k] > b[k] { d[k] } else { b[k] }),
-                    )
-                },
-            );
+            .filter_map(Aabb::of_points)
+            .reduce_with(|a, b| a.union(&b))
+            .expect("a triangle's corners are vertices");
         let ext = [0, 1, 2].map(|k| hi[k] - lo[k]);
         let longest = ext.iter().copied().fold(0.0, f64::max);
         let scale = lo.iter().chain(&hi).fold(0.0f64, |m, x| m.max(x.abs()));
