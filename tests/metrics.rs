@@ -865,3 +865,94 @@ fn fast_hausdorff_is_a_sampled_lower_estimate_of_full() {
         }
     }
 }
+
+/// Thinning the mesh samples (`FidelityParams::thin_samples`, the report's `--metrics
+/// fast` on a small mesh) keeps samples k·m + (k − 1)/2 of the unthinned run, each the
+/// same point projected the same way: the count is that of those indices, the mesh →
+/// surface maximum is at most the unthinned one, and the surface side (not thinned) is
+/// the same, bit for bit. Checked on the catalog torus and genus 2 meshed by marching
+/// cubes, against the unthinned run of the same parameters.
+#[test]
+fn thinned_mesh_samples_are_a_subset_of_the_unthinned_ones() {
+    use certmesh::harness::compare::fidelity_params;
+    use certmesh::mesher::{self, registry, NoProgress};
+    for name in ["torus", "genus2"] {
+        let e = catalog::get(name).unwrap();
+        let f = e.function();
+        let dom: Aabb = e.domain.into();
+        let o = certmesh::MesherOptions {
+            resolution: Some(40),
+            ..Default::default()
+        };
+        let m = registry::build("mc", 3, &o).unwrap();
+        let run = mesher::run(m.as_ref(), &f, &e.domain, &NoProgress).unwrap();
+        let surf = run.output.mesh.surface().unwrap();
+        let params = fidelity_params(&dom, 3)
+            .seed_grid(16)
+            .mesh_samples(4_000)
+            .hausdorff_only(true)
+            .project_vertices(false);
+        let all = fidelity::surface_fidelity(surf, &f, &params).unwrap();
+        assert_eq!(all.fidelity_mesh_samples, 4_000, "{name}");
+        assert_eq!(all.hausdorff_kind, fidelity::HAUSDORFF_KIND_SAMPLED);
+        // Even k is rounded down to the odd one below.
+        for (k, odd) in [(3, 3), (4, 3), (7, 7), (39, 39)] {
+            let p = params.clone().thin_samples(k);
+            assert_eq!(p.thin_samples, odd);
+            let th = fidelity::surface_fidelity(surf, &f, &p).unwrap();
+            let kept = ((odd - 1) / 2..4_000).step_by(odd).count();
+            let what = format!("{name}, k = {k}: thinned {th:?}, all {all:?}");
+            assert_eq!(th.fidelity_mesh_samples, kept, "{what}");
+            assert!(
+                th.hausdorff_mesh_to_surface <= all.hausdorff_mesh_to_surface,
+                "{what}"
+            );
+            assert!(th.hausdorff_mesh_to_surface > 0.0, "{what}");
+            assert_eq!(
+                th.hausdorff_surface_to_mesh.to_bits(),
+                all.hausdorff_surface_to_mesh.to_bits(),
+                "{what}"
+            );
+            assert_eq!(th.fidelity_surface_samples, all.fidelity_surface_samples);
+            assert_eq!(th.hausdorff_kind, fidelity::HAUSDORFF_KIND_THINNED);
+        }
+    }
+}
+
+proptest! {
+    /// The sizing of `--metrics fast`'s sample (`fast_fidelity_params`): the mesh
+    /// samples thinned by an odd k ≤ max(1, r), r = 640,000 / triangles, at most 39,
+    /// so about one sample per 32 triangles where k is not capped; the seed grid
+    /// 40 / √r per axis between 8 and 40; nothing thinned from 640,000 triangles up;
+    /// a larger mesh never gets a smaller sample; curves are not thinned.
+    #[test]
+    fn fast_sample_grows_with_the_mesh(t in 1usize..2_000_000, extra in 1usize..100_000) {
+        use certmesh::harness::compare::{fast_fidelity_params, fidelity_params, FAST_FULL_SIZE};
+        let dom = Aabb::new([-1.0; 3], [1.0; 3]).unwrap();
+        let full = fidelity_params(&dom, 3);
+        let p = fast_fidelity_params(&dom, 3, t);
+        let k = p.thin_samples;
+        let r = FAST_FULL_SIZE as f64 / t as f64;
+        prop_assert!(k % 2 == 1 && (1..=39).contains(&k));
+        prop_assert!(k as f64 <= r.max(1.0));
+        prop_assert!((8..=40).contains(&p.seed_grid));
+        prop_assert_eq!(p.mesh_samples, full.mesh_samples);
+        let kept = ((k - 1) / 2..p.mesh_samples).step_by(k).count();
+        if t >= FAST_FULL_SIZE {
+            prop_assert_eq!((k, p.seed_grid), (1, full.seed_grid));
+        } else if k < 39 {
+            // About one per 32 triangles: k is within 2 of r, and r ≥ 1.
+            let per = t as f64 / kept as f64;
+            prop_assert!(
+                per <= 32.0 * 1.01 && per >= 0.99 * 32.0 * (r - 2.0) / r,
+                "{} per sample", per
+            );
+        } else {
+            prop_assert!(kept >= 513);
+        }
+        let q = fast_fidelity_params(&dom, 3, t + extra);
+        prop_assert!(q.thin_samples <= k && q.seed_grid >= p.seed_grid);
+        let c = fast_fidelity_params(&dom, 2, t);
+        prop_assert_eq!((c.thin_samples, c.seed_grid), (1, fidelity_params(&dom, 2).seed_grid));
+    }
+}

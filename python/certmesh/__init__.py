@@ -247,8 +247,10 @@ def mesh(
         the mesh, the certificate and the mesher's statistics only.
     metrics: the report's measures, as the command line's ``--metrics``: ``"fast"``
         (default; the fields of ``"full"``, with the Hausdorff estimate's mesh side
-        from area-proportional samples only, not every vertex: at most full's,
-        labelled by ``hausdorff_kind`` and the sample counts), ``"full"``, or
+        from area-proportional samples only, not every vertex, and on a mesh under
+        640,000 triangles a sample sized to it, about one mesh sample per 32
+        triangles and a coarser seed grid: labelled by ``hausdorff_kind`` and the
+        sample counts), ``"full"``, or
         ``"none"`` (sizes, time and certificate only).
     **params: the mesher's options by name (``resolution=64``, ``max_depth=8``,
         ``facet_angle=30``, ...; ``certmesh._certmesh.option_names()``), and

@@ -39,8 +39,10 @@ pub struct Row {
     pub hausdorff: Option<f64>,
     /// Why `hausdorff` is undefined or infinite (e.g. no mesh point projects onto f = 0).
     pub hausdorff_note: Option<String>,
-    /// What `hausdorff` is: a sampled estimate (under `--metrics fast`, from a fixed
-    /// budget of mesh samples without the vertices: [`metrics::fidelity::HAUSDORFF_KIND_SAMPLED`]).
+    /// What `hausdorff` is: a sampled estimate (under `--metrics fast`, from mesh
+    /// samples without the vertices, [`metrics::fidelity::HAUSDORFF_KIND_SAMPLED`], or
+    /// from a subset of `full`'s points sized to a small mesh,
+    /// [`metrics::fidelity::HAUSDORFF_KIND_THINNED`]).
     pub hausdorff_kind: &'static str,
     /// How many mesh points (vertices and samples, or samples only) the mesh → surface
     /// side of `hausdorff` is the maximum over (those whose projection converged);
@@ -117,6 +119,35 @@ pub fn fidelity_params(domain: &Aabb, dim: usize) -> FidelityParams {
         .domain(*domain)
 }
 
+/// The mesh size (triangles) from which `--metrics fast` keeps all of
+/// [`fidelity_params`]' mesh samples and seeds: 640,000, about 32 triangles per sample.
+pub const FAST_FULL_SIZE: usize = 640_000;
+/// The most `--metrics fast` thins: 1 in 39 mesh samples (20,000 / 39: 513 kept), and
+/// 8 seeds per axis instead of 40.
+pub const FAST_MAX_THIN: usize = 39;
+pub const FAST_MIN_SEED_GRID: usize = 8;
+
+/// [`fidelity_params`] sized to a surface mesh of `elements` triangles, for the
+/// report's `--metrics fast`: with r = [`FAST_FULL_SIZE`] / `elements`, every k-th of
+/// the 20,000 mesh samples (k the largest odd number ≤ r, at most [`FAST_MAX_THIN`]:
+/// about one sample per 32 triangles, a subset of `full`'s samples), and a seed grid
+/// of 40 / √r per axis (rounded, between [`FAST_MIN_SEED_GRID`] and 40), so that the
+/// surface points, about proportional to its square, shrink about as much. The
+/// report's work then grows with the mesh, rather than being the fixed sample of
+/// `full` (and of `certmesh compare`, whose rows stay comparable) for a mesh of a few
+/// thousand triangles as for one of a million. Curves (`dim` 2) keep the full sample.
+pub fn fast_fidelity_params(domain: &Aabb, dim: usize, elements: usize) -> FidelityParams {
+    let p = fidelity_params(domain, dim);
+    if dim == 2 {
+        return p;
+    }
+    let r = FAST_FULL_SIZE as f64 / elements.max(1) as f64;
+    let k = (r.floor() as usize).clamp(1, FAST_MAX_THIN);
+    let n = ((p.seed_grid as f64 / r.max(1.0).sqrt()).round() as usize)
+        .clamp(FAST_MIN_SEED_GRID, p.seed_grid);
+    p.thin_samples(k).seed_grid(n)
+}
+
 /// How much of the report to compute (`certmesh mesh --metrics`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Metrics {
@@ -126,10 +157,14 @@ pub enum Metrics {
     /// Every field of the row, skipping the measures the row does not report (the
     /// per-vertex distance estimate, the normal deviation, the mean smallest angle and
     /// the edge ratios), with a sampled Hausdorff estimate: the mesh → surface side
-    /// from the fixed budget of area-proportional mesh samples alone (not every vertex
-    /// as well), so at most `Full`'s, the surface → mesh side the same as `Full`'s
-    /// (`hausdorff_kind` and `hausdorff_mesh_samples` say so). Every other field of
-    /// the row is `Full`'s.
+    /// from the area-proportional mesh samples alone (not every vertex as well), so at
+    /// most `Full`'s. On a surface mesh of fewer than [`FAST_FULL_SIZE`] triangles the
+    /// sample is sized to the mesh ([`fast_fidelity_params`]): a subset of `Full`'s mesh
+    /// samples (so that side is still at most `Full`'s) and surface points from a
+    /// coarser seed grid (that side an estimate of its own); from that size up, the
+    /// surface → mesh side is `Full`'s. `hausdorff_kind`,
+    /// `hausdorff_mesh_samples` and `hausdorff_surface_samples` say which. Every other
+    /// field of the row is `Full`'s.
     #[default]
     Fast,
     /// Every measure, as `certmesh compare` computes them.
@@ -220,6 +255,9 @@ pub fn evaluate_with(
         m => {
             let surf = m.surface().expect("surface or volume");
             let (s, report) = if level == Metrics::Fast {
+                let params = fast_fidelity_params(domain, dim, surf.triangles.len())
+                    .hausdorff_only(true)
+                    .project_vertices(false);
                 metrics::stats_and_topology_fast(surf, Some(f), &params)?
             } else {
                 metrics::stats_and_topology(surf, Some(f), &params)?

@@ -530,12 +530,15 @@ pub fn write(mut w: impl Write, mesh: &TriMesh, encoding: PlyEncoding) -> Result
             o.finish()?;
         }
         e => {
+            // Built in chunks of about 64 KiB and handed over whole: one `write_all` per
+            // chunk, not per value (the bytes are the same).
             let big = e == PlyEncoding::BinaryBigEndian;
-            let mut buf = Vec::with_capacity(32);
-            for v in &mesh.vertices {
+            const PER_CHUNK: usize = 4096;
+            let mut buf = Vec::with_capacity(PER_CHUNK * 24);
+            for vs in mesh.vertices.chunks(PER_CHUNK) {
                 buf.clear();
-                for c in v {
-                    buf.extend(if big {
+                for c in vs.iter().flatten() {
+                    buf.extend_from_slice(&if big {
                         c.to_be_bytes()
                     } else {
                         c.to_le_bytes()
@@ -543,16 +546,18 @@ pub fn write(mut w: impl Write, mesh: &TriMesh, encoding: PlyEncoding) -> Result
                 }
                 w.write_all(&buf).map_err(io_err)?;
             }
-            for t in &mesh.triangles {
+            for ts in mesh.triangles.chunks(PER_CHUNK) {
                 buf.clear();
-                buf.push(3u8);
-                for &i in t {
-                    let i = i as i32;
-                    buf.extend(if big {
-                        i.to_be_bytes()
-                    } else {
-                        i.to_le_bytes()
-                    });
+                for t in ts {
+                    buf.push(3u8);
+                    for &i in t {
+                        let i = i as i32;
+                        buf.extend_from_slice(&if big {
+                            i.to_be_bytes()
+                        } else {
+                            i.to_le_bytes()
+                        });
+                    }
                 }
                 w.write_all(&buf).map_err(io_err)?;
             }

@@ -31,8 +31,16 @@ pub const HAUSDORFF_KIND: &str = "estimate (maximum over samples; not a bound)";
 pub const HAUSDORFF_KIND_SAMPLED: &str = "sampled estimate (maximum over a fixed budget of \
      area-proportional mesh samples, vertices left out, and over surface points; not a bound)";
 
+/// What the Hausdorff fields are when [`FidelityParams::thin_samples`] kept only part
+/// of the mesh samples (the report's `--metrics fast` on a small mesh, see
+/// [`crate::harness::compare::fast_fidelity_params`]).
+pub const HAUSDORFF_KIND_THINNED: &str = "sampled estimate (maximum over a budget sized to \
+     the mesh: every k-th of the full report's area-proportional mesh samples, vertices left \
+     out, and surface points from a seed grid as coarse as the mesh allows; not a bound)";
+
 /// How much sampling to do. Defaults: 50 000 mesh samples, a 48³ (curves: 256²) seed
-/// grid, 16 Newton steps, domain = mesh bounding box grown by 10% of its diagonal.
+/// grid, 16 Newton steps, domain = mesh bounding box grown by 10% of its diagonal,
+/// every mesh sample kept (no thinning).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FidelityParams {
     /// Points sampled on the mesh (area-proportional, deterministic), besides its vertices.
@@ -49,13 +57,19 @@ pub struct FidelityParams {
     /// [`NOT_COMPUTED`]. The Hausdorff values are the same as without it.
     pub hausdorff_only: bool,
     /// Project every vertex onto f = 0 for the mesh → surface side, besides the
-    /// `mesh_samples` (default). Off (the report's `--metrics fast`): the samples alone,
-    /// a fixed budget whatever the mesh's size, and the surface → mesh distances through
+    /// `mesh_samples` (default). Off (the report's `--metrics fast`): the samples alone
+    /// (thinned by [`FidelityParams::thin_samples`] if asked), and the surface → mesh
+    /// distances through
     /// [`super::nearest::CentroidGrid`] (the same distances as with it on, for a
     /// cheaper index). Every sample is one of the points projected with it on, so the
     /// mesh → surface estimate is at most the one with it on, and the surface → mesh
     /// side is the same; [`Fidelity::hausdorff_kind`] says which was done.
     pub project_vertices: bool,
+    /// Keep only every k-th mesh sample, centred (samples k·m + (k − 1)/2 of the
+    /// `mesh_samples`; k odd): each one kept is the sample of the unthinned run, at the
+    /// same point, projected the same way, so the mesh → surface maximum is at most
+    /// the unthinned one. 1 (the default) keeps every sample.
+    pub thin_samples: usize,
 }
 
 /// Why a field is undefined when [`FidelityParams::hausdorff_only`] skipped it.
@@ -70,6 +84,7 @@ impl Default for FidelityParams {
             domain: None,
             hausdorff_only: false,
             project_vertices: true,
+            thin_samples: 1,
         }
     }
 }
@@ -98,6 +113,12 @@ impl FidelityParams {
     }
     pub fn project_vertices(mut self, yes: bool) -> Self {
         self.project_vertices = yes;
+        self
+    }
+    /// Keep every `k`-th mesh sample (rounded down to an odd number, at least 1): see
+    /// [`FidelityParams::thin_samples`].
+    pub fn thin_samples(mut self, k: usize) -> Self {
+        self.thin_samples = if k <= 1 { 1 } else { k - (1 - k % 2) };
         self
     }
 }
@@ -528,8 +549,11 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
             }
             let total = acc;
             let ns = if total > 0.0 { params.mesh_samples } else { 0 };
-            let samples: Vec<[f64; 3]> = (0..ns)
+            // Every k-th sample, centred (k odd, see `FidelityParams::thin_samples`).
+            let k = params.thin_samples.max(1);
+            let samples: Vec<[f64; 3]> = ((k - 1) / 2..ns)
                 .into_par_iter()
+                .step_by(k)
                 .map(|i| {
                     let u = (i as f64 + 0.5) / ns as f64 * total;
                     let e = cum.partition_point(|&c| c < u).min(el.weights.len() - 1);
@@ -632,6 +656,8 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
         flipped_normals: flipped,
         hausdorff_kind: if params.project_vertices {
             HAUSDORFF_KIND
+        } else if params.thin_samples > 1 {
+            HAUSDORFF_KIND_THINNED
         } else {
             HAUSDORFF_KIND_SAMPLED
         },

@@ -53,8 +53,11 @@ pub(crate) struct MeshArgs {
     pub(crate) json: bool,
     /// How much of the report to compute: `none` (sizes, time and certificate only),
     /// `fast` (every field of the report, skipping measures it does not print; the
-    /// Hausdorff estimate's mesh side from a fixed budget of 20,000 area-proportional
-    /// samples, not every vertex: `hausdorff_kind`, `hausdorff_mesh_samples`) or
+    /// Hausdorff estimate's mesh side from 20,000 area-proportional samples, not every
+    /// vertex; on a mesh under 640,000 triangles, a sample sized to it: about one mesh
+    /// sample per 32 triangles, at least 513, all among `full`'s samples, and surface
+    /// points from a seed grid of 8 to 40 per axis, coarser for a smaller mesh:
+    /// `hausdorff_kind`, `hausdorff_mesh_samples`, `hausdorff_surface_samples`) or
     /// `full` (every measure, as `certmesh compare`). The mesh file is written while the
     /// report is computed; the report's own time is `metrics_seconds` in JSON, beside
     /// the mesher's `seconds`.
