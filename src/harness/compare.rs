@@ -122,10 +122,13 @@ pub fn fidelity_params(domain: &Aabb, dim: usize) -> FidelityParams {
 /// The mesh size (triangles) from which `--metrics fast` keeps all of
 /// [`fidelity_params`]' mesh samples and seeds: 640,000, about 32 triangles per sample.
 pub const FAST_FULL_SIZE: usize = 640_000;
-/// The most `--metrics fast` thins: 1 in 39 mesh samples (20,000 / 39: 513 kept), and
-/// 8 seeds per axis instead of 40.
+/// The most `--metrics fast` thins the mesh samples: 1 in 39 (20,000 / 39: 513 kept).
 pub const FAST_MAX_THIN: usize = 39;
-pub const FAST_MIN_SEED_GRID: usize = 8;
+/// The coarsest seed grid of `--metrics fast`: 12 per axis instead of 40 (about 1,400
+/// surface points on the catalog's torus and genus 2). At 8 per axis the surface →
+/// mesh side of GradNormal's genus 2 at its defaults fell to 0.45 of the 40³ one; at 12
+/// it is within 4 %, as on the marching-cubes torus (measured, `papers/bench-report.md`).
+pub const FAST_MIN_SEED_GRID: usize = 12;
 
 /// [`fidelity_params`] sized to a surface mesh of `elements` triangles, for the
 /// report's `--metrics fast`: with r = [`FAST_FULL_SIZE`] / `elements`, every k-th of

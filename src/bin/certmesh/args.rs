@@ -56,7 +56,7 @@ pub(crate) struct MeshArgs {
     /// Hausdorff estimate's mesh side from 20,000 area-proportional samples, not every
     /// vertex; on a mesh under 640,000 triangles, a sample sized to it: about one mesh
     /// sample per 32 triangles, at least 513, all among `full`'s samples, and surface
-    /// points from a seed grid of 8 to 40 per axis, coarser for a smaller mesh:
+    /// points from a seed grid of 12 to 40 per axis, coarser for a smaller mesh:
     /// `hausdorff_kind`, `hausdorff_mesh_samples`, `hausdorff_surface_samples`) or
     /// `full` (every measure, as `certmesh compare`). The mesh file is written while the
     /// report is computed; the report's own time is `metrics_seconds` in JSON, beside
