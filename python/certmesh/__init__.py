@@ -249,7 +249,8 @@ def mesh(
         (default; the fields of ``"full"``, with the Hausdorff estimate's mesh side
         from area-proportional samples only, not every vertex, and on a mesh under
         640,000 triangles a sample sized to it, about one mesh sample per 32
-        triangles and a coarser seed grid: labelled by ``hausdorff_kind`` and the
+        triangles refined on the triangles of the largest distances, and a coarser
+        seed grid: labelled by ``hausdorff_kind`` and the
         sample counts), ``"full"``, or
         ``"none"`` (sizes, time and certificate only).
     **params: the mesher's options by name (``resolution=64``, ``max_depth=8``,

@@ -133,7 +133,9 @@ pub const FAST_MIN_SEED_GRID: usize = 12;
 /// [`fidelity_params`] sized to a surface mesh of `elements` triangles, for the
 /// report's `--metrics fast`: with r = [`FAST_FULL_SIZE`] / `elements`, every k-th of
 /// the 20,000 mesh samples (k the largest odd number ≤ r, at most [`FAST_MAX_THIN`]:
-/// about one sample per 32 triangles, a subset of `full`'s samples), and a seed grid
+/// about one sample per 32 triangles), refined on the triangles of the largest
+/// distances (their corners and all their samples: `FidelityParams::thin_samples`),
+/// every point one of `full`'s; and a seed grid
 /// of 40 / √r per axis (rounded, between [`FAST_MIN_SEED_GRID`] and 40), so that the
 /// surface points, about proportional to its square, shrink about as much. The
 /// report's work then grows with the mesh, rather than being the fixed sample of
@@ -163,7 +165,8 @@ pub enum Metrics {
     /// from the area-proportional mesh samples alone (not every vertex as well), so at
     /// most `Full`'s. On a surface mesh of fewer than [`FAST_FULL_SIZE`] triangles the
     /// sample is sized to the mesh ([`fast_fidelity_params`]): a subset of `Full`'s mesh
-    /// samples (so that side is still at most `Full`'s) and surface points from a
+    /// points, every k-th sample refined on the triangles of the largest distances (so
+    /// that side is still at most `Full`'s), and surface points from a
     /// coarser seed grid (that side an estimate of its own); from that size up, the
     /// surface → mesh side is `Full`'s. `hausdorff_kind`,
     /// `hausdorff_mesh_samples` and `hausdorff_surface_samples` say which. Every other

@@ -35,8 +35,10 @@ pub const HAUSDORFF_KIND_SAMPLED: &str = "sampled estimate (maximum over a fixed
 /// of the mesh samples (the report's `--metrics fast` on a small mesh, see
 /// [`crate::harness::compare::fast_fidelity_params`]).
 pub const HAUSDORFF_KIND_THINNED: &str = "sampled estimate (maximum over a budget sized to \
-     the mesh: every k-th of the full report's area-proportional mesh samples, vertices left \
-     out, and surface points from a seed grid as coarse as the mesh allows; not a bound)";
+     the mesh: every k-th of the full report's area-proportional mesh samples, then all of \
+     them and the corners on the triangles of the largest distances, the other vertices \
+     left out, and surface points from a seed grid as coarse as the mesh allows; not a \
+     bound)";
 
 /// How much sampling to do. Defaults: 50 000 mesh samples, a 48³ (curves: 256²) seed
 /// grid, 16 Newton steps, domain = mesh bounding box grown by 10% of its diagonal,
@@ -66,9 +68,14 @@ pub struct FidelityParams {
     /// side is the same; [`Fidelity::hausdorff_kind`] says which was done.
     pub project_vertices: bool,
     /// Keep only every k-th mesh sample, centred (samples k·m + (k − 1)/2 of the
-    /// `mesh_samples`; k odd): each one kept is the sample of the unthinned run, at the
-    /// same point, projected the same way, so the mesh → surface maximum is at most
-    /// the unthinned one. 1 (the default) keeps every sample.
+    /// `mesh_samples`; k odd), and then, adaptively, the corners and every sample of
+    /// the elements (triangles, segments) that hold the [`REFINE_WORST`] largest of
+    /// their distances: the maximum sits on a few elements, and is most likely found
+    /// next to the largest distances of the even sample. Each point is one of the
+    /// points of the unthinned run with [`FidelityParams::project_vertices`] on (a
+    /// vertex, or the sample with the same index), projected the same way, so the mesh
+    /// → surface maximum is at most that run's; the mean is the one of the evenly
+    /// spread samples alone. 1 (the default) keeps every sample.
     pub thin_samples: usize,
 }
 
@@ -272,6 +279,57 @@ fn project_samples(
     pts.par_chunks(BATCH)
         .flat_map_iter(|c| crate::implicit::ops::project_batch_or_on(f, c, steps, tol))
         .collect()
+}
+
+/// How many of the largest distances of a thinned mesh side have their elements
+/// sampled in full ([`FidelityParams::thin_samples`]).
+pub const REFINE_WORST: usize = 32;
+
+/// What a thinned mesh side adds ([`FidelityParams::thin_samples`]): the elements of
+/// the [`REFINE_WORST`] largest distances `d` (of the samples `kept`, every `k`-th),
+/// ascending, and every sample index of `0..ns` (of the unthinned run) on them, not
+/// already kept, ascending. `elem(i)` is sample i's element, non-decreasing in i, so
+/// an element's samples are one run of indices, found by bisection.
+fn refine_indices(
+    d: &[Option<f64>],
+    kept: &[usize],
+    k: usize,
+    ns: usize,
+    elem: impl Fn(usize) -> usize,
+) -> (Vec<usize>, Vec<usize>) {
+    let mut worst: Vec<(f64, usize)> = d
+        .iter()
+        .zip(kept)
+        .filter_map(|(d, &i)| d.filter(|d| d.is_finite()).map(|d| (d, i)))
+        .collect();
+    let m = REFINE_WORST.min(worst.len());
+    if m == 0 {
+        return (Vec::new(), Vec::new());
+    }
+    worst.select_nth_unstable_by(m - 1, |a, b| b.0.total_cmp(&a.0));
+    let mut elems: Vec<usize> = worst[..m].iter().map(|&(_, i)| elem(i)).collect();
+    elems.sort_unstable();
+    elems.dedup();
+    // The first index in 0..ns where `below` is false (`below` true then false).
+    let first = |below: &dyn Fn(usize) -> bool| {
+        let (mut lo, mut hi) = (0, ns);
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if below(mid) {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    };
+    let mut out = Vec::new();
+    for &e in &elems {
+        let lo = first(&|i| elem(i) < e);
+        let hi = first(&|i| elem(i) <= e);
+        out.extend((lo..hi).filter(|i| i % k != (k - 1) / 2));
+    }
+    (elems, out)
 }
 
 /// The first-order distance estimate |f|/|∇f| at `p`.
@@ -502,6 +560,8 @@ struct Elements<'a> {
     closest: &'a (dyn Fn(&[[f64; 3]]) -> Vec<f64> + Sync),
     /// The normal of element `e` and the point where ∇f is compared with it.
     normal: &'a (dyn Fn(usize) -> Option<([f64; 3], [f64; 3])> + Sync),
+    /// The corners of element `e`, pushed onto the vector.
+    corners: &'a (dyn Fn(usize, &mut Vec<[f64; 3]>) + Sync),
     /// Seed grid when `params.seed_grid` is 0.
     default_seed_grid: usize,
     /// A curve in the plane z = 0 (∇f's z component is ignored; no orientation).
@@ -537,7 +597,7 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
 
     // Two independent sides, side by side: the mesh → surface projections, and the
     // surface points with their distances to the mesh (whose index is built there).
-    let ((m2s, attempted, unconverged), (s2m, spts_len, candidates)) = rayon::join(
+    let ((m2s, attempted, unconverged, even_mean), (s2m, spts_len, candidates)) = rayon::join(
         || {
             // Measure-proportional deterministic samples: stratified along the
             // cumulative measure.
@@ -549,31 +609,52 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
             }
             let total = acc;
             let ns = if total > 0.0 { params.mesh_samples } else { 0 };
+            // The element of sample i (non-decreasing in i).
+            let elem = |i: usize| {
+                let u = (i as f64 + 0.5) / ns as f64 * total;
+                cum.partition_point(|&c| c < u).min(el.weights.len() - 1)
+            };
+            let dist_of = |pts: &[[f64; 3]]| -> Vec<Option<f64>> {
+                project_samples(f, pts, steps, tol)
+                    .into_iter()
+                    .zip(pts)
+                    .map(|(q, &p)| q.map(|q| geom::dist(p, q)))
+                    .collect()
+            };
             // Every k-th sample, centred (k odd, see `FidelityParams::thin_samples`).
             let k = params.thin_samples.max(1);
-            let samples: Vec<[f64; 3]> = ((k - 1) / 2..ns)
-                .into_par_iter()
-                .step_by(k)
-                .map(|i| {
-                    let u = (i as f64 + 0.5) / ns as f64 * total;
-                    let e = cum.partition_point(|&c| c < u).min(el.weights.len() - 1);
-                    (el.sample)(e, i)
-                })
-                .collect();
+            let kept: Vec<usize> = ((k - 1) / 2..ns).step_by(k).collect();
+            let samples: Vec<[f64; 3]> =
+                kept.par_iter().map(|&i| (el.sample)(elem(i), i)).collect();
             let from: Vec<[f64; 3]> = if params.project_vertices {
                 verts.iter().chain(&samples).copied().collect()
             } else {
                 samples
             };
-            let m2s: Vec<Option<f64>> = project_samples(f, &from, steps, tol)
-                .into_iter()
-                .zip(&from)
-                .map(|(q, &p)| q.map(|q| geom::dist(p, q)))
-                .collect();
+            let mut m2s = dist_of(&from);
+            // Thinned: the mean is the one of the evenly spread samples; then every
+            // sample of the elements that hold the largest distances, where the
+            // maximum is most likely (see `FidelityParams::thin_samples`).
+            let mut mean = None;
+            if k > 1 {
+                let off = from.len() - kept.len();
+                let even: Vec<f64> = m2s[off..].iter().flatten().copied().collect();
+                mean = Some(max_mean(&even).1);
+                let (elems, extra) = refine_indices(&m2s[off..], &kept, k, ns, elem);
+                // Their corners (each once), then their samples.
+                let mut pts = Vec::new();
+                for e in elems {
+                    (el.corners)(e, &mut pts);
+                }
+                pts.sort_unstable_by(|a, b| a.map(f64::to_bits).cmp(&b.map(f64::to_bits)));
+                pts.dedup();
+                pts.par_extend(extra.par_iter().map(|&i| (el.sample)(elem(i), i)));
+                m2s.extend(dist_of(&pts));
+            }
             let attempted = m2s.len();
             let unconverged = m2s.iter().filter(|d| d.is_none()).count();
             let m2s: Vec<f64> = m2s.into_iter().flatten().collect();
-            (m2s, attempted, unconverged)
+            (m2s, attempted, unconverged, mean)
         },
         || {
             let n = if params.seed_grid == 0 {
@@ -585,7 +666,10 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
             ((el.closest)(&spts), spts.len(), candidates)
         },
     );
-    let (h_ms, mean_ms) = mesh_to_surface(&m2s, attempted, &mut undefined);
+    let (h_ms, mut mean_ms) = mesh_to_surface(&m2s, attempted, &mut undefined);
+    if let Some(m) = even_mean.filter(|m| m.is_finite() && mean_ms.is_finite()) {
+        mean_ms = m;
+    }
 
     let (h_sm, mean_sm) = surface_to_mesh(&s2m, candidates, spts_len, &mut undefined);
 
@@ -740,6 +824,7 @@ pub fn surface_fidelity(
             sample: &sample,
             closest: &closest,
             normal: &normal,
+            corners: &|t, out| out.extend(mesh.corners(t)),
             default_seed_grid: 48,
             planar: false,
         },
@@ -797,8 +882,79 @@ pub fn curve_fidelity(
             sample: &sample,
             closest: &closest,
             normal: &normal,
+            corners: &|s, out| out.extend(curve.segments[s].map(lift)),
             default_seed_grid: 256,
             planar: true,
         },
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// `refine_indices` against a brute force: the elements of the 32 largest
+        /// finite distances of the kept samples (ties broken either way, so checked as
+        /// "every element listed holds one of the 32 largest, and none larger was left
+        /// out"), and exactly the not-kept indices of `0..ns` on them.
+        #[test]
+        fn refine_indices_equal_brute_force(
+            weights in prop::collection::vec(0.01f64..5.0, 1..200),
+            ns in 1usize..3000,
+            k in (1usize..20).prop_map(|k| 2 * k + 1),
+            seed in any::<u64>(),
+        ) {
+            let mut cum = Vec::new();
+            let mut acc = 0.0;
+            for w in &weights {
+                acc += w;
+                cum.push(acc);
+            }
+            let total = acc;
+            let elem = |i: usize| {
+                let u = (i as f64 + 0.5) / ns as f64 * total;
+                cum.partition_point(|&c| c < u).min(weights.len() - 1)
+            };
+            let kept: Vec<usize> = ((k - 1) / 2..ns).step_by(k).collect();
+            // Distances: a hash of the index, some missing (unconverged), some infinite.
+            let d: Vec<Option<f64>> = kept
+                .iter()
+                .map(|&i| {
+                    let h = (i as u64 ^ seed).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 11;
+                    match h % 17 {
+                        0 => None,
+                        1 => Some(f64::INFINITY),
+                        _ => Some(h as f64 / (1u64 << 53) as f64),
+                    }
+                })
+                .collect();
+            let (elems, extra) = refine_indices(&d, &kept, k, ns, elem);
+            let mut finite: Vec<(f64, usize)> = d
+                .iter()
+                .zip(&kept)
+                .filter_map(|(d, &i)| d.filter(|d| d.is_finite()).map(|d| (d, i)))
+                .collect();
+            finite.sort_by(|a, b| b.0.total_cmp(&a.0));
+            let m = REFINE_WORST.min(finite.len());
+            let cut = if m > 0 { finite[m - 1].0 } else { f64::INFINITY };
+            // Every sample strictly above the cut has its element listed; every listed
+            // element holds a sample at or above it.
+            for &(x, i) in &finite {
+                if x > cut {
+                    prop_assert!(elems.contains(&elem(i)));
+                }
+            }
+            for &e in &elems {
+                prop_assert!(finite.iter().any(|&(x, i)| x >= cut && elem(i) == e));
+            }
+            prop_assert!(elems.windows(2).all(|w| w[0] < w[1]));
+            prop_assert!(elems.len() <= m);
+            let want: Vec<usize> = (0..ns)
+                .filter(|&i| i % k != (k - 1) / 2 && elems.contains(&elem(i)))
+                .collect();
+            prop_assert_eq!(extra, want);
+        }
+    }
 }

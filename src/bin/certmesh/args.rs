@@ -55,7 +55,8 @@ pub(crate) struct MeshArgs {
     /// `fast` (every field of the report, skipping measures it does not print; the
     /// Hausdorff estimate's mesh side from 20,000 area-proportional samples, not every
     /// vertex; on a mesh under 640,000 triangles, a sample sized to it: about one mesh
-    /// sample per 32 triangles, at least 513, all among `full`'s samples, and surface
+    /// sample per 32 triangles, at least 513, refined on the triangles of the largest
+    /// distances (their corners and all `full`'s samples on them), and surface
     /// points from a seed grid of 12 to 40 per axis, coarser for a smaller mesh:
     /// `hausdorff_kind`, `hausdorff_mesh_samples`, `hausdorff_surface_samples`) or
     /// `full` (every measure, as `certmesh compare`). The mesh file is written while the
