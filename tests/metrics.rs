@@ -930,6 +930,12 @@ fn thinned_mesh_samples_are_a_subset_of_the_unthinned_ones() {
                 th.hausdorff_mesh_to_surface >= 0.7 * all.hausdorff_mesh_to_surface,
                 "{what}"
             );
+            // Thinned with every vertex: a subset of the same points again.
+            let tv = fidelity::surface_fidelity(surf, &f, &params.clone().thin_samples(k)).unwrap();
+            assert!(tv.hausdorff_mesh_to_surface <= all.hausdorff_mesh_to_surface);
+            assert!(tv.hausdorff_mesh_to_surface >= th.hausdorff_mesh_to_surface);
+            assert!(tv.fidelity_mesh_samples < all.fidelity_mesh_samples);
+            assert_eq!(tv.hausdorff_kind, fidelity::HAUSDORFF_KIND);
         }
     }
 }

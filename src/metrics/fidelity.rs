@@ -641,10 +641,13 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
                 let even: Vec<f64> = m2s[off..].iter().flatten().copied().collect();
                 mean = Some(max_mean(&even).1);
                 let (elems, extra) = refine_indices(&m2s[off..], &kept, k, ns, elem);
-                // Their corners (each once), then their samples.
+                // Their corners (each once; already among the points when every vertex
+                // is), then their samples.
                 let mut pts = Vec::new();
-                for e in elems {
-                    (el.corners)(e, &mut pts);
+                if !params.project_vertices {
+                    for e in elems {
+                        (el.corners)(e, &mut pts);
+                    }
                 }
                 pts.sort_unstable_by(|a, b| a.map(f64::to_bits).cmp(&b.map(f64::to_bits)));
                 pts.dedup();
