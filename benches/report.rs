@@ -10,7 +10,7 @@
 //! projection per triangle (the cheapest mesh → surface distance). Run on 1 and 2 threads with
 //! `RAYON_NUM_THREADS=1 cargo bench --bench report` (and `=2`).
 use certmesh::catalog;
-use certmesh::harness::compare::{fast_fidelity_params, fidelity_params, Metrics};
+use certmesh::harness::compare::{fidelity_params, level_fidelity_params, Metrics};
 use certmesh::harness::report::{self, DomainSource};
 use certmesh::implicit::{ops, Dual, Implicit};
 use certmesh::io::obj;
@@ -44,13 +44,7 @@ fn workload(c: &mut Criterion, group: &str, name: &str, algo: &str, opts: &Meshe
     });
     for (level_name, level) in [("fast", Metrics::Fast), ("full", Metrics::Full)] {
         // What `evaluate_with` asks at each level (`fast`: sized to the mesh).
-        let p = if level == Metrics::Fast {
-            fast_fidelity_params(&e.domain, 3, surf.triangles.len())
-        } else {
-            params.clone()
-        }
-        .hausdorff_only(level == Metrics::Fast)
-        .project_vertices(level != Metrics::Fast);
+        let p = level_fidelity_params(level, &e.domain, 3, surf.triangles.len());
         g.bench_function(format!("fidelity_{level_name}"), |b| {
             b.iter(|| fidelity::surface_fidelity(black_box(&surf), &f, &p).unwrap())
         });

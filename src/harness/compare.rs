@@ -153,6 +153,25 @@ pub fn fast_fidelity_params(domain: &Aabb, dim: usize, elements: usize) -> Fidel
     p.thin_samples(k).seed_grid(n)
 }
 
+/// The fidelity parameters of the report at `level` for a mesh of `elements`
+/// triangles or segments: `Full`, [`fidelity_params`]; `Fast`,
+/// [`fast_fidelity_params`], the Hausdorff fields only, without projecting every
+/// vertex (`None` computes no fidelity).
+pub fn level_fidelity_params(
+    level: Metrics,
+    domain: &Aabb,
+    dim: usize,
+    elements: usize,
+) -> FidelityParams {
+    if level == Metrics::Fast {
+        fast_fidelity_params(domain, dim, elements)
+            .hausdorff_only(true)
+            .project_vertices(false)
+    } else {
+        fidelity_params(domain, dim)
+    }
+}
+
 /// How much of the report to compute (`certmesh mesh --metrics`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Metrics {
@@ -221,9 +240,6 @@ pub fn evaluate_with(
     row.evaluations = run.evaluations.total();
     row.certified = run.output.certificate.is_certified();
     row.certificate = run.output.certificate.clone();
-    let params = fidelity_params(domain, dim)
-        .hausdorff_only(level == Metrics::Fast)
-        .project_vertices(level != Metrics::Fast);
     if level == Metrics::None {
         // Sizes straight from the mesh (vertices as stored, not only the used ones).
         let (v, fc) = match &run.output.mesh {
@@ -244,6 +260,7 @@ pub fn evaluate_with(
     }
     match &run.output.mesh {
         Mesh::Curve(c) => {
+            let params = level_fidelity_params(level, domain, dim, c.segments.len());
             let s = metrics::curve_stats(c, Some(f), &params)?;
             row.components = s.topology.components;
             row.closed = s.topology.open_ends == 0;
@@ -260,10 +277,8 @@ pub fn evaluate_with(
         }
         m => {
             let surf = m.surface().expect("surface or volume");
+            let params = level_fidelity_params(level, domain, dim, surf.triangles.len());
             let (s, report) = if level == Metrics::Fast {
-                let params = fast_fidelity_params(domain, dim, surf.triangles.len())
-                    .hausdorff_only(true)
-                    .project_vertices(false);
                 metrics::stats_and_topology_fast(surf, Some(f), &params)?
             } else {
                 metrics::stats_and_topology(surf, Some(f), &params)?

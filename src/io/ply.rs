@@ -530,37 +530,32 @@ pub fn write(mut w: impl Write, mesh: &TriMesh, encoding: PlyEncoding) -> Result
             o.finish()?;
         }
         e => {
-            // Built in chunks of about 64 KiB and handed over whole: one `write_all` per
-            // chunk, not per value (the bytes are the same).
+            // Gathered and handed over in chunks, as the text writers do.
             let big = e == PlyEncoding::BinaryBigEndian;
-            const PER_CHUNK: usize = 4096;
-            let mut buf = Vec::with_capacity(PER_CHUNK * 24);
-            for vs in mesh.vertices.chunks(PER_CHUNK) {
-                buf.clear();
-                for c in vs.iter().flatten() {
-                    buf.extend_from_slice(&if big {
+            let mut o = text::TextOut::new(&mut w);
+            for v in &mesh.vertices {
+                for c in v {
+                    o.bytes(&if big {
                         c.to_be_bytes()
                     } else {
                         c.to_le_bytes()
                     });
                 }
-                w.write_all(&buf).map_err(io_err)?;
+                o.end()?;
             }
-            for ts in mesh.triangles.chunks(PER_CHUNK) {
-                buf.clear();
-                for t in ts {
-                    buf.push(3u8);
-                    for &i in t {
-                        let i = i as i32;
-                        buf.extend_from_slice(&if big {
-                            i.to_be_bytes()
-                        } else {
-                            i.to_le_bytes()
-                        });
-                    }
+            for t in &mesh.triangles {
+                o.bytes(&[3]);
+                for &i in t {
+                    let i = i as i32;
+                    o.bytes(&if big {
+                        i.to_be_bytes()
+                    } else {
+                        i.to_le_bytes()
+                    });
                 }
-                w.write_all(&buf).map_err(io_err)?;
+                o.end()?;
             }
+            o.finish()?;
         }
     }
     w.flush().map_err(io_err)

@@ -282,8 +282,9 @@ fn exact_exponent(a: f64) -> i32 {
 /// Bytes gathered before they are handed to the writer.
 const CHUNK: usize = 1 << 16;
 
-/// The text writers' output: lines built from floats (in the form of [`f`], the same
-/// bytes), integers and fixed text without `core::fmt` (`ryu`, `itoa`), handed to the
+/// The mesh writers' output: lines built from floats (in the form of [`f`], the same
+/// bytes), integers and fixed text without `core::fmt` (`ryu`, `itoa`), or the raw
+/// bytes of binary records ([`TextOut::bytes`], [`TextOut::end`]), handed to the
 /// writer in chunks of [`CHUNK`] bytes. Call [`TextOut::finish`] at the end: what is
 /// still gathered is written then.
 pub(crate) struct TextOut<'w, W: Write + ?Sized> {
@@ -340,10 +341,22 @@ impl<'w, W: Write + ?Sized> TextOut<'w, W> {
         }
         self
     }
-    /// End the line; hand the gathered bytes to the writer when a chunk is full.
+    /// Raw bytes (a field of a binary record).
+    #[inline]
+    pub(crate) fn bytes(&mut self, b: &[u8]) -> &mut Self {
+        self.buf.extend_from_slice(b);
+        self
+    }
+    /// End the line.
     #[inline]
     pub(crate) fn nl(&mut self) -> Result<()> {
         self.buf.push(b'\n');
+        self.end()
+    }
+    /// End a record (a line, or a binary record): hand the gathered bytes to the
+    /// writer when a chunk is full.
+    #[inline]
+    pub(crate) fn end(&mut self) -> Result<()> {
         if self.buf.len() >= CHUNK {
             self.w.write_all(&self.buf).map_err(io_err)?;
             self.buf.clear();
