@@ -52,6 +52,29 @@ impl UnionFind {
         }
         x
     }
+    /// Join the sets of a and b, faster than [`UnionFind::union`] when they are
+    /// mostly joined already (Rem's algorithm with splicing: each step points the node
+    /// with the larger parent index at the other's parent, so parents only decrease
+    /// and stay at most their node's index; no sizes kept). Splicing may join the two
+    /// sets before the loop ends, so it cannot tell whether they were apart. Sizes are
+    /// not kept: do not mix with [`UnionFind::union`] on one structure.
+    pub fn join(&mut self, a: u32, b: u32) {
+        let p = &mut self.parent;
+        let (mut x, mut y) = (a as usize, b as usize);
+        while p[x] != p[y] {
+            if p[x] < p[y] {
+                std::mem::swap(&mut x, &mut y);
+            }
+            // p[x] > p[y].
+            if p[x] as usize == x {
+                p[x] = p[y];
+                return;
+            }
+            let z = x;
+            x = p[x] as usize;
+            p[z] = p[y];
+        }
+    }
     /// Join the sets of a and b; true when they were different.
     pub fn union(&mut self, a: u32, b: u32) -> bool {
         let (mut a, mut b) = (self.find(a), self.find(b));
@@ -177,21 +200,18 @@ const SMALL_LINK: usize = 24;
 
 /// The common case of [`small_link_is_disk_or_sphere`], decided fast: the link
 /// edges (a, b) of a consistently oriented interior vertex (each face v a b gives the
-/// link edge a → b) form one directed cycle. When the sources are distinct, the
-/// targets are distinct and following a → b from the first edge returns to it after
-/// exactly all n edges, every link vertex ends at most two edges and the link is
-/// connected, so the general check would say true. Anything else (a boundary vertex,
-/// a flipped face, a pinch) is left to the general check: `false` here decides nothing.
+/// link edge a → b) form one directed cycle. The walk from the first edge, each step
+/// to the first edge whose source is the current target, must come back to the first
+/// edge after exactly n steps. Then it visited every edge once (an edge met twice
+/// before returning would repeat the same loop without the first edge forever), so
+/// the sources are distinct (of two edges with one source the walk only ever takes the
+/// earlier, and starts at the first) and so are the targets (each the next edge's
+/// source): every link vertex ends at most two edges and the link is connected, and
+/// the general check would say true. Anything else (a boundary vertex, a flipped face,
+/// a pinch) is left to the general check: `false` here decides nothing.
 #[inline]
 fn is_one_directed_cycle(ends: &[(u32, u32)]) -> bool {
     let n = ends.len();
-    for i in 0..n {
-        for j in i + 1..n {
-            if ends[i].0 == ends[j].0 || ends[i].1 == ends[j].1 {
-                return false;
-            }
-        }
-    }
     let (mut at, mut steps) = (0usize, 0usize);
     loop {
         let x = ends[at].1;
@@ -475,8 +495,8 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
             let mut uf = UnionFind::new(nv);
             let mut used = vec![false; nv];
             for t in tris {
-                uf.union(t[0], t[1]);
-                uf.union(t[0], t[2]);
+                uf.join(t[0], t[1]);
+                uf.join(t[0], t[2]);
                 for &v in t {
                     used[v as usize] = true;
                 }
@@ -1578,6 +1598,23 @@ mod tests {
             let mut keys: Vec<[u32; 3]> = tris.iter().map(|t| { let mut k = *t; k.sort_unstable(); k }).collect();
             keys.sort_unstable();
             prop_assert_eq!(r.duplicate_faces, keys.windows(2).filter(|w| w[0] == w[1]).count());
+        }
+
+        /// `join` (Rem's splicing) makes the same sets as `union` (by size), on random
+        /// pair lists, also repeated and self pairs; parents never exceed their node.
+        #[test]
+        fn join_makes_the_sets_union_makes(pairs in prop::collection::vec((0u32..40, 0u32..40), 0..120)) {
+            let (mut a, mut b) = (UnionFind::new(40), UnionFind::new(40));
+            for &(x, y) in &pairs {
+                a.union(x, y);
+                b.join(x, y);
+                prop_assert!(b.parent.iter().enumerate().all(|(i, &p)| p as usize <= i));
+            }
+            for x in 0..40 {
+                for y in 0..40 {
+                    prop_assert_eq!(a.find(x) == a.find(y), b.find(x) == b.find(y), "{} {}", x, y);
+                }
+            }
         }
 
         #[test]
