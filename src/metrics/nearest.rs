@@ -139,25 +139,24 @@ impl<'a> CentroidGrid<'a> {
         // (The largest coordinate bounds every centroid and radius's size too.)
         g.slack = SLACK_REL * (size + scale);
         let cells = g.n[0] * g.n[1] * g.n[2];
-        // Each triangle's sphere and cell (u32::MAX: larger than a cell, kept apart),
-        // in parallel, in triangle order (the corners read in the mesh's order); then a
-        // counting sort of the spheres by cell (the serial part: a count, then one copy
-        // of each sphere to its cell's slot).
-        let spheres: Vec<(Item, u32)> = (0..nf)
+        // Each triangle's cell (u32::MAX: larger than a cell, kept apart), in
+        // parallel; a counting sort of the triangle indices by cell (the one serial
+        // pass, over 4-byte indices); then the spheres computed again in cell order,
+        // in parallel.
+        let cells_of: Vec<u32> = (0..nf)
             .into_par_iter()
             .with_min_len(4096)
             .map(|t| {
-                let it = sphere(mesh, t);
-                let c = if it.radius > size {
+                let (centre, r2) = centre_r2(mesh, t);
+                if r2 > size * size {
                     u32::MAX
                 } else {
-                    g.index(g.cell(it.centre)) as u32
-                };
-                (it, c)
+                    g.index(g.cell(centre)) as u32
+                }
             })
             .collect();
         let mut start = vec![0u32; cells + 1];
-        for &(_, c) in &spheres {
+        for &c in &cells_of {
             if c != u32::MAX {
                 start[c as usize + 1] += 1;
             }
@@ -166,17 +165,22 @@ impl<'a> CentroidGrid<'a> {
             start[k + 1] += start[k];
         }
         let mut fill = start[..cells].to_vec();
-        let mut items = vec![Item::default(); start[cells] as usize];
-        for &(it, c) in &spheres {
+        let mut order = vec![0u32; start[cells] as usize];
+        for (t, &c) in cells_of.iter().enumerate() {
             if c == u32::MAX {
-                g.big.push(it);
+                g.big.push(sphere(mesh, t));
             } else {
                 let slot = &mut fill[c as usize];
-                items[*slot as usize] = it;
+                order[*slot as usize] = t as u32;
                 *slot += 1;
             }
         }
-        drop(spheres);
+        drop(cells_of);
+        let items: Vec<Item> = order
+            .par_iter()
+            .with_min_len(4096)
+            .map(|&t| sphere(mesh, t as usize))
+            .collect();
         let rmax = items.iter().map(|it| it.radius).fold(0.0f64, f64::max);
         g.rmax = rmax;
         g.start = start;
