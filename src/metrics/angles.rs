@@ -330,6 +330,28 @@ pub fn triangle_ranges(mesh: &TriMesh) -> Result<TriangleAngles> {
     })
 }
 
+/// x |x|: monotone in x, so the signed squares of two cosines order them as the
+/// cosines do (and the angles the other way).
+#[inline(always)]
+fn signed_square(x: f64) -> f64 {
+    x * x.abs()
+}
+
+/// The margin of [`triangle_extremes`]'s first test, which needs no square root. An
+/// angle with edge vectors u, v and x = u·v is skipped when x |x| lies below
+/// (cos m |cos m| − margin) |u|² |v|² and above (cos M |cos M| + margin) |u|² |v|²,
+/// where m and M are the current extremes (m as [`Extremes`] keeps it: the cosine of
+/// the atan2 it came from). Each computed quantity is within a few units in the last
+/// place (10⁻¹⁵ relative) of the exact one, and the signed square of the cosine is
+/// within 10⁻¹⁵ of the one atan2 of the computed pair gives, so a skipped angle's
+/// pair is strictly inside the range and [`Extremes::offer`] would change nothing.
+/// Likewise the triangle is proven not flat (the test of [`triangle_is_degenerate`],
+/// y > DEGENERATE_REL · l²max with y = |u × v|) when y² exceeds (DEGENERATE_REL ·
+/// l²max)² (1 + margin), with DEGENERATE_REL · l²max above 10⁻¹⁵⁰ (its square
+/// a normal number). Near 90° the signed square is flat, so the margin there is
+/// √margin ≈ 3 · 10⁻⁴ rad in angle: only fewer skips, never a wrong one.
+const INSIDE_MARGIN: f64 = 1e-7;
+
 /// The smallest and largest triangle angle, the same values as [`triangle_ranges`]
 /// (bit for bit), and the number of degenerate triangles; without the mean smallest
 /// angle and the edge ratios (`None`: the report's `--metrics fast`, which prints only
@@ -354,15 +376,38 @@ pub fn triangle_extremes(mesh: &TriMesh) -> Result<TriangleAngles> {
                 }
                 let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
                 let (ab, bc, ca) = (sub(b, a), sub(c, b), sub(a, c));
-                let l2max = dot(ab, ab).max(dot(bc, bc)).max(dot(ca, ca));
+                let (lab, lbc, lca) = (dot(ab, ab), dot(bc, bc), dot(ca, ca));
+                let l2max = lab.max(lbc).max(lca);
+                let xs = [-dot(ca, ab), -dot(ab, bc), -dot(bc, ca)];
+                // First, without a square root: a triangle proven not flat whose three
+                // angles are proven strictly inside the current range changes nothing
+                // (see `INSIDE_MARGIN`).
+                let cr = cross(ca, ab);
+                let dl = DEGENERATE_REL * l2max;
+                if dl > 1e-150 && dot(cr, cr) > dl * dl * (1.0 + INSIDE_MARGIN) {
+                    let (qmin, qmax) = (
+                        signed_square(ext.min_dir[0]) - INSIDE_MARGIN,
+                        signed_square(ext.max_dir[0]) + INSIDE_MARGIN,
+                    );
+                    let inside = |x: f64, p: f64| {
+                        let q = signed_square(x);
+                        q < qmin * p && q > qmax * p
+                    };
+                    if inside(xs[0], lca * lab)
+                        && inside(xs[1], lab * lbc)
+                        && inside(xs[2], lbc * lca)
+                    {
+                        ok += 1;
+                        continue;
+                    }
+                }
                 // The pair of the angle at a, exactly as `triangle_pairs` (and
                 // `triangle_is_degenerate`) compute it.
-                let y = norm(cross(ca, ab));
+                let y = norm(cr);
                 if !(y > DEGENERATE_REL * l2max) {
                     continue;
                 }
                 ok += 1;
-                let xs = [-dot(ca, ab), -dot(ab, bc), -dot(bc, ca)];
                 // The exact pairs of the angles at b and c have |u×v| of their own edge
                 // vectors for y: the same doubled area, computed from other products.
                 // Each computed norm is within a few ulps of |u| |v| ≤ l2max of the
