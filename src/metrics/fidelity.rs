@@ -569,7 +569,7 @@ struct Elements<'a> {
 }
 
 /// The fidelity measures of a mesh given by its [`Elements`].
-fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fidelity> {
+fn measure(f: &dyn Implicit, params: &FidelityParams, mut el: Elements) -> Result<Fidelity> {
     let verts = &el.verts;
     let domain = match params.domain {
         Some(d) => d,
@@ -595,24 +595,28 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
         distance_estimates(&est, &mut undefined)
     };
 
+    let n_el = el.weights.len();
+    let mut cum = std::mem::take(&mut el.weights);
     // Two independent sides, side by side: the mesh → surface projections, and the
     // surface points with their distances to the mesh (whose index is built there).
     let ((m2s, attempted, unconverged, even_mean), (s2m, spts_len, candidates)) = rayon::join(
         || {
             // Measure-proportional deterministic samples: stratified along the
             // cumulative measure.
-            let mut cum = Vec::with_capacity(el.weights.len());
+            // (The measures become their running sums in place: no second array.)
+            let cum = &mut cum;
             let mut acc = 0.0;
-            for w in &el.weights {
-                acc += w;
-                cum.push(acc);
+            for w in cum.iter_mut() {
+                acc += *w;
+                *w = acc;
             }
+            let cum = &*cum;
             let total = acc;
             let ns = if total > 0.0 { params.mesh_samples } else { 0 };
             // The element of sample i (non-decreasing in i).
             let elem = |i: usize| {
                 let u = (i as f64 + 0.5) / ns as f64 * total;
-                cum.partition_point(|&c| c < u).min(el.weights.len() - 1)
+                cum.partition_point(|&c| c < u).min(n_el - 1)
             };
             let dist_of = |pts: &[[f64; 3]]| -> Vec<Option<f64>> {
                 project_samples(f, pts, steps, tol)
@@ -685,7 +689,7 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
     } else {
         // Normal deviation at the projections of the elements' centres (at the centre
         // itself where Newton fails; if it fails everywhere, the deviation is undefined).
-        let (normals, centres): (Vec<[f64; 3]>, Vec<[f64; 3]>) = (0..el.weights.len())
+        let (normals, centres): (Vec<[f64; 3]>, Vec<[f64; 3]>) = (0..n_el)
             .into_par_iter()
             .filter_map(|e| (el.normal)(e).filter(|(n, _)| geom::norm(*n) > 0.0))
             .unzip();
@@ -722,8 +726,7 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, el: Elements) -> Result<Fi
             dev.iter().filter(|&&a| a > 90.0).count()
         };
         let unsigned: Vec<f64> = dev.iter().map(|&a| a.min(180.0 - a)).collect();
-        let (dmax, dmean) =
-            normal_deviation(&unsigned, el.weights.len(), projected, &mut undefined);
+        let (dmax, dmean) = normal_deviation(&unsigned, n_el, projected, &mut undefined);
         (dmax, dmean, flipped)
     };
 

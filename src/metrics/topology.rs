@@ -37,6 +37,13 @@ impl UnionFind {
             size: vec![1; n],
         }
     }
+    /// `n` singletons for [`UnionFind::join`] alone (no sizes: `union` would panic).
+    pub fn for_join(n: usize) -> Self {
+        UnionFind {
+            parent: (0..n as u32).collect(),
+            size: Vec::new(),
+        }
+    }
     /// Start again with `n` singletons, reusing the storage.
     pub fn reset(&mut self, n: usize) {
         self.parent.clear();
@@ -57,7 +64,8 @@ impl UnionFind {
     /// with the larger parent index at the other's parent, so parents only decrease
     /// and stay at most their node's index; no sizes kept). Splicing may join the two
     /// sets before the loop ends, so it cannot tell whether they were apart. Sizes are
-    /// not kept: do not mix with [`UnionFind::union`] on one structure.
+    /// not kept: do not mix with [`UnionFind::union`] on one structure
+    /// ([`UnionFind::for_join`] makes one for `join` alone).
     pub fn join(&mut self, a: u32, b: u32) {
         let p = &mut self.parent;
         let (mut x, mut y) = (a as usize, b as usize);
@@ -306,20 +314,25 @@ fn star_buckets(nv: usize, tris: &[[u32; 3]], degenerate: &[bool]) -> StarLists 
             }
         }
     }
+    // Each count becomes its bucket's end; the faces, placed from the last down,
+    // move every end to its bucket's start (no second array of positions) and come
+    // out ascending in each bucket.
     for k in 0..nv {
         start[k + 1] += start[k];
     }
-    let mut fill = start[..nv].to_vec();
     let mut faces = vec![0u32; start[nv] as usize];
-    for (f, (t, &d)) in tris.iter().zip(degenerate).enumerate() {
+    for (f, (t, &d)) in tris.iter().zip(degenerate).enumerate().rev() {
         if !d {
             for &v in t {
-                let slot = &mut fill[v as usize];
+                let slot = &mut start[v as usize + 1];
+                *slot -= 1;
                 faces[*slot as usize] = f as u32;
-                *slot += 1;
             }
         }
     }
+    // Now start[v + 1] is bucket v's start: shift down by one.
+    start.copy_within(1..=nv, 0);
+    start[nv] = faces.len() as u32;
     StarLists { start, faces }
 }
 
@@ -490,9 +503,9 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
     // finds every edge at its smaller vertex, the link of every vertex and the
     // duplicate faces at their smallest vertex; consistently oriented disk stars are
     // settled on the fast path of [`stars_of_with`].
-    let ((used, root, comp_of_root, ncomp), (vfaces, stars)) = rayon::join(
+    let ((used, comp_of, ncomp), (vfaces, stars)) = rayon::join(
         || {
-            let mut uf = UnionFind::new(nv);
+            let mut uf = UnionFind::for_join(nv);
             let mut used = vec![false; nv];
             for t in tris {
                 uf.join(t[0], t[1]);
@@ -501,16 +514,24 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
                     used[v as usize] = true;
                 }
             }
-            let root: Vec<u32> = (0..nv as u32).map(|v| uf.find(v)).collect();
-            let mut comp_of_root = vec![u32::MAX; nv];
+            // Every vertex's component, numbered by smallest vertex, in place of its
+            // parent: parents come before their vertex (`join`), so an ascending pass
+            // finds each parent already numbered; a root is its component's smallest
+            // vertex. (An unused vertex is a root of its own, left unnumbered.)
+            let mut comp_of = uf.parent;
             let mut ncomp = 0usize;
             for v in 0..nv {
-                if used[v] && comp_of_root[root[v] as usize] == u32::MAX {
-                    comp_of_root[root[v] as usize] = ncomp as u32;
+                let p = comp_of[v] as usize;
+                comp_of[v] = if p != v {
+                    comp_of[p]
+                } else if used[v] {
                     ncomp += 1;
-                }
+                    (ncomp - 1) as u32
+                } else {
+                    u32::MAX
+                };
             }
-            (used, root, comp_of_root, ncomp)
+            (used, comp_of, ncomp)
         },
         || {
             let vfaces = star_buckets(nv, tris, &degenerate);
@@ -532,7 +553,7 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         if ncomp == 1 {
             0
         } else {
-            comp_of_root[root[v as usize] as usize] as usize
+            comp_of[v as usize] as usize
         }
     };
 
