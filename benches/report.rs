@@ -1,13 +1,15 @@
 //! The report of `certmesh mesh` (issue 20: at most 25% of the mesher's time on metrics
-//! and writing), part by part, on three workloads: the 256³ marching-cubes torus
-//! (pruned, 278,272 triangles), and the marching-cubes torus and the GradNormal genus-2
-//! surface at their default settings (16,912 and 28,364 triangles). Each group times
-//! the mesher itself for scale, the topology analysis, the angle ranges, the fidelity at
-//! each `--metrics` level, the whole report at each level, and writing the mesh as
-//! binary PLY and as OBJ to a memory buffer; and two floors, what any report that looks
-//! at every triangle once would pay beside the topology and the angles: one gradient of
-//! f per triangle (the cheapest first-order distance estimate) and one Newton
-//! projection per triangle (the cheapest mesh → surface distance). Run on 1 and 2 threads with
+//! and writing), part by part, on four workloads: the 256³ marching-cubes torus
+//! (pruned, 278,272 triangles), and the marching-cubes torus, the marching-tetrahedra
+//! torus and the GradNormal genus-2 surface at their default settings (16,912, 52,896
+//! and 28,364 triangles). Each group times the mesher itself for scale, the topology
+//! analysis, the angle ranges, the fidelity at each `--metrics` level, the whole report
+//! at each level, and writing the mesh as binary PLY and as OBJ to a memory buffer; and
+//! floors: what any report that looks at every triangle once would pay beside the
+//! topology and the angles (one gradient of f per triangle, the cheapest first-order
+//! distance estimate; one Newton projection per triangle, the cheapest mesh → surface
+//! distance), and the floors of the topology and the angle range themselves (star lists
+//! and edge count; signed squared cosines). Run on 1 and 2 threads with
 //! `RAYON_NUM_THREADS=1 cargo bench --bench report` (and `=2`).
 use certmesh::catalog;
 use certmesh::harness::compare::{fidelity_params, level_fidelity_params, Metrics};
@@ -99,7 +101,78 @@ fn workload(c: &mut Criterion, group: &str, name: &str, algo: &str, opts: &Meshe
     g.bench_function("floor_one_projection_per_triangle", |b| {
         b.iter(|| ops::project_batch(&f, black_box(&centroids), params.newton_steps, tol).len())
     });
+    // The floors of the topology and the angle range, one thread each: what any
+    // topology that finds every edge pays (every vertex's faces by a counting sort,
+    // then every edge counted once, at its smaller vertex), and what any angle range
+    // pays (every triangle's corners read, three dot products and three squared
+    // lengths, compared as signed squared cosines: no square root, no atan2).
+    g.bench_function("floor_star_lists_and_edges", |b| {
+        b.iter(|| star_lists_and_edges(surf.vertices.len(), black_box(&surf.triangles)))
+    });
+    g.bench_function("floor_angle_comparisons", |b| {
+        b.iter(|| angle_comparisons(black_box(&surf)))
+    });
     g.finish();
+}
+
+/// The topology floor: every vertex's faces (count, prefix sums, fill), then the
+/// distinct larger neighbours of every vertex (the edges, each once).
+fn star_lists_and_edges(nv: usize, tris: &[[u32; 3]]) -> usize {
+    let mut start = vec![0u32; nv + 1];
+    for t in tris {
+        for &v in t {
+            start[v as usize + 1] += 1;
+        }
+    }
+    for k in 0..nv {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start[..nv].to_vec();
+    let mut faces = vec![0u32; 3 * tris.len()];
+    for (f, t) in tris.iter().enumerate() {
+        for &v in t {
+            let s = &mut fill[v as usize];
+            faces[*s as usize] = f as u32;
+            *s += 1;
+        }
+    }
+    let mut edges = 0;
+    let mut nb = [0u32; 64];
+    for v in 0..nv {
+        let mut n = 0;
+        for &f in &faces[start[v] as usize..start[v + 1] as usize] {
+            for w in tris[f as usize] {
+                if w > v as u32 && n < nb.len() && !nb[..n].contains(&w) {
+                    nb[n] = w;
+                    n += 1;
+                }
+            }
+        }
+        edges += n;
+    }
+    edges
+}
+
+/// The angle-range floor: the extremes of the signed squared cosines of every angle.
+fn angle_comparisons(m: &certmesh::mesh::TriMesh) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+    let sub = |p: [f64; 3], q: [f64; 3]| [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+    let dot = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+    for t in &m.triangles {
+        let [a, b, c] = t.map(|i| m.vertices[i as usize]);
+        let (ab, bc, ca) = (sub(a, b), sub(b, c), sub(c, a));
+        let (l0, l1, l2) = (dot(ab, ab), dot(bc, bc), dot(ca, ca));
+        for (x, l) in [
+            (-dot(ca, ab), l2 * l0),
+            (-dot(ab, bc), l0 * l1),
+            (-dot(bc, ca), l1 * l2),
+        ] {
+            let q = x * x.abs() / l;
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+    }
+    (lo, hi)
 }
 
 fn bench(c: &mut Criterion) {
@@ -111,6 +184,7 @@ fn bench(c: &mut Criterion) {
     workload(c, "report_mc_torus_256", "torus", "mc", &mc256);
     let defaults = MesherOptions::default();
     workload(c, "report_mc_torus_default", "torus", "mc", &defaults);
+    workload(c, "report_mt_torus_default", "torus", "mt", &defaults);
     workload(
         c,
         "report_gradnormal_genus2_default",
