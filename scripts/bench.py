@@ -225,9 +225,10 @@ def main():
         "report + writing to a memory buffer), `--bench evaluator` (batch evaluation), "
         "`--bench marching`, `--bench gradnormal`, `--bench stuffing`, `--bench bvh`, and "
         "`--bench report` (the report part by part, on 1 and 2 threads: the 256³ MC torus, and the "
-        "MC torus and GradNormal genus 2 at their defaults, each with the floors of a report "
-        "that looks at every triangle once: one gradient, or one Newton projection, per "
-        "triangle).",
+        "MC torus, the marching-tetrahedra torus and GradNormal genus 2 at their defaults, each "
+        "with floors: of a report that looks at every triangle once (one gradient, or one Newton "
+        "projection, per triangle), of the topology (star lists and edge count) and of the angle "
+        "range (signed squared cosines)).",
         "",
         "Where the report's time goes, part by part, measured by hand and dated: "
         "`papers/bench-report.md` (not rewritten by this script).",
