@@ -23,7 +23,8 @@ use crate::mesh::{Curve2, TetMesh, TriMesh};
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// Union-find with path halving and union by size.
+/// Union-find with path halving: union by size ([`UnionFind::union`]), or Rem's
+/// splicing for many joins of mostly joined sets ([`UnionFind::join`]).
 #[derive(Clone, Debug, Default)]
 pub struct UnionFind {
     parent: Vec<u32>,
