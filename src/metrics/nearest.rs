@@ -140,9 +140,11 @@ impl<'a> CentroidGrid<'a> {
         g.slack = SLACK_REL * (size + scale);
         let cells = g.n[0] * g.n[1] * g.n[2];
         // Each triangle's cell (u32::MAX: larger than a cell, kept apart), in
-        // parallel; a counting sort of the triangle indices by cell (the one serial
-        // pass, over 4-byte indices); then the spheres computed again in cell order,
-        // in parallel.
+        // parallel; the cells' counts and starts (the one serial pass, over 4-byte
+        // cells); then the spheres computed in triangle order and placed at their
+        // cells' slots, in parallel: each task owns a run of cells (about as many
+        // spheres each) and scans the cells of every triangle for its own. No list of
+        // triangle indices in cell order, and no gather of corners in that order.
         let cells_of: Vec<u32> = (0..nf)
             .into_par_iter()
             .with_min_len(4096)
@@ -156,31 +158,56 @@ impl<'a> CentroidGrid<'a> {
             })
             .collect();
         let mut start = vec![0u32; cells + 1];
-        for &c in &cells_of {
-            if c != u32::MAX {
+        for (t, &c) in cells_of.iter().enumerate() {
+            if c == u32::MAX {
+                g.big.push(sphere(mesh, t));
+            } else {
                 start[c as usize + 1] += 1;
             }
         }
         for k in 0..cells {
             start[k + 1] += start[k];
         }
-        let mut fill = start[..cells].to_vec();
-        let mut order = vec![0u32; start[cells] as usize];
-        for (t, &c) in cells_of.iter().enumerate() {
-            if c == u32::MAX {
-                g.big.push(sphere(mesh, t));
-            } else {
-                let slot = &mut fill[c as usize];
-                order[*slot as usize] = t as u32;
-                *slot += 1;
-            }
-        }
-        drop(cells_of);
-        let items: Vec<Item> = order
-            .par_iter()
-            .with_min_len(4096)
-            .map(|&t| sphere(mesh, t as usize))
+        let total = start[cells] as usize;
+        let tasks = if total < 8192 {
+            1
+        } else {
+            2 * rayon::current_num_threads()
+        };
+        // Task j's cells: from the first cell whose start reaches j/tasks of the spheres.
+        let bounds: Vec<usize> = (0..=tasks)
+            .map(|j| {
+                if j == tasks {
+                    cells
+                } else {
+                    start
+                        .partition_point(|&s| (s as usize) < j * total / tasks)
+                        .min(cells)
+                }
+            })
             .collect();
+        let mut items = vec![Item::default(); total];
+        let mut parts = Vec::with_capacity(tasks);
+        let mut rest = &mut items[..];
+        for w in bounds.windows(2) {
+            let (lo, hi) = (w[0], w[1].max(w[0]));
+            let (mine, tail) = rest.split_at_mut((start[hi] - start[lo]) as usize);
+            parts.push((lo, hi, mine));
+            rest = tail;
+        }
+        parts.into_par_iter().for_each(|(lo, hi, out)| {
+            let base = start[lo];
+            let mut fill: Vec<u32> = start[lo..hi].iter().map(|&s| s - base).collect();
+            for (t, &c) in cells_of.iter().enumerate() {
+                let c = c as usize;
+                if c >= lo && c < hi {
+                    let slot = &mut fill[c - lo];
+                    out[*slot as usize] = sphere(mesh, t);
+                    *slot += 1;
+                }
+            }
+        });
+        drop(cells_of);
         let rmax = items.iter().map(|it| it.radius).fold(0.0f64, f64::max);
         g.rmax = rmax;
         g.start = start;
@@ -385,6 +412,47 @@ mod tests {
                 .collect();
             check(&m, &q)?;
         }
+    }
+
+    /// A mesh large enough for the parallel placement (several tasks): every listed
+    /// triangle sits in its centroid's cell, the cells in order and each cell's
+    /// triangles ascending (what a stable sort by cell gives), and the distances are
+    /// the cell grid's.
+    #[test]
+    fn parallel_placement_is_a_stable_sort_by_cell() {
+        let n = 121;
+        let vertices: Vec<[f64; 3]> = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f64 / 60.0 - 1.0, (i / n) as f64 / 60.0 - 1.0);
+                [x, y, 0.3 * (3.0 * x).sin() * (2.0 * y).cos()]
+            })
+            .collect();
+        let n = n as u32;
+        let triangles: Vec<[u32; 3]> = (0..n * (n - 1))
+            .filter(|i| i % n != n - 1)
+            .flat_map(|i| [[i, i + 1, i + n], [i + 1, i + n + 1, i + n]])
+            .collect();
+        let m = TriMesh::new(vertices, triangles);
+        let g = CentroidGrid::new(&m);
+        assert!(g.items.len() > 16_384 && g.big.is_empty());
+        let mut want: Vec<(usize, u32)> = (0..m.triangles.len())
+            .map(|t| (g.index(g.cell(centre_r2(&m, t).0)), t as u32))
+            .collect();
+        want.sort_by_key(|&(c, _)| c);
+        let got: Vec<u32> = g.items.iter().map(|it| it.tri).collect();
+        assert_eq!(got, want.iter().map(|&(_, t)| t).collect::<Vec<_>>());
+        for (k, w) in g.start.windows(2).enumerate() {
+            for it in &g.items[w[0] as usize..w[1] as usize] {
+                assert_eq!(g.index(g.cell(it.centre)), k);
+            }
+        }
+        let q: Vec<[f64; 3]> = (0..200)
+            .map(|i| {
+                let (u, v) = ((i % 20) as f64 / 10.0 - 1.0, (i / 20) as f64 / 5.0 - 1.0);
+                [u, v, 0.1 * (i % 7) as f64 - 0.3]
+            })
+            .collect();
+        check(&m, &q).unwrap();
     }
 
     #[test]
