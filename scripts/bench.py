@@ -204,8 +204,9 @@ def main():
         "Each lattice mesher on 1 and 2 threads (`RAYON_NUM_THREADS`), interleaved, medians; "
         "\"rest\" is the whole process minus the mesher time (report, writing, start-up). Serial by "
         "design in the report: the union-find of components and boundary loops, the count and "
-        "fill passes of the vertex buckets (a counting sort), the counting sort of the centroid "
-        "grid's triangle indices, and writing the file (on its own thread beside the measures); "
+        "fill passes of the vertex buckets (a counting sort), the count of the centroid grid's "
+        "triangles per cell (their placement is parallel), and writing the file (on its own "
+        "thread beside the measures); "
         "in stuffing, the fill passes of the face buckets.",
         "",
         "\"Metrics\" is the report's own time (`metrics_seconds` of the JSON: topology, angles, "
