@@ -155,12 +155,11 @@ fn star_lists_and_edges(nv: usize, tris: &[[u32; 3]]) -> usize {
 
 /// The angle-range floor: the extremes of the signed squared cosines of every angle.
 fn angle_comparisons(m: &certmesh::mesh::TriMesh) -> (f64, f64) {
+    use certmesh::kernel::geom::{dot, sub};
     let (mut lo, mut hi) = (f64::MAX, f64::MIN);
-    let sub = |p: [f64; 3], q: [f64; 3]| [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
-    let dot = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
     for t in &m.triangles {
         let [a, b, c] = t.map(|i| m.vertices[i as usize]);
-        let (ab, bc, ca) = (sub(a, b), sub(b, c), sub(c, a));
+        let (ab, bc, ca) = (sub(b, a), sub(c, b), sub(a, c));
         let (l0, l1, l2) = (dot(ab, ab), dot(bc, bc), dot(ca, ca));
         for (x, l) in [
             (-dot(ca, ab), l2 * l0),

@@ -404,7 +404,7 @@ pub fn triangle_extremes(mesh: &TriMesh) -> Result<TriangleAngles> {
                 // The pair of the angle at a, exactly as `triangle_pairs` (and
                 // `triangle_is_degenerate`) compute it.
                 let y = norm(cr);
-                if !(y > DEGENERATE_REL * l2max) {
+                if !(y > dl) {
                     continue;
                 }
                 ok += 1;
