@@ -555,9 +555,10 @@ struct Elements<'a> {
     /// Sample `i` of element `e` (a deterministic low-discrepancy point on it).
     sample: &'a (dyn Fn(usize, usize) -> [f64; 3] + Sync),
     /// The distances from points to the mesh (of those that have one: none when the
-    /// mesh has no element); it builds its index itself, beside the mesh → surface
-    /// projections.
-    closest: &'a (dyn Fn(&[[f64; 3]]) -> Vec<f64> + Sync),
+    /// mesh has no element), given a typical distance from the mesh to the surface
+    /// (the mesh → surface estimate, NaN when there is none), which may make the
+    /// search faster but never changes a distance.
+    closest: &'a (dyn Fn(&[[f64; 3]], f64) -> Vec<f64> + Sync),
     /// The normal of element `e` and the point where ∇f is compared with it.
     normal: &'a (dyn Fn(usize) -> Option<([f64; 3], [f64; 3])> + Sync),
     /// The corners of element `e`, pushed onto the vector.
@@ -597,9 +598,9 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, mut el: Elements) -> Resul
 
     let n_el = el.weights.len();
     let mut cum = std::mem::take(&mut el.weights);
-    // Two independent sides, side by side: the mesh → surface projections, and the
-    // surface points with their distances to the mesh (whose index is built there).
-    let ((m2s, attempted, unconverged, even_mean), (s2m, spts_len, candidates)) = rayon::join(
+    // Side by side: the mesh → surface projections, and the surface points (their
+    // distances to the mesh come after, with the first side's estimate as a hint).
+    let ((m2s, attempted, unconverged, even_mean), (spts, candidates)) = rayon::join(
         || {
             // Measure-proportional deterministic samples: stratified along the
             // cumulative measure.
@@ -669,11 +670,14 @@ fn measure(f: &dyn Implicit, params: &FidelityParams, mut el: Elements) -> Resul
             } else {
                 params.seed_grid
             };
-            let (spts, candidates) = surface_points_counted(f, &domain, n, steps, tol);
-            ((el.closest)(&spts), spts.len(), candidates)
+            surface_points_counted(f, &domain, n, steps, tol)
         },
     );
     let (h_ms, mut mean_ms) = mesh_to_surface(&m2s, attempted, &mut undefined);
+    // The surface → mesh distances, after the mesh → surface side, whose estimate
+    // tells the search how far to look first.
+    let s2m = (el.closest)(&spts, h_ms);
+    let spts_len = spts.len();
     if let Some(m) = even_mean.filter(|m| m.is_finite() && mean_ms.is_finite()) {
         mean_ms = m;
     }
@@ -802,18 +806,16 @@ pub fn surface_fidelity(
         let (wa, wb, wc) = (1.0 - s, s * (1.0 - r2), s * r2);
         [0, 1, 2].map(|k| wa * a[k] + wb * b[k] + wc * c[k])
     };
-    let closest = |pts: &[[f64; 3]]| -> Vec<f64> {
+    let closest = |pts: &[[f64; 3]], hint: f64| -> Vec<f64> {
         match &grid {
             Some(g) => pts
                 .par_iter()
                 .filter_map(|&p| g.closest_dist2(p).map(f64::sqrt))
                 .collect(),
-            None => {
-                let g = super::nearest::CentroidGrid::new(mesh);
-                pts.par_iter()
-                    .filter_map(|&p| g.closest_dist2(p).map(f64::sqrt))
-                    .collect()
-            }
+            None => super::nearest::closest_dist2_all(mesh, pts, hint)
+                .into_iter()
+                .filter_map(|d| d.map(f64::sqrt))
+                .collect(),
         }
     };
     let normal = |t: usize| {
@@ -868,7 +870,7 @@ pub fn curve_fidelity(
         let [a, b] = curve.segments[s];
         geom::lerp(lift(a), lift(b), r2(i).0)
     };
-    let closest = |pts: &[[f64; 3]]| -> Vec<f64> {
+    let closest = |pts: &[[f64; 3]], _hint: f64| -> Vec<f64> {
         pts.par_iter()
             .filter_map(|&p| bvh.closest([p[0], p[1]]).map(|c| c.dist2.sqrt()))
             .collect()

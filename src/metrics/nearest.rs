@@ -341,6 +341,314 @@ impl<'a> CentroidGrid<'a> {
     }
 }
 
+/// The first reach of [`closest_dist2_all`]'s sweeps without a hint, in mean bounding
+/// radii of the mesh's triangles.
+const SWEEP_REACH: f64 = 0.25;
+/// The first reach with a hint h (a typical distance from the mesh to the surface):
+/// this many times h, but at least [`SWEEP_MIN_REACH`] mean radii.
+const SWEEP_HINT_FACTOR: f64 = 2.0;
+const SWEEP_MIN_REACH: f64 = 1.0 / 16.0;
+/// The farthest a sweep reaches, in mean radii: its cost grows with the square of the
+/// reach, and beyond this a [`CentroidGrid`] is cheaper (measured on the catalog).
+const SWEEP_MAX_REACH: f64 = 1.0;
+/// Each further sweep reaches this many times farther, for the points the one before
+/// left open.
+const SWEEP_GROWTH: f64 = 4.0;
+/// Sweeps at most.
+const SWEEP_PASSES: usize = 3;
+/// Cell size of a sweep's grid of points: this many mean radii, plus twice the reach.
+const SWEEP_CELL: f64 = 2.0;
+/// Triangles per parallel run of a sweep.
+const SWEEP_RUN: usize = 4096;
+/// Triangles sampled (evenly spread) for the mean bounding radius.
+const SWEEP_RADIUS_SAMPLE: usize = 1024;
+/// Cells of a sweep's grid per point at most (or 4,096 cells in all).
+const SWEEP_CELLS_PER_POINT: usize = 8;
+
+/// The squared distance from each query point to the nearest triangle of `mesh` (`None`
+/// for every point when there is no triangle): the same values as
+/// [`CentroidGrid::closest_dist2`], bit for bit, found by sweeps over the triangles
+/// against a small grid of the points, with no index of the triangles when the mesh
+/// lies close to the surface, which is the common case. (A triangle index's memory,
+/// first touched in a short run, costs more than the search it saves:
+/// `papers/bench-report.md`.)
+///
+/// A sweep of reach R tests each triangle against the points within R of its box,
+/// skipping a point on the distance to the box whenever that exceeds the best distance
+/// found for the point (with [`SLACK_REL`]'s margin, as in [`CentroidGrid`]). A point
+/// whose best distance is at most R has its exact minimum: a triangle nearer than
+/// that has its box within R of the point, and was tested.
+///
+/// `hint` is a typical distance from the mesh to the surface (the report passes its
+/// mesh → surface estimate; NaN when there is none): the first sweep reaches
+/// [`SWEEP_HINT_FACTOR`] times it (without a hint, [`SWEEP_REACH`] mean bounding radii
+/// of the triangles). The points it leaves open go to a sweep [`SWEEP_GROWTH`] times
+/// farther, up to [`SWEEP_PASSES`] sweeps and [`SWEEP_MAX_REACH`] mean radii; the rest
+/// (a mesh far from the surface for its triangles' size, or one that misses part of
+/// it) to a [`CentroidGrid`]. The hint changes only the time, never a value.
+pub fn closest_dist2_all(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> Vec<Option<f64>> {
+    sweeps(mesh, queries, hint).0
+}
+
+/// [`closest_dist2_all`], and how many points the [`CentroidGrid`] answered.
+fn sweeps(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> (Vec<Option<f64>>, usize) {
+    let nf = mesh.triangles.len();
+    if nf == 0 {
+        return (vec![None; queries.len()], 0);
+    }
+    let mut out = vec![None; queries.len()];
+    if queries.is_empty() {
+        return (out, 0);
+    }
+    // The mean bounding radius of evenly spread triangles (the middle of each run of
+    // `step`).
+    let step = nf.div_ceil(SWEEP_RADIUS_SAMPLE).max(1);
+    let (sum, count) = (step / 2..nf)
+        .step_by(step)
+        .fold((0.0, 0usize), |(s, c), t| {
+            (s + centre_r2(mesh, t).1.sqrt(), c + 1)
+        });
+    let mean_radius = sum / count.max(1) as f64;
+    let mut r = if hint.is_finite() && hint >= 0.0 {
+        (SWEEP_HINT_FACTOR * hint).max(SWEEP_MIN_REACH * mean_radius)
+    } else {
+        SWEEP_REACH * mean_radius
+    };
+    let mut open: Vec<u32> = (0..queries.len() as u32).collect();
+    if r <= SWEEP_MAX_REACH * mean_radius {
+        // The size of the coordinates (vertices and points), for the margin.
+        let scale = mesh
+            .vertices
+            .par_chunks(8192)
+            .map(|c| c.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs())))
+            .reduce(|| 0.0, f64::max)
+            .max(queries.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs())));
+        for pass in 0..SWEEP_PASSES {
+            if pass > 0 && (r > SWEEP_MAX_REACH * mean_radius || open.is_empty()) {
+                break;
+            }
+            let sweep = Sweep::new(mesh, queries, open, r, mean_radius, scale);
+            let best = sweep.run();
+            open = Vec::new();
+            for (s, &(d2, _)) in best.iter().enumerate() {
+                let j = sweep.order[s];
+                if d2 <= sweep.r2 {
+                    out[j as usize] = Some(d2);
+                } else {
+                    open.push(j);
+                }
+            }
+            open.sort_unstable();
+            r *= SWEEP_GROWTH;
+        }
+    }
+    let by_grid = open.len();
+    if !open.is_empty() {
+        let g = CentroidGrid::new(mesh);
+        let far: Vec<Option<f64>> = open
+            .par_iter()
+            .map(|&j| g.closest_dist2(queries[j as usize]))
+            .collect();
+        for (j, d) in open.into_iter().zip(far) {
+            out[j as usize] = d;
+        }
+    }
+    (out, by_grid)
+}
+
+/// One pass of [`closest_dist2_all`]: the open query points sorted into a grid, and
+/// the reach.
+struct Sweep<'a> {
+    mesh: &'a TriMesh,
+    /// The points in cell order; `order[s]` is point s's index among the queries.
+    pts: Vec<[f64; 3]>,
+    order: Vec<u32>,
+    /// Cell `k` holds `pts[start[k]..start[k + 1]]`.
+    start: Vec<u32>,
+    min: [f64; 3],
+    max: [f64; 3],
+    inv: f64,
+    n: [usize; 3],
+    /// The reach R plus the margin: how far from its box a triangle is tested.
+    reach: f64,
+    /// R², the largest squared distance the pass answers.
+    r2: f64,
+    /// The margin of the skip tests (absolute).
+    slack: f64,
+}
+
+impl<'a> Sweep<'a> {
+    /// The pass of reach `r` over the points `open` (indices into `queries`, not
+    /// empty), for a mesh of triangles of mean bounding radius `mean_radius` and
+    /// coordinates at most `scale` in size.
+    fn new(
+        mesh: &'a TriMesh,
+        queries: &[[f64; 3]],
+        open: Vec<u32>,
+        r: f64,
+        mean_radius: f64,
+        scale: f64,
+    ) -> Self {
+        let at = |j: u32| queries[j as usize];
+        let (mut min, mut max) = (at(open[0]), at(open[0]));
+        for &j in &open {
+            let p = at(j);
+            for k in 0..3 {
+                min[k] = min[k].min(p[k]);
+                max[k] = max[k].max(p[k]);
+            }
+        }
+        let slack = SLACK_REL * (r + scale);
+        // Cells about as wide as a triangle's box with its reach on both sides (so a
+        // triangle meets a block of at most 2 × 2 × 2 cells, and the points it scans
+        // are about the ones within its reach), but no more than
+        // SWEEP_CELLS_PER_POINT cells per point.
+        let ext = [0, 1, 2].map(|k| max[k] - min[k]);
+        let cells_at = |h: f64| -> f64 { ext.iter().map(|&e| (e / h).floor() + 1.0).product() };
+        let cap = (SWEEP_CELLS_PER_POINT * open.len()).max(4096) as f64;
+        let longest = ext.iter().copied().fold(0.0, f64::max);
+        let mut size = (SWEEP_CELL * mean_radius + 2.0 * r).max(longest / 1024.0);
+        if !(size > 0.0) {
+            size = 1.0;
+        }
+        while cells_at(size) > cap {
+            size *= 1.25;
+        }
+        let inv = 1.0 / size;
+        let n = ext.map(|e| (e * inv).floor() as usize + 1);
+        let cell = |p: [f64; 3]| {
+            flat_index(
+                [0, 1, 2].map(|k| clamp_cell((p[k] - min[k]) * inv, n[k])),
+                n,
+            )
+        };
+        // A counting sort of the points by cell.
+        let cells = n[0] * n[1] * n[2];
+        let mut start = vec![0u32; cells + 1];
+        let of: Vec<u32> = open.iter().map(|&j| cell(at(j)) as u32).collect();
+        for &c in &of {
+            start[c as usize + 1] += 1;
+        }
+        for k in 0..cells {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut order = vec![0u32; open.len()];
+        for (&j, &c) in open.iter().zip(&of) {
+            let slot = &mut fill[c as usize];
+            order[*slot as usize] = j;
+            *slot += 1;
+        }
+        let pts = order.iter().map(|&j| at(j)).collect();
+        Sweep {
+            mesh,
+            pts,
+            order,
+            start,
+            min,
+            max,
+            inv,
+            n,
+            reach: r + slack,
+            r2: r * r,
+            slack,
+        }
+    }
+
+    /// The best (squared distance, its square root rounded up by 1e-12 relative) of
+    /// each point in cell order, over the triangles within reach (infinite when none
+    /// was): the triangles in parallel runs, each with its own bests, the runs' bests
+    /// merged by the minimum (so the same values however the runs fall).
+    fn run(&self) -> Vec<(f64, f64)> {
+        let np = self.pts.len();
+        let none = || vec![(f64::INFINITY, f64::INFINITY); np];
+        let nf = self.mesh.triangles.len();
+        let runs = nf.div_ceil(SWEEP_RUN);
+        (0..runs)
+            .into_par_iter()
+            .map(|r| {
+                let mut best = none();
+                for t in r * SWEEP_RUN..((r + 1) * SWEEP_RUN).min(nf) {
+                    self.offer(t, &mut best);
+                }
+                best
+            })
+            .reduce_with(|mut a, b| {
+                for (x, y) in a.iter_mut().zip(b) {
+                    if y.0 < x.0 {
+                        *x = y;
+                    }
+                }
+                a
+            })
+            .unwrap_or_else(none)
+    }
+
+    /// Test triangle `t` against every point within reach of its box. (Written out
+    /// per axis: this runs once per triangle of the mesh.)
+    #[inline(always)]
+    fn offer(&self, t: usize, best: &mut [(f64, f64)]) {
+        let [ia, ib, ic] = self.mesh.triangles[t];
+        let v = &self.mesh.vertices;
+        let (a, b, c) = (v[ia as usize], v[ib as usize], v[ic as usize]);
+        let lo = [
+            a[0].min(b[0]).min(c[0]),
+            a[1].min(b[1]).min(c[1]),
+            a[2].min(b[2]).min(c[2]),
+        ];
+        let hi = [
+            a[0].max(b[0]).max(c[0]),
+            a[1].max(b[1]).max(c[1]),
+            a[2].max(b[2]).max(c[2]),
+        ];
+        let reach = self.reach;
+        let (min, max, inv, n) = (self.min, self.max, self.inv, self.n);
+        if hi[0] + reach < min[0]
+            || hi[1] + reach < min[1]
+            || hi[2] + reach < min[2]
+            || lo[0] - reach > max[0]
+            || lo[1] - reach > max[1]
+            || lo[2] - reach > max[2]
+        {
+            return;
+        }
+        let cell = |x: f64, k: usize| clamp_cell((x - min[k]) * inv, n[k]);
+        let (x0, x1) = (cell(lo[0] - reach, 0), cell(hi[0] + reach, 0));
+        let (y0, y1) = (cell(lo[1] - reach, 1), cell(hi[1] + reach, 1));
+        let (z0, z1) = (cell(lo[2] - reach, 2), cell(hi[2] + reach, 2));
+        let slack2 = 2.0 * self.slack;
+        for z in z0..=z1 {
+            for y in y0..=y1 {
+                // The row's cells are consecutive (x fastest).
+                let row = (z * n[1] + y) * n[0];
+                let (s0, s1) = (
+                    self.start[row + x0] as usize,
+                    self.start[row + x1 + 1] as usize,
+                );
+                for (p, (d2, sb)) in self.pts[s0..s1].iter().zip(&mut best[s0..s1]) {
+                    // The distance from p to the box: beyond the reach, the triangle
+                    // is not tested; beyond the best so far (with the margin), it
+                    // cannot be nearer.
+                    let gx = (lo[0] - p[0]).max(p[0] - hi[0]).max(0.0);
+                    let gy = (lo[1] - p[1]).max(p[1] - hi[1]).max(0.0);
+                    let gz = (lo[2] - p[2]).max(p[2] - hi[2]).max(0.0);
+                    let lim = (*sb + slack2).min(reach);
+                    if gx * gx + gy * gy + gz * gz > lim * lim {
+                        continue;
+                    }
+                    let q = closest_on_triangle(*p, a, b, c);
+                    let e = geom::sub(*p, q.point);
+                    let e2 = geom::dot(e, e);
+                    if e2 < *d2 {
+                        *d2 = e2;
+                        *sb = e2.sqrt() * (1.0 + 1e-12);
+                    }
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -348,8 +656,31 @@ mod tests {
     use proptest::prelude::*;
 
     fn check(m: &TriMesh, queries: &[[f64; 3]]) -> std::result::Result<(), TestCaseError> {
+        check_hint(m, queries, f64::NAN)
+    }
+
+    /// [`CentroidGrid::closest_dist2`] and [`closest_dist2_all`] (with `hint`) against
+    /// [`TriGrid::closest_dist2`], bit for bit.
+    fn check_hint(
+        m: &TriMesh,
+        queries: &[[f64; 3]],
+        hint: f64,
+    ) -> std::result::Result<(), TestCaseError> {
         let grid = TriGrid::new(m).unwrap();
         let cg = CentroidGrid::new(m);
+        let all = closest_dist2_all(m, queries, hint);
+        prop_assert_eq!(all.len(), queries.len());
+        for (&p, s) in queries.iter().zip(all) {
+            let a = grid.closest_dist2(p);
+            prop_assert_eq!(
+                a.map(f64::to_bits),
+                s.map(f64::to_bits),
+                "sweep at {:?}: {:?} vs {:?}",
+                p,
+                a,
+                s
+            );
+        }
         for &p in queries {
             let (a, b) = (grid.closest_dist2(p), cg.closest_dist2(p));
             prop_assert_eq!(
@@ -378,6 +709,9 @@ mod tests {
             small in 0.001f64..0.3,
             scale in prop::sample::select(vec![1.0, 1e-6, 1e6]),
             offset in prop::sample::select(vec![0.0, 1e4]),
+            // The sweeps' hint (relative to the scale): none, 0, small (several
+            // sweeps), large (the grid at once).
+            hint in prop::sample::select(vec![f64::NAN, 0.0, 1e-4, 1e-2, 10.0]),
         ) {
             let nv = pts.len();
             // Small triangles: a vertex and two near copies of others, except every
@@ -410,7 +744,7 @@ mod tests {
                 .map(|p| p.map(|x| x * scale + offset))
                 .chain(m.vertices.iter().take(20).map(|p| p.map(|x| x + 1e-3 * scale)))
                 .collect();
-            check(&m, &q)?;
+            check_hint(&m, &q, hint * scale)?;
         }
     }
 
@@ -453,6 +787,43 @@ mod tests {
             })
             .collect();
         check(&m, &q).unwrap();
+    }
+
+    /// On a mesh close to its surface (points at small offsets from a sine sheet of
+    /// 28,800 triangles, several parallel runs), the sweeps answer every point, with
+    /// the cell grid's distances: with no hint, a hint of 0 (a second and third sweep
+    /// for the farther points) and a good hint; a hint as large as the triangles
+    /// leaves them all to the centroid grid.
+    #[test]
+    fn sweeps_answer_points_near_the_mesh() {
+        let n = 121;
+        let sheet = |x: f64, y: f64| 0.3 * (3.0 * x).sin() * (2.0 * y).cos();
+        let vertices: Vec<[f64; 3]> = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f64 / 60.0 - 1.0, (i / n) as f64 / 60.0 - 1.0);
+                [x, y, sheet(x, y)]
+            })
+            .collect();
+        let n = n as u32;
+        let triangles: Vec<[u32; 3]> = (0..n * (n - 1))
+            .filter(|i| i % n != n - 1)
+            .flat_map(|i| [[i, i + 1, i + n], [i + 1, i + n + 1, i + n]])
+            .collect();
+        let m = TriMesh::new(vertices, triangles);
+        // Points on the sheet and up to 1e-3 off it (triangles of radius ~0.01).
+        let q: Vec<[f64; 3]> = (0..900)
+            .map(|i| {
+                let (u, v) = ((i % 30) as f64 / 15.5 - 0.95, (i / 30) as f64 / 15.5 - 0.95);
+                [u, v, sheet(u, v) + 1e-3 * ((i % 7) as f64 / 6.0 - 0.5)]
+            })
+            .collect();
+        for hint in [f64::NAN, 0.0, 5e-4] {
+            let (_, by_grid) = sweeps(&m, &q, hint);
+            assert_eq!(by_grid, 0, "hint {hint}");
+            check_hint(&m, &q, hint).unwrap();
+        }
+        let (_, by_grid) = sweeps(&m, &q, 1.0);
+        assert_eq!(by_grid, q.len());
     }
 
     #[test]
