@@ -307,8 +307,16 @@ impl Samples {
                 grid.num_vertices()
             )));
         }
-        if let Some(v) = values.par_iter().position_first(|v| !v.is_finite()) {
-            return Err(grid.not_finite(v, values[v]));
+        // A branch-free pass per chunk (an OR the compiler vectorises; rayon's
+        // `position_first` item by item cost a third of the marching-cubes mesher at
+        // its defaults); the first bad vertex is searched only when there is one.
+        let bad = values
+            .par_chunks(1 << 14)
+            .any(|c| c.iter().fold(false, |b, v| b | !v.is_finite()));
+        if bad {
+            if let Some(v) = values.iter().position(|v| !v.is_finite()) {
+                return Err(grid.not_finite(v, values[v]));
+            }
         }
         Ok(Samples { grid, values })
     }
