@@ -12,6 +12,7 @@ mod compare_cmd;
 mod delaunay_cmd;
 mod figures_cmd;
 mod input;
+mod memory;
 mod mesh_cmd;
 mod morse_cmd;
 mod progress;
@@ -266,6 +267,7 @@ enum Cmd {
 }
 
 fn main() {
+    memory::keep_freed_memory();
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
     let json = wants_json(&args);
     let cli = match Cli::try_parse_from(&args) {
