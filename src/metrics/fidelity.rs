@@ -547,6 +547,9 @@ fn used_vertices<const K: usize>(n: usize, elements: &[[u32; K]]) -> impl Iterat
 
 /// What the two fidelity measures differ in (triangles in space, segments in the
 /// plane); [`measure`] does the rest once.
+/// The distances from points to the mesh, given a hint (see [`Elements::closest`]).
+type Closest<'a> = dyn Fn(&[[f64; 3]], f64) -> Vec<f64> + Sync + 'a;
+
 struct Elements<'a> {
     /// The vertices used by some element.
     verts: Vec<[f64; 3]>,
@@ -558,7 +561,7 @@ struct Elements<'a> {
     /// mesh has no element), given a typical distance from the mesh to the surface
     /// (the mesh → surface estimate, NaN when there is none), which may make the
     /// search faster but never changes a distance.
-    closest: &'a (dyn Fn(&[[f64; 3]], f64) -> Vec<f64> + Sync),
+    closest: &'a Closest<'a>,
     /// The normal of element `e` and the point where ∇f is compared with it.
     normal: &'a (dyn Fn(usize) -> Option<([f64; 3], [f64; 3])> + Sync),
     /// The corners of element `e`, pushed onto the vector.

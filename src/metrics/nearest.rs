@@ -508,7 +508,7 @@ impl<'a> Sweep<'a> {
         let cap = (SWEEP_CELLS_PER_POINT * open.len()).max(4096) as f64;
         let longest = ext.iter().copied().fold(0.0, f64::max);
         let mut size = (SWEEP_CELL * mean_radius + 2.0 * r).max(longest / 1024.0);
-        if !(size > 0.0) {
+        if size.is_nan() || size <= 0.0 {
             size = 1.0;
         }
         while cells_at(size) > cap {
