@@ -9,8 +9,9 @@
 //! topology and the angles (one gradient of f per triangle, the cheapest first-order
 //! distance estimate; one Newton projection per triangle, the cheapest mesh → surface
 //! distance), and the floors of the topology and the angle range themselves (star lists
-//! and edge count; signed squared cosines). Run on 1 and 2 threads with
-//! `RAYON_NUM_THREADS=1 cargo bench --bench report` (and `=2`).
+//! and edge count; signed squared cosines); and the surface → mesh distances of
+//! `--metrics fast` by the sweeps the report uses and by the centroid grid. Run on 1
+//! and 2 threads with `RAYON_NUM_THREADS=1 cargo bench --bench report` (and `=2`).
 use certmesh::catalog;
 use certmesh::harness::compare::{fidelity_params, level_fidelity_params, Metrics};
 use certmesh::harness::report::{self, DomainSource};
@@ -19,8 +20,9 @@ use certmesh::io::obj;
 use certmesh::io::ply::{self, PlyEncoding};
 use certmesh::mesher::options::MesherOptions;
 use certmesh::mesher::{self, registry, NoProgress};
-use certmesh::metrics::{self, angles, fidelity};
+use certmesh::metrics::{self, angles, fidelity, nearest};
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use rayon::prelude::*;
 
 /// One workload's group: `name` of the catalog, `algo` at `opts`.
 fn workload(c: &mut Criterion, group: &str, name: &str, algo: &str, opts: &MesherOptions) {
@@ -100,6 +102,27 @@ fn workload(c: &mut Criterion, group: &str, name: &str, algo: &str, opts: &Meshe
     let tol = 1e-10 * e.domain.diagonal();
     g.bench_function("floor_one_projection_per_triangle", |b| {
         b.iter(|| ops::project_batch(&f, black_box(&centroids), params.newton_steps, tol).len())
+    });
+    // The surface → mesh distances of `--metrics fast` (its surface points, the mesh
+    // → surface estimate as the hint), by the sweeps (what the report does) and by the
+    // centroid grid over every triangle (what it did before, and does when the sweeps
+    // leave points open): the same distances, bit for bit.
+    let fast = level_fidelity_params(Metrics::Fast, &e.domain, 3, surf.triangles.len());
+    let (spts, _) =
+        fidelity::surface_points_counted(&f, &e.domain, fast.seed_grid, fast.newton_steps, tol);
+    let hint = fidelity::surface_fidelity(&surf, &f, &fast)
+        .unwrap()
+        .hausdorff_mesh_to_surface;
+    g.bench_function("surface_to_mesh_sweeps", |b| {
+        b.iter(|| nearest::closest_dist2_all(black_box(&surf), &spts, hint))
+    });
+    g.bench_function("surface_to_mesh_centroid_grid", |b| {
+        b.iter(|| {
+            let grid = nearest::CentroidGrid::new(black_box(&surf));
+            spts.par_iter()
+                .map(|&p| grid.closest_dist2(p))
+                .collect::<Vec<_>>()
+        })
     });
     // The floors of the topology and the angle range, one thread each: what any
     // topology that finds every edge pays (every vertex's faces by a counting sort,
