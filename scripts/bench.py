@@ -204,9 +204,9 @@ def main():
         "Each lattice mesher on 1 and 2 threads (`RAYON_NUM_THREADS`), interleaved, medians; "
         "\"rest\" is the whole process minus the mesher time (report, writing, start-up). Serial by "
         "design in the report: the union-find of components and boundary loops, the count and "
-        "fill passes of the vertex buckets (a counting sort), the count of the centroid grid's "
-        "triangles per cell (their placement is parallel), and writing the file (on its own "
-        "thread beside the measures); "
+        "fill passes of the vertex buckets (a counting sort), the counting sort of the few "
+        "thousand surface points into the sweeps' grid (the sweeps over the triangles are "
+        "parallel), and writing the file (on its own thread beside the measures); "
         "in stuffing, the fill passes of the face buckets.",
         "",
         "\"Metrics\" is the report's own time (`metrics_seconds` of the JSON: topology, angles, "
@@ -229,7 +229,8 @@ def main():
         "MC torus, the marching-tetrahedra torus and GradNormal genus 2 at their defaults, each "
         "with floors: of a report that looks at every triangle once (one gradient, or one Newton "
         "projection, per triangle), of the topology (star lists and edge count) and of the angle "
-        "range (signed squared cosines)).",
+        "range (signed squared cosines), and the surface → mesh distances by the sweeps and by "
+        "the centroid grid).",
         "",
         "Where the report's time goes, part by part, measured by hand and dated: "
         "`papers/bench-report.md` (not rewritten by this script).",
