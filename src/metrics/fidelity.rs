@@ -61,9 +61,8 @@ pub struct FidelityParams {
     /// Project every vertex onto f = 0 for the mesh → surface side, besides the
     /// `mesh_samples` (default). Off (the report's `--metrics fast`): the samples alone
     /// (thinned by [`FidelityParams::thin_samples`] if asked), and the surface → mesh
-    /// distances through
-    /// [`super::nearest::CentroidGrid`] (the same distances as with it on, for a
-    /// cheaper index). Every sample is one of the points projected with it on, so the
+    /// distances by [`super::nearest::closest_dist2_all`] (the same distances as with
+    /// it on, without a triangle index when it can). Every sample is one of the points projected with it on, so the
     /// mesh → surface estimate is at most the one with it on, and the surface → mesh
     /// side is the same; [`Fidelity::hausdorff_kind`] says which was done.
     pub project_vertices: bool,
@@ -795,8 +794,8 @@ pub fn surface_fidelity(
         .collect();
     // A uniform grid, not a BVH: a linear build for the few thousand surface points
     // (the same exact distances, see `kernel::cellgrid`); with the vertices left out,
-    // the cheaper centroid grid (the same distances again, see `super::nearest`),
-    // built beside the mesh → surface projections.
+    // sweeps over the triangles, or the cheaper centroid grid (the same distances
+    // again, see `super::nearest`), after the mesh → surface side.
     let grid = if params.project_vertices {
         Some(TriGrid::new(mesh)?)
     } else {

@@ -1,6 +1,9 @@
 //! Exact point-to-triangle-mesh distances for the report's `--metrics fast` (issue 20):
 //! a few thousand surface points against a mesh of hundreds of thousands of triangles,
-//! where building the index is most of the cost. Each triangle is listed once, in the
+//! where building an index is most of the cost. [`closest_dist2_all`] builds none
+//! when the mesh lies close to the surface: sweeps over the triangles against a small
+//! grid of the points. Otherwise, and for what the sweeps leave open, the
+//! [`CentroidGrid`]: each triangle is listed once, in the
 //! cell of its centroid, with its bounding sphere (centroid and radius) beside it: one
 //! parallel pass over the triangles and one counting sort, instead of a listing in
 //! every cell a triangle's box meets ([`TriGrid`]) or a tree.
