@@ -378,17 +378,17 @@ const SWEEP_CELLS_PER_POINT: usize = 8;
 ///
 /// A sweep of reach R tests each triangle against the points within R of its box,
 /// skipping a point on the distance to the box whenever that exceeds the best distance
-/// found for the point (with [`SLACK_REL`]'s margin, as in [`CentroidGrid`]). A point
+/// found for the point (with the margin of [`CentroidGrid`]'s skip tests). A point
 /// whose best distance is at most R has its exact minimum: a triangle nearer than
 /// that has its box within R of the point, and was tested.
 ///
 /// `hint` is a typical distance from the mesh to the surface (the report passes its
-/// mesh → surface estimate; NaN when there is none): the first sweep reaches
-/// [`SWEEP_HINT_FACTOR`] times it (without a hint, [`SWEEP_REACH`] mean bounding radii
-/// of the triangles). The points it leaves open go to a sweep [`SWEEP_GROWTH`] times
-/// farther, up to [`SWEEP_PASSES`] sweeps and [`SWEEP_MAX_REACH`] mean radii; the rest
-/// (a mesh far from the surface for its triangles' size, or one that misses part of
-/// it) to a [`CentroidGrid`]. The hint changes only the time, never a value.
+/// mesh → surface estimate; NaN when there is none): the first sweep reaches twice it,
+/// but at least 1/16 of the triangles' mean bounding radius (without a hint, 1/4 of
+/// it). The points it leaves open go to a sweep 4 times farther, up to 3 sweeps and a
+/// reach of one mean radius; the rest (a mesh far from the surface for its triangles'
+/// size, or one that misses part of it) to a [`CentroidGrid`]. The hint changes only
+/// the time, never a value.
 pub fn closest_dist2_all(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> Vec<Option<f64>> {
     sweeps(mesh, queries, hint).0
 }
