@@ -751,17 +751,18 @@ mod tests {
         }
     }
 
-    /// A mesh large enough for the parallel placement (several tasks): every listed
-    /// triangle sits in its centroid's cell, the cells in order and each cell's
-    /// triangles ascending (what a stable sort by cell gives), and the distances are
-    /// the cell grid's.
-    #[test]
-    fn parallel_placement_is_a_stable_sort_by_cell() {
+    /// The height of the test sheet over (x, y).
+    fn sheet(x: f64, y: f64) -> f64 {
+        0.3 * (3.0 * x).sin() * (2.0 * y).cos()
+    }
+
+    /// A sheet over [-1, 1]² of 121 × 121 vertices, 28,800 triangles (radius ~0.01).
+    fn sine_sheet() -> TriMesh {
         let n = 121;
         let vertices: Vec<[f64; 3]> = (0..n * n)
             .map(|i| {
                 let (x, y) = ((i % n) as f64 / 60.0 - 1.0, (i / n) as f64 / 60.0 - 1.0);
-                [x, y, 0.3 * (3.0 * x).sin() * (2.0 * y).cos()]
+                [x, y, sheet(x, y)]
             })
             .collect();
         let n = n as u32;
@@ -769,7 +770,16 @@ mod tests {
             .filter(|i| i % n != n - 1)
             .flat_map(|i| [[i, i + 1, i + n], [i + 1, i + n + 1, i + n]])
             .collect();
-        let m = TriMesh::new(vertices, triangles);
+        TriMesh::new(vertices, triangles)
+    }
+
+    /// A mesh large enough for the parallel placement (several tasks): every listed
+    /// triangle sits in its centroid's cell, the cells in order and each cell's
+    /// triangles ascending (what a stable sort by cell gives), and the distances are
+    /// the cell grid's.
+    #[test]
+    fn parallel_placement_is_a_stable_sort_by_cell() {
+        let m = sine_sheet();
         let g = CentroidGrid::new(&m);
         assert!(g.items.len() > 16_384 && g.big.is_empty());
         let mut want: Vec<(usize, u32)> = (0..m.triangles.len())
@@ -799,20 +809,7 @@ mod tests {
     /// leaves them all to the centroid grid.
     #[test]
     fn sweeps_answer_points_near_the_mesh() {
-        let n = 121;
-        let sheet = |x: f64, y: f64| 0.3 * (3.0 * x).sin() * (2.0 * y).cos();
-        let vertices: Vec<[f64; 3]> = (0..n * n)
-            .map(|i| {
-                let (x, y) = ((i % n) as f64 / 60.0 - 1.0, (i / n) as f64 / 60.0 - 1.0);
-                [x, y, sheet(x, y)]
-            })
-            .collect();
-        let n = n as u32;
-        let triangles: Vec<[u32; 3]> = (0..n * (n - 1))
-            .filter(|i| i % n != n - 1)
-            .flat_map(|i| [[i, i + 1, i + n], [i + 1, i + n + 1, i + n]])
-            .collect();
-        let m = TriMesh::new(vertices, triangles);
+        let m = sine_sheet();
         // Points on the sheet and up to 1e-3 off it (triangles of radius ~0.01).
         let q: Vec<[f64; 3]> = (0..900)
             .map(|i| {
