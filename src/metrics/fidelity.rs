@@ -62,9 +62,10 @@ pub struct FidelityParams {
     /// `mesh_samples` (default). Off (the report's `--metrics fast`): the samples alone
     /// (thinned by [`FidelityParams::thin_samples`] if asked), and the surface → mesh
     /// distances by [`super::nearest::closest_dist2_all`] (the same distances as with
-    /// it on, without a triangle index when it can). Every sample is one of the points projected with it on, so the
-    /// mesh → surface estimate is at most the one with it on, and the surface → mesh
-    /// side is the same; [`Fidelity::hausdorff_kind`] says which was done.
+    /// it on, without a triangle index when it can). Every sample is one of the points
+    /// projected with it on, so the mesh → surface estimate is at most the one with it
+    /// on, and the surface → mesh side is the same; [`Fidelity::hausdorff_kind`] says
+    /// which was done.
     pub project_vertices: bool,
     /// Keep only every k-th mesh sample, centred (samples k·m + (k − 1)/2 of the
     /// `mesh_samples`; k odd), and then, adaptively, the corners and every sample of
@@ -544,11 +545,11 @@ fn used_vertices<const K: usize>(n: usize, elements: &[[u32; K]]) -> impl Iterat
     (0..n as u32).filter(move |&v| used[v as usize])
 }
 
-/// What the two fidelity measures differ in (triangles in space, segments in the
-/// plane); [`measure`] does the rest once.
 /// The distances from points to the mesh, given a hint (see [`Elements::closest`]).
 type Closest<'a> = dyn Fn(&[[f64; 3]], f64) -> Vec<f64> + Sync + 'a;
 
+/// What the two fidelity measures differ in (triangles in space, segments in the
+/// plane); [`measure`] does the rest once.
 struct Elements<'a> {
     /// The vertices used by some element.
     verts: Vec<[f64; 3]>,

@@ -3,10 +3,10 @@
 //! where building an index is most of the cost. [`closest_dist2_all`] builds none
 //! when the mesh lies close to the surface: sweeps over the triangles against a small
 //! grid of the points. Otherwise, and for what the sweeps leave open, the
-//! [`CentroidGrid`]: each triangle is listed once, in the
-//! cell of its centroid, with its bounding sphere (centroid and radius) beside it: one
-//! parallel pass over the triangles and one counting sort, instead of a listing in
-//! every cell a triangle's box meets ([`TriGrid`]) or a tree.
+//! [`CentroidGrid`]: each triangle is listed once, in the cell of its centroid, with
+//! its bounding sphere (centroid and radius) beside it: one parallel pass over the
+//! triangles and one counting sort, instead of a listing in every cell a triangle's
+//! box meets ([`TriGrid`]) or a tree.
 //!
 //! The distance is exact in the sense of [`TriGrid::closest_dist2`]: the minimum of the
 //! same per-triangle routine ([`closest_on_triangle`], the same squared distance) over
@@ -418,7 +418,8 @@ fn sweeps(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> (Vec<Option<f64>>,
         SWEEP_REACH * mean_radius
     };
     let mut open: Vec<u32> = (0..queries.len() as u32).collect();
-    if r <= SWEEP_MAX_REACH * mean_radius {
+    // (Triangles that are all points have no radius: the grid at once.)
+    if mean_radius > 0.0 && r <= SWEEP_MAX_REACH * mean_radius {
         // The size of the coordinates (vertices and points), for the margin.
         let scale = mesh
             .vertices
