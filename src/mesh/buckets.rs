@@ -55,6 +55,18 @@ impl<T: Copy + Default + Send + Sync> Buckets<T> {
         &self.items[self.start[v] as usize..self.start[v + 1] as usize]
     }
 
+    /// The positions in [`Buckets::items`] of buckets `lo..hi`, which follow one
+    /// another (e.g. a row of grid cells).
+    #[inline]
+    pub fn span(&self, lo: usize, hi: usize) -> std::ops::Range<usize> {
+        self.start[lo] as usize..self.start[hi] as usize
+    }
+
+    /// Every item, bucket after bucket.
+    pub fn items(&self) -> &[T] {
+        &self.items
+    }
+
     /// Sort every bucket by `key` (unstable), buckets in parallel.
     pub fn sort_each_by_key<K: Ord>(&mut self, key: impl Fn(&T) -> K + Sync) {
         let n = self.len();
@@ -105,6 +117,9 @@ mod tests {
         assert_eq!(b.len(), 4);
         assert_eq!(b.bucket(2), &[7, 3, 7]);
         assert!(b.bucket(3).is_empty());
+        // Buckets 0..2 follow one another: 5, 5, then 1.
+        assert_eq!(&b.items()[b.span(0, 2)], &[5, 5, 1]);
+        assert_eq!(b.span(3, 4), 6..6);
         b.sort_each_by_key(|&x| x);
         let runs: Vec<Vec<u32>> = b.runs(2, |&x| x).map(|r| r.to_vec()).collect();
         assert_eq!(runs, vec![vec![3], vec![7, 7]]);

@@ -25,7 +25,7 @@
 use crate::kernel::bvh::closest_on_triangle;
 use crate::kernel::cellgrid::{clamp_cell, flat_index, ring_search};
 use crate::kernel::geom::{self, Aabb};
-use crate::mesh::TriMesh;
+use crate::mesh::{Buckets, TriMesh};
 use rayon::prelude::*;
 
 /// Cells of the grid's cube per triangle (fewer than [`TriGrid`]'s: a triangle is
@@ -47,6 +47,24 @@ struct Item {
     centre: [f64; 3],
     radius: f64,
     tri: u32,
+}
+
+/// The box of all vertices of a mesh that has a triangle (used or not), in parallel
+/// chunks.
+fn vertex_box(mesh: &TriMesh) -> Aabb {
+    mesh.vertices
+        .par_chunks(8192)
+        .filter_map(Aabb::of_points)
+        .reduce_with(|a, b| a.union(&b))
+        .expect("a triangle's corners are vertices")
+}
+
+/// The largest coordinate of a box in size (that of every point in it).
+fn box_scale(b: &Aabb) -> f64 {
+    b.min
+        .iter()
+        .chain(&b.max)
+        .fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
 /// Triangle `t`'s centroid and the largest squared distance to a corner.
@@ -118,16 +136,11 @@ impl<'a> CentroidGrid<'a> {
         }
         // The box of all vertices (used or not: it only places the cells; centroids
         // lie in it).
-        // (In parallel chunks; a mesh with a triangle has a vertex.)
-        let Aabb { min: lo, max: hi } = mesh
-            .vertices
-            .par_chunks(8192)
-            .filter_map(Aabb::of_points)
-            .reduce_with(|a, b| a.union(&b))
-            .expect("a triangle's corners are vertices");
+        let vbox = vertex_box(mesh);
+        let Aabb { min: lo, max: hi } = vbox;
         let ext = [0, 1, 2].map(|k| hi[k] - lo[k]);
         let longest = ext.iter().copied().fold(0.0, f64::max);
-        let scale = lo.iter().chain(&hi).fold(0.0f64, |m, x| m.max(x.abs()));
+        let scale = box_scale(&vbox);
         let per_axis =
             ((nf as f64 * CELLS_PER_TRIANGLE).cbrt().ceil() as usize).clamp(1, MAX_CELLS);
         let size = if longest > 0.0 {
@@ -421,11 +434,7 @@ fn sweeps(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> (Vec<Option<f64>>,
     // (Triangles that are all points have no radius: the grid at once.)
     if mean_radius > 0.0 && r <= SWEEP_MAX_REACH * mean_radius {
         // The size of the coordinates (vertices and points), for the margin.
-        let scale = mesh
-            .vertices
-            .par_chunks(8192)
-            .map(|c| c.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs())))
-            .reduce(|| 0.0, f64::max)
+        let scale = box_scale(&vertex_box(mesh))
             .max(queries.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs())));
         for pass in 0..SWEEP_PASSES {
             if pass > 0 && (r > SWEEP_MAX_REACH * mean_radius || open.is_empty()) {
@@ -434,8 +443,7 @@ fn sweeps(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> (Vec<Option<f64>>,
             let sweep = Sweep::new(mesh, queries, open, r, mean_radius, scale);
             let best = sweep.run();
             open = Vec::new();
-            for (s, &(d2, _)) in best.iter().enumerate() {
-                let j = sweep.order[s];
+            for (&(_, j), &(d2, _)) in sweep.cells.items().iter().zip(&best) {
                 if d2 <= sweep.r2 {
                     out[j as usize] = Some(d2);
                 } else {
@@ -464,11 +472,8 @@ fn sweeps(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> (Vec<Option<f64>>,
 /// the reach.
 struct Sweep<'a> {
     mesh: &'a TriMesh,
-    /// The points in cell order; `order[s]` is point s's index among the queries.
-    pts: Vec<[f64; 3]>,
-    order: Vec<u32>,
-    /// Cell `k` holds `pts[start[k]..start[k + 1]]`.
-    start: Vec<u32>,
+    /// The points by cell, each with its index among the queries.
+    cells: Buckets<([f64; 3], u32)>,
     min: [f64; 3],
     max: [f64; 3],
     inv: f64,
@@ -524,31 +529,16 @@ impl<'a> Sweep<'a> {
             flat_index(
                 [0, 1, 2].map(|k| clamp_cell((p[k] - min[k]) * inv, n[k])),
                 n,
-            )
+            ) as u32
         };
-        // A counting sort of the points by cell.
-        let cells = n[0] * n[1] * n[2];
-        let mut start = vec![0u32; cells + 1];
-        let of: Vec<u32> = open.iter().map(|&j| cell(at(j)) as u32).collect();
-        for &c in &of {
-            start[c as usize + 1] += 1;
-        }
-        for k in 0..cells {
-            start[k + 1] += start[k];
-        }
-        let mut fill = start.clone();
-        let mut order = vec![0u32; open.len()];
-        for (&j, &c) in open.iter().zip(&of) {
-            let slot = &mut fill[c as usize];
-            order[*slot as usize] = j;
-            *slot += 1;
-        }
-        let pts = order.iter().map(|&j| at(j)).collect();
+        let cells = Buckets::build(n[0] * n[1] * n[2], |emit| {
+            for &j in &open {
+                emit(cell(at(j)), (at(j), j));
+            }
+        });
         Sweep {
             mesh,
-            pts,
-            order,
-            start,
+            cells,
             min,
             max,
             inv,
@@ -564,7 +554,7 @@ impl<'a> Sweep<'a> {
     /// was): the triangles in parallel runs, each with its own bests, the runs' bests
     /// merged by the minimum (so the same values however the runs fall).
     fn run(&self) -> Vec<(f64, f64)> {
-        let np = self.pts.len();
+        let np = self.cells.items().len();
         let none = || vec![(f64::INFINITY, f64::INFINITY); np];
         let nf = self.mesh.triangles.len();
         let runs = nf.div_ceil(SWEEP_RUN);
@@ -625,11 +615,9 @@ impl<'a> Sweep<'a> {
             for y in y0..=y1 {
                 // The row's cells are consecutive (x fastest).
                 let row = (z * n[1] + y) * n[0];
-                let (s0, s1) = (
-                    self.start[row + x0] as usize,
-                    self.start[row + x1 + 1] as usize,
-                );
-                for (p, (d2, sb)) in self.pts[s0..s1].iter().zip(&mut best[s0..s1]) {
+                let span = self.cells.span(row + x0, row + x1 + 1);
+                let pts = &self.cells.items()[span.clone()];
+                for (&(p, _), (d2, sb)) in pts.iter().zip(&mut best[span]) {
                     // The distance from p to the box: beyond the reach, the triangle
                     // is not tested; beyond the best so far (with the margin), it
                     // cannot be nearer.
@@ -640,8 +628,8 @@ impl<'a> Sweep<'a> {
                     if gx * gx + gy * gy + gz * gz > lim * lim {
                         continue;
                     }
-                    let q = closest_on_triangle(*p, a, b, c);
-                    let e = geom::sub(*p, q.point);
+                    let q = closest_on_triangle(p, a, b, c);
+                    let e = geom::sub(p, q.point);
                     let e2 = geom::dot(e, e);
                     if e2 < *d2 {
                         *d2 = e2;
