@@ -165,6 +165,52 @@ mod tests {
     use super::*;
     use crate::kernel::bvh::TriBvh;
     use crate::kernel::rng::Rng;
+    use proptest::prelude::*;
+
+    /// The definition `clamp_cell` computes by a float clamp and one truncation.
+    fn clamp_cell_reference(t: f64, n: usize) -> usize {
+        let i = t.floor();
+        if i >= 0.0 {
+            (i as usize).min(n - 1)
+        } else {
+            0
+        }
+    }
+
+    proptest! {
+        /// `clamp_cell` is the floor clamped into 0..n, for every coordinate: negative,
+        /// inside, on a cell boundary, past the end, huge, infinite and NaN.
+        #[test]
+        fn clamp_cell_is_the_clamped_floor(
+            n in 1usize..5000,
+            t in prop_oneof![
+                -10.0f64..6000.0,
+                (0usize..5001).prop_map(|k| k as f64),
+                // just below a boundary
+                (1usize..5001).prop_map(|k| f64::from_bits((k as f64).to_bits() - 1)),
+                proptest::num::f64::ANY,
+            ],
+        ) {
+            prop_assert_eq!(clamp_cell(t, n), clamp_cell_reference(t, n));
+        }
+    }
+
+    #[test]
+    fn clamp_cell_edges() {
+        for n in [1, 2, 7, 1 << 20] {
+            for t in [
+                f64::NAN,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                -0.0,
+                0.0,
+                -1e-300,
+                1e300,
+            ] {
+                assert_eq!(clamp_cell(t, n), clamp_cell_reference(t, n), "{t} {n}");
+            }
+        }
+    }
 
     /// The grid's distance equals the BVH's, bit for bit, on random soups of triangles
     /// of mixed sizes (a few long ones across many cells), at points inside and far
@@ -207,16 +253,20 @@ mod tests {
     }
 }
 
-/// The cell index along one axis of a grid of `n` cells, for the coordinate `t` in
-/// cell units (floored, clamped into 0..n).
+/// The cell index along one axis of a grid of `n` cells (1 ≤ n ≤ 2⁵²), for the
+/// coordinate `t` in cell units: floored, clamped into 0..n (NaN gives 0). Clamped
+/// first, as a float, so that the conversion is one truncation: this runs six times
+/// per triangle in the report's sweeps (three instructions instead of a floor, a
+/// saturating conversion and two clamps).
 #[inline]
 pub(crate) fn clamp_cell(t: f64, n: usize) -> usize {
-    let i = t.floor();
-    if i >= 0.0 {
-        (i as usize).min(n - 1)
-    } else {
-        0
-    }
+    debug_assert!(n >= 1 && n <= 1 << 52);
+    // `max` returns 0 for NaN; n − 1 ≤ 2⁵² converts exactly.
+    let c = t.max(0.0).min((n - 1) as f64);
+    // SAFETY: c is in [0, n − 1] ⊂ [0, 2⁵²], finite, so its truncation fits in an
+    // i64 (a signed conversion is one instruction; an unsigned one is not on x86-64);
+    // for c ≥ 0 truncation is the floor.
+    unsafe { c.to_int_unchecked::<i64>() as usize }
 }
 
 /// The position of cell `c` in a grid of `n` cells stored x fastest.

@@ -63,7 +63,11 @@ impl Progress for Bar {
         }
     }
     fn inc(&self, n: u64) {
-        self.pb.inc(n);
+        // A hidden bar's position is never read, and indicatif reads the clock on
+        // every step (a marching mesher steps once per grid row).
+        if self.visible {
+            self.pb.inc(n);
+        }
     }
     fn finish(&self) {
         self.pb.finish_and_clear();
