@@ -402,6 +402,10 @@ const SWEEP_CELLS_PER_POINT: usize = 8;
 /// reach of one mean radius; the rest (a mesh far from the surface for its triangles'
 /// size, or one that misses part of it) to a [`CentroidGrid`]. The hint changes only
 /// the time, never a value.
+///
+/// The coordinates of the mesh and of the queries must be finite (the report checks
+/// the mesh with [`super::check_trimesh`]; its queries are projections kept inside a
+/// box).
 pub fn closest_dist2_all(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> Vec<Option<f64>> {
     sweeps(mesh, queries, hint).0
 }
@@ -466,6 +470,27 @@ fn sweeps(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> (Vec<Option<f64>>,
         }
     }
     (out, by_grid)
+}
+
+/// The larger of two finite numbers, in one instruction (`f64::max` also handles NaN,
+/// which costs a compare and a blend; the sweeps' coordinates are finite).
+#[inline(always)]
+fn mx(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The smaller of two finite numbers (see [`mx`]).
+#[inline(always)]
+fn mn(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
 }
 
 /// One pass of [`closest_dist2_all`]: the open query points sorted into a grid, and
@@ -586,14 +611,14 @@ impl<'a> Sweep<'a> {
         let v = &self.mesh.vertices;
         let (a, b, c) = (v[ia as usize], v[ib as usize], v[ic as usize]);
         let lo = [
-            a[0].min(b[0]).min(c[0]),
-            a[1].min(b[1]).min(c[1]),
-            a[2].min(b[2]).min(c[2]),
+            mn(mn(a[0], b[0]), c[0]),
+            mn(mn(a[1], b[1]), c[1]),
+            mn(mn(a[2], b[2]), c[2]),
         ];
         let hi = [
-            a[0].max(b[0]).max(c[0]),
-            a[1].max(b[1]).max(c[1]),
-            a[2].max(b[2]).max(c[2]),
+            mx(mx(a[0], b[0]), c[0]),
+            mx(mx(a[1], b[1]), c[1]),
+            mx(mx(a[2], b[2]), c[2]),
         ];
         let reach = self.reach;
         let (min, max, inv, n) = (self.min, self.max, self.inv, self.n);
@@ -621,10 +646,10 @@ impl<'a> Sweep<'a> {
                     // The distance from p to the box: beyond the reach, the triangle
                     // is not tested; beyond the best so far (with the margin), it
                     // cannot be nearer.
-                    let gx = (lo[0] - p[0]).max(p[0] - hi[0]).max(0.0);
-                    let gy = (lo[1] - p[1]).max(p[1] - hi[1]).max(0.0);
-                    let gz = (lo[2] - p[2]).max(p[2] - hi[2]).max(0.0);
-                    let lim = (*sb + slack2).min(reach);
+                    let gx = mx(mx(lo[0] - p[0], p[0] - hi[0]), 0.0);
+                    let gy = mx(mx(lo[1] - p[1], p[1] - hi[1]), 0.0);
+                    let gz = mx(mx(lo[2] - p[2], p[2] - hi[2]), 0.0);
+                    let lim = mn(*sb + slack2, reach);
                     if gx * gx + gy * gy + gz * gz > lim * lim {
                         continue;
                     }
