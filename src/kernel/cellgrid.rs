@@ -260,7 +260,7 @@ mod tests {
 /// saturating conversion and two clamps).
 #[inline]
 pub(crate) fn clamp_cell(t: f64, n: usize) -> usize {
-    debug_assert!(n >= 1 && n <= 1 << 52);
+    debug_assert!((1..=1 << 52).contains(&n));
     // `max` returns 0 for NaN; n − 1 ≤ 2⁵² converts exactly.
     let c = t.max(0.0).min((n - 1) as f64);
     // SAFETY: c is in [0, n − 1] ⊂ [0, 2⁵²], finite, so its truncation fits in an

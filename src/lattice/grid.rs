@@ -307,16 +307,8 @@ impl Samples {
                 grid.num_vertices()
             )));
         }
-        // A branch-free pass per chunk (an OR the compiler vectorises; rayon's
-        // `position_first` item by item cost a third of the marching-cubes mesher at
-        // its defaults); the first bad vertex is searched only when there is one.
-        let bad = values
-            .par_chunks(1 << 14)
-            .any(|c| c.iter().fold(false, |b, v| b | !v.is_finite()));
-        if bad {
-            if let Some(v) = values.iter().position(|v| !v.is_finite()) {
-                return Err(grid.not_finite(v, values[v]));
-            }
+        if let Some(v) = crate::kernel::finite::first_non_finite(&values) {
+            return Err(grid.not_finite(v, values[v]));
         }
         Ok(Samples { grid, values })
     }

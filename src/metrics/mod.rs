@@ -68,18 +68,11 @@ fn check_indices<const N: usize>(nv: usize, what: &str, elems: &[[u32; N]]) -> R
 }
 
 fn check_finite<const D: usize>(verts: &[[f64; D]]) -> Result<()> {
-    // A branch-free pass (an OR of comparisons, which the compiler vectorises); the
-    // first bad vertex is searched only when there is one.
-    let bad = verts
-        .iter()
-        .fold(false, |b, p| p.iter().fold(b, |b, x| b | !x.is_finite()));
-    if !bad {
-        return Ok(());
-    }
-    match verts.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
-        Some(i) => Err(Error::NotFinite(format!(
-            "vertex {i} has coordinates {:?}",
-            verts[i]
+    match crate::kernel::finite::first_non_finite(verts.as_flattened()) {
+        Some(k) => Err(Error::NotFinite(format!(
+            "vertex {} has coordinates {:?}",
+            k / D,
+            verts[k / D]
         ))),
         None => Ok(()),
     }
