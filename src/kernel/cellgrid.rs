@@ -253,19 +253,20 @@ mod tests {
     }
 }
 
-/// The cell index along one axis of a grid of `n` cells (1 ≤ n ≤ 2⁵²), for the
-/// coordinate `t` in cell units: floored, clamped into 0..n (NaN gives 0). Clamped
-/// first, as a float, so that the conversion is one truncation: this runs six times
-/// per triangle in the report's sweeps (three instructions instead of a floor, a
+/// The cell index along one axis of a grid of `n` cells, for the coordinate `t` in
+/// cell units: floored, clamped into 0..n (NaN gives 0; so does n = 0). Clamped first,
+/// as a float, so that the conversion is one truncation: this runs six times per
+/// triangle in the report's sweeps (three instructions instead of a floor, a
 /// saturating conversion and two clamps).
 #[inline]
 pub(crate) fn clamp_cell(t: f64, n: usize) -> usize {
-    debug_assert!((1..=1 << 52).contains(&n));
-    // `max` returns 0 for NaN; n − 1 ≤ 2⁵² converts exactly.
-    let c = t.max(0.0).min((n - 1) as f64);
-    // SAFETY: c is in [0, n − 1] ⊂ [0, 2⁵²], finite, so its truncation fits in an
-    // i64 (a signed conversion is one instruction; an unsigned one is not on x86-64);
-    // for c ≥ 0 truncation is the floor.
+    // The last index as a float, exact (at most 2⁵², beyond any grid that fits in
+    // memory); `max` returns 0 for NaN.
+    let last = n.saturating_sub(1).min(1 << 52) as f64;
+    let c = t.max(0.0).min(last);
+    // SAFETY: c is finite and in [0, 2⁵²], so its truncation fits in an i64 (a signed
+    // conversion is one instruction; an unsigned one is not on x86-64); for c ≥ 0
+    // truncation is the floor.
     unsafe { c.to_int_unchecked::<i64>() as usize }
 }
 
