@@ -160,6 +160,87 @@ impl<'a> TriGrid<'a> {
     }
 }
 
+/// The cell index along one axis of a grid of `n` cells, for the coordinate `t` in
+/// cell units: floored, clamped into 0..n (NaN gives 0; so does n = 0). Clamped first,
+/// as a float, so that the conversion is one truncation: this runs six times per
+/// triangle in the report's sweeps (three instructions instead of a floor, a
+/// saturating conversion and two clamps).
+#[inline]
+pub(crate) fn clamp_cell(t: f64, n: usize) -> usize {
+    // The last index as a float, exact (at most 2⁵², beyond any grid that fits in
+    // memory); `max` returns 0 for NaN.
+    let last = n.saturating_sub(1).min(1 << 52) as f64;
+    let c = t.max(0.0).min(last);
+    // SAFETY: c is finite and in [0, 2⁵²], so its truncation fits in an i64 (a signed
+    // conversion is one instruction; an unsigned one is not on x86-64); for c ≥ 0
+    // truncation is the floor.
+    unsafe { c.to_int_unchecked::<i64>() as usize }
+}
+
+/// The position of cell `c` in a grid of `n` cells stored x fastest.
+#[inline]
+pub(crate) fn flat_index(c: [usize; 3], n: [usize; 3]) -> usize {
+    (c[2] * n[1] + c[1]) * n[0] + c[0]
+}
+
+/// Visit the cells of a grid of `n` cells in rings of growing Chebyshev distance from
+/// cell `c0`, skipping every cell whose lower bound exceeds the current bound (a
+/// squared distance, `bound` at the start): `gap2(k, c)` bounds from below the squared
+/// distance along axis k to the slab of cells at index c (summed over the axes for a
+/// cell, so a plane or a row is skipped on a partial sum), `ring_lb2(r)` that to any
+/// cell of ring r; `visit(cell)` scans a cell and returns the new bound. Stops when a
+/// whole ring is beyond the bound.
+pub(crate) fn ring_search(
+    c0: [usize; 3],
+    n: [usize; 3],
+    mut bound: f64,
+    gap2: impl Fn(usize, i64) -> f64,
+    ring_lb2: impl Fn(i64) -> f64,
+    mut visit: impl FnMut([usize; 3]) -> f64,
+) {
+    let c0 = c0.map(|x| x as i64);
+    let n = n.map(|x| x as i64);
+    let rings = (0..3)
+        .map(|k| c0[k].max(n[k] - 1 - c0[k]))
+        .max()
+        .unwrap_or(0);
+    for r in 0..=rings {
+        if ring_lb2(r) > bound {
+            break;
+        }
+        for dz in -r..=r {
+            let z = c0[2] + dz;
+            if z < 0 || z >= n[2] {
+                continue;
+            }
+            let gz = gap2(2, z);
+            if gz > bound {
+                continue;
+            }
+            for dy in -r..=r {
+                let y = c0[1] + dy;
+                if y < 0 || y >= n[1] {
+                    continue;
+                }
+                let gy = gz + gap2(1, y);
+                if gy > bound {
+                    continue;
+                }
+                // Inside the shell only the two end cells of the row are in ring r.
+                let shell = dz.abs() == r || dy.abs() == r;
+                let mut dx = -r;
+                while dx <= r {
+                    let x = c0[0] + dx;
+                    if x >= 0 && x < n[0] && gy + gap2(0, x) <= bound {
+                        bound = visit([x as usize, y as usize, z as usize]);
+                    }
+                    dx += if shell || r == 0 { 1 } else { 2 * r };
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -250,86 +331,5 @@ mod tests {
                 .closest_dist2([0.0; 3]),
             None
         );
-    }
-}
-
-/// The cell index along one axis of a grid of `n` cells, for the coordinate `t` in
-/// cell units: floored, clamped into 0..n (NaN gives 0; so does n = 0). Clamped first,
-/// as a float, so that the conversion is one truncation: this runs six times per
-/// triangle in the report's sweeps (three instructions instead of a floor, a
-/// saturating conversion and two clamps).
-#[inline]
-pub(crate) fn clamp_cell(t: f64, n: usize) -> usize {
-    // The last index as a float, exact (at most 2⁵², beyond any grid that fits in
-    // memory); `max` returns 0 for NaN.
-    let last = n.saturating_sub(1).min(1 << 52) as f64;
-    let c = t.max(0.0).min(last);
-    // SAFETY: c is finite and in [0, 2⁵²], so its truncation fits in an i64 (a signed
-    // conversion is one instruction; an unsigned one is not on x86-64); for c ≥ 0
-    // truncation is the floor.
-    unsafe { c.to_int_unchecked::<i64>() as usize }
-}
-
-/// The position of cell `c` in a grid of `n` cells stored x fastest.
-#[inline]
-pub(crate) fn flat_index(c: [usize; 3], n: [usize; 3]) -> usize {
-    (c[2] * n[1] + c[1]) * n[0] + c[0]
-}
-
-/// Visit the cells of a grid of `n` cells in rings of growing Chebyshev distance from
-/// cell `c0`, skipping every cell whose lower bound exceeds the current bound (a
-/// squared distance, `bound` at the start): `gap2(k, c)` bounds from below the squared
-/// distance along axis k to the slab of cells at index c (summed over the axes for a
-/// cell, so a plane or a row is skipped on a partial sum), `ring_lb2(r)` that to any
-/// cell of ring r; `visit(cell)` scans a cell and returns the new bound. Stops when a
-/// whole ring is beyond the bound.
-pub(crate) fn ring_search(
-    c0: [usize; 3],
-    n: [usize; 3],
-    mut bound: f64,
-    gap2: impl Fn(usize, i64) -> f64,
-    ring_lb2: impl Fn(i64) -> f64,
-    mut visit: impl FnMut([usize; 3]) -> f64,
-) {
-    let c0 = c0.map(|x| x as i64);
-    let n = n.map(|x| x as i64);
-    let rings = (0..3)
-        .map(|k| c0[k].max(n[k] - 1 - c0[k]))
-        .max()
-        .unwrap_or(0);
-    for r in 0..=rings {
-        if ring_lb2(r) > bound {
-            break;
-        }
-        for dz in -r..=r {
-            let z = c0[2] + dz;
-            if z < 0 || z >= n[2] {
-                continue;
-            }
-            let gz = gap2(2, z);
-            if gz > bound {
-                continue;
-            }
-            for dy in -r..=r {
-                let y = c0[1] + dy;
-                if y < 0 || y >= n[1] {
-                    continue;
-                }
-                let gy = gz + gap2(1, y);
-                if gy > bound {
-                    continue;
-                }
-                // Inside the shell only the two end cells of the row are in ring r.
-                let shell = dz.abs() == r || dy.abs() == r;
-                let mut dx = -r;
-                while dx <= r {
-                    let x = c0[0] + dx;
-                    if x >= 0 && x < n[0] && gy + gap2(0, x) <= bound {
-                        bound = visit([x as usize, y as usize, z as usize]);
-                    }
-                    dx += if shell || r == 0 { 1 } else { 2 * r };
-                }
-            }
-        }
     }
 }
