@@ -50,11 +50,8 @@ impl MeshSdf {
         }
         // Only vertices used by triangles matter (a scan's isolated vertices are ignored),
         // but every coordinate must be finite so the report can name the bad vertex.
-        if let Some(i) = mesh
-            .vertices
-            .iter()
-            .position(|v| !v.iter().all(|x| x.is_finite()))
-        {
+        if let Some(k) = crate::kernel::finite::first_non_finite(mesh.vertices.as_flattened()) {
+            let i = k / 3;
             return Err(Error::NotFinite(format!(
                 "vertex {i} of the input mesh has coordinates {:?}",
                 mesh.vertices[i]
@@ -323,7 +320,7 @@ pub fn normalize_to_unit_cube(mesh: &TriMesh, margin: f64) -> Result<(TriMesh, f
     if used.is_empty() {
         return Err(Error::Param("the mesh has no triangles".into()));
     }
-    if let Some(k) = used.iter().position(|v| !v.iter().all(|x| x.is_finite())) {
+    if let Some(k) = crate::kernel::finite::first_non_finite(used.as_flattened()).map(|i| i / 3) {
         return Err(Error::NotFinite(format!(
             "corner {} of triangle {} is out of range or not finite",
             k % 3,

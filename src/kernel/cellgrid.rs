@@ -74,11 +74,7 @@ impl<'a> TriGrid<'a> {
         if total >= u32::MAX as usize {
             return Err(Error::TooLarge(format!("{total} grid cells")));
         }
-        let scale = bb
-            .min
-            .iter()
-            .chain(&bb.max)
-            .fold(0.0f64, |m, x| m.max(x.abs()));
+        let scale = bb.max_abs();
         let mut g = TriGrid {
             mesh,
             min: bb.min,

@@ -106,6 +106,22 @@ impl Aabb {
         }
         Some(b)
     }
+    /// [`Aabb::of_points`] in parallel chunks (the same box: a minimum and a maximum do
+    /// not depend on the order), for the vertices of a large mesh.
+    pub fn of_points_par(pts: &[[f64; 3]]) -> Option<Self> {
+        use rayon::prelude::*;
+        pts.par_chunks(8192)
+            .filter_map(Aabb::of_points)
+            .reduce_with(|a, b| a.union(&b))
+    }
+    /// The largest coordinate in size of any point of the box (that of a corner): the
+    /// scale of the coordinates, for margins relative to them.
+    pub fn max_abs(&self) -> f64 {
+        self.min
+            .iter()
+            .chain(&self.max)
+            .fold(0.0f64, |m, x| m.max(x.abs()))
+    }
 }
 
 #[inline]
@@ -176,3 +192,29 @@ pub const TET_EDGES_WITH_OPPOSITE: [(usize, usize, usize, usize); 6] = [
     (1, 3, 0, 2),
     (2, 3, 0, 1),
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The parallel box is the serial one, and no point of it is larger in size
+        /// than `max_abs`, which a corner reaches.
+        #[test]
+        fn parallel_box_and_scale(
+            pts in proptest::collection::vec(
+                proptest::array::uniform3(-1e6f64..1e6),
+                0..20_000,
+            ),
+        ) {
+            let b = Aabb::of_points(&pts);
+            prop_assert_eq!(Aabb::of_points_par(&pts), b);
+            if let Some(b) = b {
+                let m = b.max_abs();
+                prop_assert!(pts.iter().flatten().all(|x| x.abs() <= m));
+                prop_assert!(b.min.iter().chain(&b.max).any(|x| x.abs() == m));
+            }
+        }
+    }
+}

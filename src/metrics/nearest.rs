@@ -49,22 +49,9 @@ struct Item {
     tri: u32,
 }
 
-/// The box of all vertices of a mesh that has a triangle (used or not), in parallel
-/// chunks.
+/// The box of all vertices of a mesh that has a triangle (used or not).
 fn vertex_box(mesh: &TriMesh) -> Aabb {
-    mesh.vertices
-        .par_chunks(8192)
-        .filter_map(Aabb::of_points)
-        .reduce_with(|a, b| a.union(&b))
-        .expect("a triangle's corners are vertices")
-}
-
-/// The largest coordinate of a box in size (that of every point in it).
-fn box_scale(b: &Aabb) -> f64 {
-    b.min
-        .iter()
-        .chain(&b.max)
-        .fold(0.0f64, |m, x| m.max(x.abs()))
+    Aabb::of_points_par(&mesh.vertices).expect("a triangle's corners are vertices")
 }
 
 /// Triangle `t`'s centroid and the largest squared distance to a corner.
@@ -140,7 +127,7 @@ impl<'a> CentroidGrid<'a> {
         let Aabb { min: lo, max: hi } = vbox;
         let ext = [0, 1, 2].map(|k| hi[k] - lo[k]);
         let longest = ext.iter().copied().fold(0.0, f64::max);
-        let scale = box_scale(&vbox);
+        let scale = vbox.max_abs();
         let per_axis =
             ((nf as f64 * CELLS_PER_TRIANGLE).cbrt().ceil() as usize).clamp(1, MAX_CELLS);
         let size = if longest > 0.0 {
@@ -438,7 +425,8 @@ fn sweeps(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> (Vec<Option<f64>>,
     // (Triangles that are all points have no radius: the grid at once.)
     if mean_radius > 0.0 && r <= SWEEP_MAX_REACH * mean_radius {
         // The size of the coordinates (vertices and points), for the margin.
-        let scale = box_scale(&vertex_box(mesh))
+        let scale = vertex_box(mesh)
+            .max_abs()
             .max(queries.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs())));
         for pass in 0..SWEEP_PASSES {
             if pass > 0 && (r > SWEEP_MAX_REACH * mean_radius || open.is_empty()) {
