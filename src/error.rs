@@ -11,8 +11,9 @@ pub enum Error {
     /// A formula uses a function that needs an optional cargo feature.
     #[error("'{function}' at column {column} needs rigorous interval enclosures from MPFR: rebuild with `--features mpfr` (needs the m4 program)")]
     NeedsFeature { function: String, column: usize },
-    /// A mesh file is malformed. `line` is 1-based (0 for binary files: see `message`).
-    #[error("{format} file, line {line}: {message}")]
+    /// A mesh file is malformed. `line` is 1-based (0 for binary data: `message` then
+    /// gives the byte offset, and the text names no line).
+    #[error("{format} file{}: {message}", at_line(*.line))]
     Format {
         format: &'static str,
         line: usize,
@@ -43,6 +44,15 @@ pub enum Error {
         #[source]
         source: std::io::Error,
     },
+}
+
+/// ", line N" for a line of a text file, nothing for binary data (line 0).
+fn at_line(line: usize) -> String {
+    if line == 0 {
+        String::new()
+    } else {
+        format!(", line {line}")
+    }
 }
 
 impl Error {

@@ -318,14 +318,25 @@ mod tests {
         assert!(matches!(e, Error::Format { line: 4, .. }), "{e:?}");
         let e = parse(b"solid x\n").unwrap_err();
         assert!(matches!(e, Error::Format { line: 2, .. }), "{e:?}");
+        assert!(e.to_string().starts_with("STL file, line 2: "), "{e}");
         // Truncated binary: line 0 and the byte offset.
         let mut buf = Vec::new();
         write(&mut buf, &quad(), StlEncoding::Binary).unwrap();
         buf.truncate(buf.len() - 7);
         match parse(&buf).unwrap_err() {
-            Error::Format {
-                line: 0, message, ..
-            } => assert!(message.contains("offset 134"), "{message}"),
+            ref e @ Error::Format {
+                line: 0,
+                ref message,
+                ..
+            } => {
+                assert!(message.contains("offset 134"), "{message}");
+                // Binary data has no lines: the text names the offset, not "line 0".
+                let text = e.to_string();
+                assert!(
+                    text.starts_with("STL file: ") && !text.contains("line"),
+                    "{text}"
+                );
+            }
             e => panic!("{e:?}"),
         }
     }
