@@ -352,7 +352,10 @@ impl BiPoly {
         }
         Some(Self::new(q))
     }
-    /// gcd in Z\[x, y\] (primitive PRS in y with contents in Z\[x\]).
+    /// gcd in Z\[x, y\] (primitive PRS in y with contents in Z\[x\]), up to an integer
+    /// factor: the part of degree ≥ 1 in y is primitive over Z (its coefficients have no
+    /// common integer factor), so that it divides both polynomials exactly in
+    /// Z\[x\]\[y\] (Gauss's lemma), times the gcd of their contents in x.
     pub fn gcd(&self, o: &Self) -> Self {
         if self.is_zero() {
             return o.primitive();
@@ -375,8 +378,18 @@ impl BiPoly {
         } else {
             BiPoly::new(vec![UPoly::constant(BigInt::one())])
         };
+        // `primitive` divides by the content in x, which `UPoly::gcd` gives without
+        // its integer factor: the pseudo-remainders' powers of leading coefficients
+        // are still in g (e.g. 16 (y² + x² − 1) for (x² + y² − 1)² and its
+        // derivative in y), and must go for g to divide exactly.
         let g = g.primitive();
-        Self::new(g.c.iter().map(|p| p.mul(&cg)).collect()).lc_sign_normal()
+        let k = g.c.iter().fold(BigInt::zero(), |k, p| k.gcd(&p.content()));
+        Self::new(
+            g.c.iter()
+                .map(|p| UPoly::new(p.c.iter().map(|x| x / &k).collect()).mul(&cg))
+                .collect(),
+        )
+        .lc_sign_normal()
     }
     /// The square-free part f / gcd(f, f_y, f_x-content) for f with a constant
     /// leading coefficient in y (so no factor depends on x alone).
@@ -623,6 +636,45 @@ mod tests {
     }
     fn arb_q() -> impl Strategy<Value = BigRational> {
         (-40i64..=40, 1i64..=12).prop_map(|(a, b)| BigRational::new(a.into(), b.into()))
+    }
+
+    /// A polynomial monic in y (so y-regular, as the sweep needs) with coefficients in
+    /// [-r, r] below its leading term.
+    fn arb_monic(d: usize, r: i64) -> impl Strategy<Value = BiPoly> {
+        prop::collection::vec(prop::collection::vec(-r..=r, 1..=d + 1), 1..=d).prop_map(|rows| {
+            let mut c: Vec<UPoly> = rows.iter().map(|v| UPoly::from_i64(v)).collect();
+            c.push(UPoly::from_i64(&[1]));
+            BiPoly::new(c)
+        })
+    }
+
+    /// (x² + y² − 1)²: the gcd with its y-derivative came out as 16 (y² + x² − 1),
+    /// which does not divide it in Z\[x\]\[y\], and the exact sweep panicked ("gcd
+    /// divides") on `certmesh curve -f "(x^2+y^2-1)^2" --algo sweep`.
+    #[test]
+    fn squarefree_part_of_a_square_with_integer_content_in_its_gcd() {
+        let f = from_formula("(x^2+y^2-1)^2").unwrap();
+        assert_eq!(f.squarefree_y(), from_formula("x^2+y^2-1").unwrap());
+        let g = f.gcd(&f.dy());
+        assert_eq!(g, from_formula("x^2+y^2-1").unwrap());
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+        /// The square-free part of p², p monic in y: it divides p² exactly, its own
+        /// square-free part is itself, and it is p's (p² and p have the same square-free
+        /// part: the product of p's distinct irreducible factors).
+        #[test]
+        fn squarefree_part_of_a_square_is_that_of_its_root(p in arb_monic(3, 4)) {
+            let f = p.mul(&p);
+            let s = f.squarefree_y();
+            prop_assert!(f.div_exact(&s).is_some(), "{s:?} does not divide {f:?}");
+            prop_assert_eq!(&s.squarefree_y(), &s);
+            prop_assert_eq!(&s, &p.squarefree_y());
+            // The gcd divides both exactly.
+            let g = f.gcd(&f.dy());
+            prop_assert!(f.div_exact(&g).is_some() && f.dy().div_exact(&g).is_some());
+        }
     }
 
     proptest! {
