@@ -361,6 +361,27 @@ fn table_hyperbola_clipped() {
     );
 }
 
+/// Two hyperbolas, x y = ±1/2, whose sides' crossings are rational and share sheared
+/// fibres with other roots: on the fibre u = −9/4 the roots 2 (a crossing) and 2.45…
+/// were isolated as [2, 2] and [2, 4], and the refinement that needed the sign at 2
+/// never separated them ("locating a boundary crossing: refinement budget
+/// exhausted"). Four arcs, each cutting off a corner of the square (as `x*y - 1`'s two
+/// do below): four corner faces and the middle one.
+#[test]
+fn hyperbolas_with_rational_crossings_on_shared_fibres() {
+    let r = table("x^2*y^2 - 1/4", sq(2.0), 1, 2, "F[]{O5 b2 b2 b2 b2 b5}");
+    assert_eq!(
+        r.labels.iter().filter(|&&l| l == Label::Boundary).count(),
+        8
+    );
+    assert_eq!(topo(&r).components, 4);
+    // On [-1, 1]² the sheared fibre u = 1/2 has the exact roots 1/2 and −1, both
+    // crossings, at the centres of the root search's boxes: they stayed ends of two
+    // boxes ("the 2 simple roots were not certified within the refinement budget").
+    let r = table("x^2*y^2 - 1/4", sq(1.0), 1, 2, "F[]{O5 b2 b2 b2 b2 b5}");
+    assert_eq!(topo(&r).components, 4);
+}
+
 #[test]
 fn parabola_clipped() {
     // lc_y = 1: y-regular without a shear, and no critical x-value.

@@ -497,7 +497,26 @@ fn fibre_roots(
                 },
             )
         };
-        let mid = |a: &BigRational, b: &BigRational| (b - a >= minw).then(|| (a + b) / two());
+        // Boxes split at their centre, unless g's sign there is not known: the centre
+        // may be a root (a rational root of an exact fibre, e.g. v = 1/2 of x²y² − 1/4
+        // sheared, over u = 1/2), which would then stay an end of two boxes at every
+        // width, neither certified, and the same in every round when α is exact.
+        // Then at 5/8 or 3/8 of the box, where its sign is known.
+        let mid = |a: &BigRational, b: &BigRational| {
+            if b - a < minw {
+                return None;
+            }
+            let known = |t: &BigRational| eval2(&cs, &Ri::pt(t), prec).sign().is_some();
+            let centre = (a + b) / two();
+            if known(&centre) {
+                return Some(centre);
+            }
+            [(5, 8), (3, 8)]
+                .into_iter()
+                .map(|(p, q)| a + (b - a) * BigRational::new(p.into(), q.into()))
+                .find(|t| known(t))
+                .or(Some(centre))
+        };
         let Search::Done(found, excluded, undecided) =
             box_search(regions, 40_000, cluster, kind, mid)
         else {
@@ -764,16 +783,27 @@ fn shrink(g: &BiPoly, alpha: &mut RealAlg, roots: &mut [FRoot], special: Option<
             }
             continue;
         }
+        // The root's side of a trial point is read from the sign at the lower end, or,
+        // where that is not known, at the upper end: an end can be another root of the
+        // fibre, exactly (a fibre x = 9/4 of x²y² − 1/4 sheared has the roots 2 and
+        // 2.45…, isolated as [2, 2] and [2, 4]), and a bisection that needed the sign
+        // there never moved that end.
+        let sl = eval2(&cs, &Ri::pt(&r.lo), prec).sign();
+        let sh = eval2(&cs, &Ri::pt(&r.hi), prec).sign();
         for frac in [(1, 2), (1, 3), (2, 3)] {
             let t = BigRational::new(BigInt::from(frac.0), BigInt::from(frac.1));
             let mid = &r.lo + (&r.hi - &r.lo) * t;
-            let (Some(sm), Some(sl)) = (
-                eval2(&cs, &Ri::pt(&mid), prec).sign(),
-                eval2(&cs, &Ri::pt(&r.lo), prec).sign(),
-            ) else {
+            let Some(sm) = eval2(&cs, &Ri::pt(&mid), prec).sign() else {
                 continue;
             };
-            if sm == sl {
+            // The root is above mid when mid has the lower end's sign (the root is
+            // simple and the only one inside), or not the upper end's.
+            let above = match (sl, sh) {
+                (Some(sl), _) => sm == sl,
+                (None, Some(sh)) => sm != sh,
+                (None, None) => break,
+            };
+            if above {
                 r.lo = mid;
             } else {
                 r.hi = mid;
