@@ -366,7 +366,7 @@ fn table_hyperbola_clipped() {
 /// were isolated as [2, 2] and [2, 4], and the refinement that needed the sign at 2
 /// never separated them ("locating a boundary crossing: refinement budget
 /// exhausted"). Four arcs, each cutting off a corner of the square (as `x*y - 1`'s two
-/// do below): four corner faces and the middle one.
+/// do above): four corner faces and the middle one.
 #[test]
 fn hyperbolas_with_rational_crossings_on_shared_fibres() {
     let r = table("x^2*y^2 - 1/4", sq(2.0), 1, 2, "F[]{O5 b2 b2 b2 b2 b5}");

@@ -785,11 +785,14 @@ fn shrink(g: &BiPoly, alpha: &mut RealAlg, roots: &mut [FRoot], special: Option<
         }
         // The root's side of a trial point is read from the sign at the lower end, or,
         // where that is not known, at the upper end: an end can be another root of the
-        // fibre, exactly (a fibre x = 9/4 of x²y² − 1/4 sheared has the roots 2 and
+        // fibre, exactly (the fibre u = −9/4 of x²y² − 1/4 sheared has the roots 2 and
         // 2.45…, isolated as [2, 2] and [2, 4]), and a bisection that needed the sign
         // there never moved that end.
         let sl = eval2(&cs, &Ri::pt(&r.lo), prec).sign();
-        let sh = eval2(&cs, &Ri::pt(&r.hi), prec).sign();
+        let sh = match sl {
+            Some(_) => None,
+            None => eval2(&cs, &Ri::pt(&r.hi), prec).sign(),
+        };
         for frac in [(1, 2), (1, 3), (2, 3)] {
             let t = BigRational::new(BigInt::from(frac.0), BigInt::from(frac.1));
             let mid = &r.lo + (&r.hi - &r.lo) * t;
