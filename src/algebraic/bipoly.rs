@@ -352,6 +352,22 @@ impl BiPoly {
         }
         Some(Self::new(q))
     }
+    /// Divided by the gcd of all its integer coefficients (itself when that is 0 or 1).
+    pub fn without_integer_content(self) -> Self {
+        let g = self
+            .c
+            .iter()
+            .fold(BigInt::zero(), |g, p| g.gcd(&p.content()));
+        if g.is_zero() || g.is_one() {
+            return self;
+        }
+        Self::new(
+            self.c
+                .iter()
+                .map(|p| UPoly::new(p.c.iter().map(|a| a / &g).collect()))
+                .collect(),
+        )
+    }
     /// gcd in Z\[x, y\] (primitive PRS in y with contents in Z\[x\]), up to an integer
     /// factor: the part of degree ≥ 1 in y is primitive over Z (its coefficients have no
     /// common integer factor), so that it divides both polynomials exactly in
@@ -382,14 +398,8 @@ impl BiPoly {
         // its integer factor: the pseudo-remainders' powers of leading coefficients
         // are still in g (e.g. 16 (y² + x² − 1) for (x² + y² − 1)² and its
         // derivative in y), and must go for g to divide exactly.
-        let g = g.primitive();
-        let k = g.c.iter().fold(BigInt::zero(), |k, p| k.gcd(&p.content()));
-        Self::new(
-            g.c.iter()
-                .map(|p| UPoly::new(p.c.iter().map(|x| x / &k).collect()).mul(&cg))
-                .collect(),
-        )
-        .lc_sign_normal()
+        let g = g.primitive().without_integer_content();
+        Self::new(g.c.iter().map(|p| p.mul(&cg)).collect()).lc_sign_normal()
     }
     /// The square-free part f / gcd(f, f_y, f_x-content) for f with a constant
     /// leading coefficient in y (so no factor depends on x alone).
@@ -604,20 +614,7 @@ pub fn from_expr(e: &Expr) -> Result<BiPoly> {
     for (k, v) in &q {
         m.insert((k[0] as usize, k[1] as usize), (v * &lq).to_integer());
     }
-    let f = BiPoly::from_map(&m);
-    // Divide out the integer content.
-    let mut g = BigInt::zero();
-    for p in &f.c {
-        g = g.gcd(&p.content());
-    }
-    if g.is_zero() || g.is_one() {
-        return Ok(f);
-    }
-    Ok(BiPoly::new(
-        f.c.iter()
-            .map(|p| UPoly::new(p.c.iter().map(|a| a / &g).collect()))
-            .collect(),
-    ))
+    Ok(BiPoly::from_map(&m).without_integer_content())
 }
 
 /// The polynomial of a curve formula given as text.
