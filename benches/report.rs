@@ -1,8 +1,10 @@
 //! The report of `certmesh mesh` (issue 20: at most 25% of the mesher's time on metrics
 //! and writing), part by part, on four workloads: the 256³ marching-cubes torus
 //! (pruned, 278,272 triangles), and the marching-cubes torus, the marching-tetrahedra
-//! torus and the GradNormal genus-2 surface at their default settings (16,912, 52,896
-//! and 28,364 triangles). Each group times the mesher itself for scale, the topology
+//! torus, the GradNormal and the MidNormal genus-2 surfaces at their default settings
+//! (16,912, 52,896, 28,364 and 30,008 triangles; MidNormal's mesh lies farther from
+//! the surface than its triangles are wide, so its surface → mesh side falls to the
+//! centroid grid). Each group times the mesher itself for scale, the topology
 //! analysis, the angle ranges, the fidelity at each `--metrics` level, the whole report
 //! at each level, and writing the mesh as binary PLY and as OBJ to a memory buffer; and
 //! floors: what any report that looks at every triangle once would pay beside the
@@ -212,6 +214,13 @@ fn bench(c: &mut Criterion) {
         "report_gradnormal_genus2_default",
         "genus2",
         "gradnormal",
+        &defaults,
+    );
+    workload(
+        c,
+        "report_midnormal_genus2_default",
+        "genus2",
+        "midnormal",
         &defaults,
     );
 }
