@@ -38,6 +38,8 @@ fn whole_run(name: &str, algo: &str, o: &MesherOptions, level: Metrics) -> usize
 }
 
 fn bench(c: &mut Criterion) {
+    // Each run on one of rayon's threads, as `certmesh` runs its command.
+    let pool = rayon::ThreadPoolBuilder::new().build().unwrap();
     let workloads = [
         (
             "mc_torus_256_pruned",
@@ -70,7 +72,7 @@ fn bench(c: &mut Criterion) {
         g.sample_size(10);
         for (lname, level) in [("fast", Metrics::Fast), ("none", Metrics::None)] {
             g.bench_function(format!("metrics_{lname}"), |b| {
-                b.iter(|| whole_run(name, algo, &o, level))
+                b.iter(|| pool.install(|| whole_run(name, algo, &o, level)))
             });
         }
         g.finish();

@@ -34,40 +34,48 @@ fn workload(c: &mut Criterion, group: &str, name: &str, algo: &str, opts: &Meshe
     let run = mesher::run(m.as_ref(), &f, &e.domain, &NoProgress).unwrap();
     let surf = run.output.mesh.surface().unwrap().clone();
     let params = fidelity_params(&e.domain, 3);
+    // Each iteration on one of rayon's threads, as `certmesh` runs its command (a
+    // parallel call from outside the pool costs two thread switches; the floors are
+    // serial and run where they are).
+    let pool = rayon::ThreadPoolBuilder::new().build().unwrap();
     let mut g = c.benchmark_group(group);
     g.sample_size(20);
     g.bench_function("mesher", |b| {
-        b.iter(|| mesher::run(m.as_ref(), &f, &e.domain, &NoProgress).unwrap())
+        b.iter(|| pool.install(|| mesher::run(m.as_ref(), &f, &e.domain, &NoProgress).unwrap()))
     });
     g.bench_function("topology", |b| {
-        b.iter(|| metrics::analyze(black_box(&surf)).unwrap())
+        b.iter(|| pool.install(|| metrics::analyze(black_box(&surf)).unwrap()))
     });
     g.bench_function("angles_full", |b| {
-        b.iter(|| angles::triangle_ranges(black_box(&surf)).unwrap())
+        b.iter(|| pool.install(|| angles::triangle_ranges(black_box(&surf)).unwrap()))
     });
     g.bench_function("angles_fast", |b| {
-        b.iter(|| angles::triangle_extremes(black_box(&surf)).unwrap())
+        b.iter(|| pool.install(|| angles::triangle_extremes(black_box(&surf)).unwrap()))
     });
     for (level_name, level) in [("fast", Metrics::Fast), ("full", Metrics::Full)] {
         // What `evaluate_with` asks at each level (`fast`: sized to the mesh).
         let p = level_fidelity_params(level, &e.domain, 3, surf.triangles.len());
         g.bench_function(format!("fidelity_{level_name}"), |b| {
-            b.iter(|| fidelity::surface_fidelity(black_box(&surf), &f, &p).unwrap())
+            b.iter(|| {
+                pool.install(|| fidelity::surface_fidelity(black_box(&surf), &f, &p).unwrap())
+            })
         });
     }
     for (level_name, level) in [("fast", Metrics::Fast), ("full", Metrics::Full)] {
         g.bench_function(format!("whole_report_{level_name}"), |b| {
             b.iter(|| {
-                report::mesh_report(
-                    name,
-                    &f,
-                    &e.domain,
-                    DomainSource::Catalog,
-                    e.topology.as_ref(),
-                    &run,
-                    level,
-                )
-                .unwrap()
+                pool.install(|| {
+                    report::mesh_report(
+                        name,
+                        &f,
+                        &e.domain,
+                        DomainSource::Catalog,
+                        e.topology.as_ref(),
+                        &run,
+                        level,
+                    )
+                    .unwrap()
+                })
             })
         });
     }
@@ -116,14 +124,16 @@ fn workload(c: &mut Criterion, group: &str, name: &str, algo: &str, opts: &Meshe
         .unwrap()
         .hausdorff_mesh_to_surface;
     g.bench_function("surface_to_mesh_sweeps", |b| {
-        b.iter(|| nearest::closest_dist2_all(black_box(&surf), &spts, hint))
+        b.iter(|| pool.install(|| nearest::closest_dist2_all(black_box(&surf), &spts, hint)))
     });
     g.bench_function("surface_to_mesh_centroid_grid", |b| {
         b.iter(|| {
-            let grid = nearest::CentroidGrid::new(black_box(&surf));
-            spts.par_iter()
-                .map(|&p| grid.closest_dist2(p))
-                .collect::<Vec<_>>()
+            pool.install(|| {
+                let grid = nearest::CentroidGrid::new(black_box(&surf));
+                spts.par_iter()
+                    .map(|&p| grid.closest_dist2(p))
+                    .collect::<Vec<_>>()
+            })
         })
     });
     // The floors of the topology and the angle range, one thread each: what any
