@@ -314,6 +314,54 @@ fn writers_refuse_what_would_not_read_back() {
     ));
 }
 
+/// Writing over an existing file (overwritten in place, then cut to length): a
+/// smaller mesh over a larger one, and a larger over a smaller, leave exactly the
+/// bytes a fresh file gets, in every triangle format; a write refused for a NaN
+/// vertex leaves the file empty, as a truncated file was before.
+#[test]
+fn writing_over_an_existing_file_leaves_only_the_new_mesh() {
+    let grid = |n: u32| {
+        let vertices: Vec<[f64; 3]> = (0..n * n)
+            .map(|k| [(k % n) as f64 * 0.25, (k / n) as f64 * 0.5, 0.125])
+            .collect();
+        let triangles: Vec<[u32; 3]> = (0..n - 1)
+            .flat_map(|j| (0..n - 1).map(move |i| [j * n + i, j * n + i + 1, (j + 1) * n + i]))
+            .collect();
+        TriMesh::new(vertices, triangles)
+    };
+    let (big, small) = (grid(30), grid(3));
+    for ext in ["ply", "obj", "off", "stl", "vtk", "mesh"] {
+        let fresh = tmp(&format!("over-fresh.{ext}"));
+        let over = tmp(&format!("over.{ext}"));
+        for (first, second) in [(&big, &small), (&small, &big)] {
+            let _ = std::fs::remove_file(&fresh);
+            io::write_tri(&fresh, second).unwrap();
+            io::write_tri(&over, first).unwrap();
+            io::write_tri(&over, second).unwrap();
+            let (a, b) = (
+                std::fs::read(&fresh).unwrap(),
+                std::fs::read(&over).unwrap(),
+            );
+            assert_eq!(a.len(), b.len(), "{ext}: length after writing over");
+            assert!(a == b, "{ext}: bytes after writing over");
+            assert_eq!(
+                soup(&io::read_tri(&over).unwrap()),
+                soup(&io::read_tri(&fresh).unwrap())
+            );
+        }
+        let nan = TriMesh::new(vec![[0.0, f64::NAN, 0.0]; 3], vec![[0, 1, 2]]);
+        assert!(matches!(
+            io::write_tri(&over, &nan),
+            Err(Error::NotFinite(_))
+        ));
+        assert_eq!(
+            std::fs::metadata(&over).unwrap().len(),
+            0,
+            "{ext}: after a refused write"
+        );
+    }
+}
+
 // ---------------------------------------------------------------- malformed input
 
 #[test]

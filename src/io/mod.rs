@@ -196,19 +196,50 @@ fn read_file(path: &Path) -> Result<Vec<u8>> {
     std::fs::read(path).map_err(|e| Error::io(path, e))
 }
 
-/// Create `path` and run `write` on a buffered writer, attaching the path to i/o errors.
+/// Open `path` for writing (creating it) and run `write` on a buffered writer,
+/// attaching the path to i/o errors. An existing file is overwritten in place, then
+/// cut to the length written (to nothing when `write` fails), rather than truncated
+/// when it is opened: on ext4 a file truncated to zero and written again is flushed to
+/// the disk when it is closed (its `auto_da_alloc` safeguard), which made writing a
+/// 0.4 MB mesh over an older one take 0.5 ms instead of 0.03 ms. The end state is
+/// the same file with the new content; a run stopped in the middle of writing leaves
+/// a damaged file either way. (A file that is not a regular file, a FIFO say, is not
+/// cut.)
 fn with_file(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<std::fs::File>) -> Result<()>,
 ) -> Result<()> {
-    let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+    use std::io::Seek;
+    let file = std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .open(path)
+        .map_err(|e| Error::io(path, e))?;
     let mut w = BufWriter::new(file);
-    write(&mut w)
-        .and_then(|()| w.flush().map_err(text::io_err))
-        .map_err(|e| match e {
-            Error::Io { path: p, source } if p == text::STREAM => Error::io(path, source),
-            e => e,
-        })
+    let written = write(&mut w).and_then(|()| w.flush().map_err(text::io_err));
+    // (What `write` left in the buffer after an error is dropped, not written.)
+    let (mut file, _) = w.into_parts();
+    let cut = |file: &std::fs::File, len: u64| -> std::io::Result<()> {
+        if file.metadata()?.is_file() {
+            file.set_len(len)?;
+        }
+        Ok(())
+    };
+    let done = match written {
+        Ok(()) => file
+            .stream_position()
+            .and_then(|end| cut(&file, end))
+            .map_err(|e| Error::io(path, e)),
+        Err(e) => {
+            // The error is what matters; cutting is a courtesy.
+            let _ = cut(&file, 0);
+            Err(e)
+        }
+    };
+    done.map_err(|e| match e {
+        Error::Io { path: p, source } if p == text::STREAM => Error::io(path, source),
+        e => e,
+    })
 }
 
 /// Read a triangle mesh; the format is chosen by the extension (`obj off ply stl vtk
