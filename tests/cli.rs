@@ -1804,3 +1804,32 @@ fn metrics_levels_keep_the_keys() {
     assert_eq!(code, 2);
     assert!(err.contains("most"), "{err}");
 }
+
+/// `certmesh mesh -o out.ply` where out.ply is a FIFO with a reader: the reader gets
+/// the whole mesh, the same bytes as a file. (The check made before the work used to
+/// open the FIFO and close it again, which ended the reader's input, so the writer
+/// then waited for a reader forever; `timeout` turns such a wait into a failure.)
+#[cfg(unix)]
+#[test]
+fn mesh_output_into_a_fifo() {
+    let d = tmp("fifo");
+    let (rc, _, err, _) = sh_in(
+        &d,
+        "mkfifo out.ply && { cat out.ply > got.ply & } && \
+         timeout 60 certmesh mesh sphere --algo mc -o out.ply --json > run.json; \
+         rc=$?; wait; exit $rc",
+    );
+    assert_eq!(rc, 0, "{err}");
+    let (rc, _, err) = certmesh_in(&d, &["mesh", "sphere", "--algo", "mc", "-o", "file.ply"]);
+    assert_eq!(rc, 0, "{err}");
+    let (got, want) = (
+        std::fs::read(d.join("got.ply")).unwrap(),
+        std::fs::read(d.join("file.ply")).unwrap(),
+    );
+    assert!(
+        !want.is_empty() && got == want,
+        "{} bytes through the FIFO, {} in the file",
+        got.len(),
+        want.len()
+    );
+}

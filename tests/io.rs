@@ -362,6 +362,44 @@ fn writing_over_an_existing_file_leaves_only_the_new_mesh() {
     }
 }
 
+/// A mesh written into a FIFO reaches its reader whole (a FIFO has no length to cut
+/// and no position: the writer must not ask for them).
+#[cfg(unix)]
+#[test]
+fn writing_into_a_fifo_gives_the_reader_the_file() {
+    let fifo = tmp("into.ply");
+    let _ = std::fs::remove_file(&fifo);
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("mkfifo is not available: skipped");
+        return;
+    }
+    let m = TriMesh::new(
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ],
+        vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]],
+    );
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read(fifo).unwrap())
+    };
+    io::write_tri(&fifo, &m).unwrap();
+    let got = reader.join().unwrap();
+    let mut want = Vec::new();
+    ply::write(&mut want, &m, ply::PlyEncoding::BinaryLittleEndian).unwrap();
+    assert!(
+        got == want,
+        "{} bytes read, {} written",
+        got.len(),
+        want.len()
+    );
+    std::fs::remove_file(&fifo).unwrap();
+}
+
 // ---------------------------------------------------------------- malformed input
 
 #[test]

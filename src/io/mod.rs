@@ -219,20 +219,23 @@ fn with_file(
     let written = write(&mut w).and_then(|()| w.flush().map_err(text::io_err));
     // (What `write` left in the buffer after an error is dropped, not written.)
     let (mut file, _) = w.into_parts();
-    let cut = |file: &std::fs::File, len: u64| -> std::io::Result<()> {
+    // Cut a regular file at `len`, or where the writing ended (a FIFO has no length
+    // and no position).
+    let mut cut = |len: Option<u64>| -> std::io::Result<()> {
         if file.metadata()?.is_file() {
+            let len = match len {
+                Some(n) => n,
+                None => file.stream_position()?,
+            };
             file.set_len(len)?;
         }
         Ok(())
     };
     let done = match written {
-        Ok(()) => file
-            .stream_position()
-            .and_then(|end| cut(&file, end))
-            .map_err(|e| Error::io(path, e)),
+        Ok(()) => cut(None).map_err(|e| Error::io(path, e)),
         Err(e) => {
             // The error is what matters; cutting is a courtesy.
-            let _ = cut(&file, 0);
+            let _ = cut(Some(0));
             Err(e)
         }
     };

@@ -34,6 +34,12 @@ pub(crate) fn check_writable(path: &Path) -> CliResult<()> {
             std::io::Error::other("is a directory, not a file"),
         )));
     }
+    // An existing FIFO or device is not opened here: opening a FIFO for writing
+    // waits for a reader, and closing it again would end the reader's input before
+    // the mesh is written. Its open when the mesh is written reports any error.
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+        return Ok(());
+    }
     let existed = path.exists();
     std::fs::OpenOptions::new()
         .append(true)
