@@ -28,7 +28,9 @@ pub(crate) fn check_writable(path: &Path) -> CliResult<()> {
             ),
         )));
     }
-    if path.is_dir() {
+    // What is at the path now, if anything (one look serves the three questions).
+    let meta = std::fs::metadata(path).ok();
+    if meta.as_ref().is_some_and(|m| m.is_dir()) {
         return Err(CliError::from(Error::io(
             path,
             std::io::Error::other("is a directory, not a file"),
@@ -37,10 +39,10 @@ pub(crate) fn check_writable(path: &Path) -> CliResult<()> {
     // An existing FIFO or device is not opened here: opening a FIFO for writing
     // waits for a reader, and closing it again would end the reader's input before
     // the mesh is written. Its open when the mesh is written reports any error.
-    if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+    if meta.as_ref().is_some_and(|m| !m.is_file()) {
         return Ok(());
     }
-    let existed = path.exists();
+    let existed = meta.is_some();
     std::fs::OpenOptions::new()
         .append(true)
         .create(true)
