@@ -365,6 +365,15 @@ const SWEEP_CELL: f64 = 2.0;
 const SWEEP_RUN: usize = 4096;
 /// Triangles sampled (evenly spread) for the mean bounding radius.
 const SWEEP_RADIUS_SAMPLE: usize = 1024;
+/// A sweep's mask (see [`Sweep::offer`]) holds, at each cell, the points near the
+/// block of cells from it to this many further along each axis.
+const SWEEP_MASK_SPAN: usize = 2;
+/// The mask's cells are sized so that this fraction of the triangles (evenly spread,
+/// [`SWEEP_RADIUS_SAMPLE`] of them) meet at most [`SWEEP_MASK_SPAN`] + 1 cells along
+/// each axis: their boxes' largest extent at this quantile, over the span.
+const SWEEP_MASK_QUANTILE: f64 = 0.95;
+/// The mask's cells at most (1 MiB of bits).
+const SWEEP_MASK_BITS: usize = 1 << 23;
 /// Cells of a sweep's grid per point at most (or 4,096 cells in all).
 const SWEEP_CELLS_PER_POINT: usize = 8;
 
@@ -378,7 +387,9 @@ const SWEEP_CELLS_PER_POINT: usize = 8;
 ///
 /// A sweep of reach R tests each triangle against the points within R of its box,
 /// skipping a point on the distance to the box whenever that exceeds the best distance
-/// found for the point (with the margin of [`CentroidGrid`]'s skip tests). A point
+/// found for the point (with the margin of [`CentroidGrid`]'s skip tests). Most
+/// triangles have no point within R: a bit mask over a finer grid, set near the
+/// points, skips them from their corners' cells alone (see `Sweep::new`). A point
 /// whose best distance is at most R has its exact minimum: a triangle nearer than
 /// that has its box within R of the point, and was tested.
 ///
@@ -416,6 +427,18 @@ fn sweeps(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> (Vec<Option<f64>>,
             (s + centre_r2(mesh, t).1.sqrt(), c + 1)
         });
     let mean_radius = sum / count.max(1) as f64;
+    // The same triangles' largest box extents, and their 95th percentile.
+    let mut extents: Vec<f64> = (step / 2..nf)
+        .step_by(step)
+        .map(|t| {
+            let [a, b, c] = mesh.corners(t);
+            (0..3)
+                .map(|k| mx(mx(a[k], b[k]), c[k]) - mn(mn(a[k], b[k]), c[k]))
+                .fold(0.0, mx)
+        })
+        .collect();
+    let q = ((extents.len() as f64 * SWEEP_MASK_QUANTILE) as usize).min(extents.len() - 1);
+    let extent = *extents.select_nth_unstable_by(q, f64::total_cmp).1;
     let mut r = if hint.is_finite() && hint >= 0.0 {
         (SWEEP_HINT_FACTOR * hint).max(SWEEP_MIN_REACH * mean_radius)
     } else {
@@ -432,7 +455,7 @@ fn sweeps(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> (Vec<Option<f64>>,
             if pass > 0 && (r > SWEEP_MAX_REACH * mean_radius || open.is_empty()) {
                 break;
             }
-            let sweep = Sweep::new(mesh, queries, open, r, mean_radius, scale);
+            let sweep = Sweep::new(mesh, queries, open, r, mean_radius, extent, scale);
             let best = sweep.run();
             open = Vec::new();
             for (&(_, j), &(d2, _)) in sweep.cells.items().iter().zip(&best) {
@@ -497,6 +520,13 @@ struct Sweep<'a> {
     r2: f64,
     /// The margin of the skip tests (absolute).
     slack: f64,
+    /// The mask's grid: finer cells from `min`, `fine_n` of them along each axis
+    /// (at most 2¹⁶).
+    fine_n: [usize; 3],
+    /// Each vertex's cell of the mask's grid, packed: x, y and z in 16 bits each.
+    vertex_cells: Vec<u64>,
+    /// The mask: one bit per cell of its grid (x fastest); see [`Sweep::new`].
+    mask: Vec<u64>,
 }
 
 impl<'a> Sweep<'a> {
@@ -509,6 +539,7 @@ impl<'a> Sweep<'a> {
         open: Vec<u32>,
         r: f64,
         mean_radius: f64,
+        extent: f64,
         scale: f64,
     ) -> Self {
         let at = |j: u32| queries[j as usize];
@@ -549,6 +580,59 @@ impl<'a> Sweep<'a> {
                 emit(cell(at(j)), (at(j), j));
             }
         });
+        let reach = r + slack;
+        // The mask, which lets most triangles far from every point be skipped from
+        // their corners' cells alone (`Sweep::offer`). Its cells: `extent` (the
+        // triangles' largest box extent at SWEEP_MASK_QUANTILE) over SWEEP_MASK_SPAN, so
+        // that most boxes meet at most SWEEP_MASK_SPAN + 1 cells along each axis; at
+        // most 65,000 along an axis (a cell index fits in 16 bits) and SWEEP_MASK_BITS
+        // in all.
+        let mut fsize = (extent / SWEEP_MASK_SPAN as f64).max(longest / 65_000.0);
+        if fsize.is_nan() || fsize <= 0.0 {
+            fsize = 1.0;
+        }
+        while cells_at(fsize) > SWEEP_MASK_BITS as f64 {
+            fsize *= 1.25;
+        }
+        let fine_inv = 1.0 / fsize;
+        let fine_n = ext.map(|e| ((e * fine_inv).floor() as usize + 1).min(1 << 16));
+        let fine = |x: f64, k: usize| clamp_cell((x - min[k]) * fine_inv, fine_n[k]);
+        let vertex_cells: Vec<u64> = mesh
+            .vertices
+            .par_iter()
+            .with_min_len(8192)
+            .map(|v| {
+                fine(v[0], 0) as u64 | (fine(v[1], 1) as u64) << 16 | (fine(v[2], 2) as u64) << 32
+            })
+            .collect();
+        // Bit c is set when some point p has, along every axis k,
+        // cell(p_k - d) - span <= c_k <= cell(p_k + d), with d the reach plus another
+        // margin. Why that suffices: a triangle whose box is within the reach of p
+        // (a Euclidean distance, so along every axis too) has along each axis a
+        // coordinate x of its box (p_k clamped into the box: a corner's coordinate or
+        // p_k itself) within the reach of p_k, so fl(p_k - d) <= x <= fl(p_k + d) (the
+        // margin exceeds their rounding). The cell of a coordinate is monotonic in it,
+        // so cell(x) lies in cell(p_k - d)..=cell(p_k + d) and in l..=h, the smallest
+        // and the largest of the corners' cells along k. When h <= l + span,
+        // cell(p_k - d) - span <= cell(x) - span <= l <= cell(x) <= cell(p_k + d):
+        // the triangle's l is a cell whose bit p set. (Clamping into the grid keeps
+        // the cells monotonic, so this holds for triangles beyond the points' box too.)
+        let mut mask = vec![0u64; (fine_n[0] * fine_n[1] * fine_n[2]).div_ceil(64)];
+        let d = reach + slack;
+        let k = SWEEP_MASK_SPAN;
+        for &j in &open {
+            let p = at(j);
+            let lo = [0, 1, 2].map(|a| fine(p[a] - d, a).saturating_sub(k));
+            let hi = [0, 1, 2].map(|a| fine(p[a] + d, a));
+            for z in lo[2]..=hi[2] {
+                for y in lo[1]..=hi[1] {
+                    let row = (z * fine_n[1] + y) * fine_n[0];
+                    for bit in row + lo[0]..=row + hi[0] {
+                        mask[bit / 64] |= 1 << (bit % 64);
+                    }
+                }
+            }
+        }
         Sweep {
             mesh,
             cells,
@@ -556,9 +640,12 @@ impl<'a> Sweep<'a> {
             max,
             inv,
             n,
-            reach: r + slack,
+            reach,
             r2: r * r,
             slack,
+            fine_n,
+            vertex_cells,
+            mask,
         }
     }
 
@@ -596,6 +683,26 @@ impl<'a> Sweep<'a> {
     #[inline(always)]
     fn offer(&self, t: usize, best: &mut [(f64, f64)]) {
         let [ia, ib, ic] = self.mesh.triangles[t];
+        // The mask first, from the corners' cells alone (no coordinates loaded): along
+        // each axis, the smallest corner cell l and the largest h. When h ≤ l + span
+        // on every axis and l's bit is clear, no point is within the reach of the box
+        // (see `Sweep::new`), and the triangle is skipped.
+        let (ca, cb, cc) = (
+            self.vertex_cells[ia as usize],
+            self.vertex_cells[ib as usize],
+            self.vertex_cells[ic as usize],
+        );
+        let (mut fits, mut bit) = (true, 0usize);
+        for axis in [2, 1, 0] {
+            let lane = |w: u64| (w >> (16 * axis)) & 0xffff;
+            let (x, y, z) = (lane(ca), lane(cb), lane(cc));
+            let l = x.min(y).min(z);
+            fits &= x.max(y).max(z) - l <= SWEEP_MASK_SPAN as u64;
+            bit = bit * self.fine_n[axis] + l as usize;
+        }
+        if fits && self.mask[bit / 64] & (1 << (bit % 64)) == 0 {
+            return;
+        }
         let v = &self.mesh.vertices;
         let (a, b, c) = (v[ia as usize], v[ib as usize], v[ic as usize]);
         let lo = [
@@ -826,6 +933,35 @@ mod tests {
         }
         let (_, by_grid) = sweeps(&m, &q, 1.0);
         assert_eq!(by_grid, q.len());
+    }
+
+    /// A triangle much longer than the others (beyond the span of the sweeps' mask) is
+    /// tested from its box, not skipped from its corners' cells: a sliver 1.8 long, 1e-3
+    /// above the sheet's line z = 0 at x = 0, its lowest corner far from the points
+    /// just under it, which are nearer to it (1e-5) than to the sheet (under 1e-3, within
+    /// the first sweep's reach). Skipping it on the mask alone would answer them with
+    /// the sheet's distance.
+    #[test]
+    fn sweeps_test_triangles_longer_than_the_mask_span() {
+        let mut m = sine_sheet();
+        let base = m.vertices.len() as u32;
+        m.vertices
+            .extend([[0.0, -0.9, 1e-3], [0.0, 0.9, 1e-3], [1e-4, 0.0, 1e-3]]);
+        m.triangles.push([base, base + 1, base + 2]);
+        // (Two points on the sheet's far corners widen the points' box, so that the
+        // sliver's lowest corner cell is far from every point.)
+        let mut q: Vec<[f64; 3]> = (0..51)
+            .map(|i| [0.0, i as f64 / 100.0, 1e-3 - 1e-5])
+            .collect();
+        q.extend([-0.95, 0.95].map(|c| [c, c, sheet(c, c)]));
+        for hint in [f64::NAN, 0.0, 5e-4] {
+            check_hint(&m, &q, hint).unwrap();
+            let d = closest_dist2_all(&m, &q, hint);
+            assert!(
+                d[..51].iter().all(|d| d.unwrap() <= 1.0001e-10),
+                "hint {hint}"
+            );
+        }
     }
 
     #[test]
