@@ -317,6 +317,25 @@ fn check_gradients(f: &dyn Implicit, pts: &[[f64; 3]]) -> Result<(), TestCaseErr
             want
         );
     }
+    // Given the first round's values and gradients (the scalar ones), the same
+    // points again.
+    let grads: Vec<_> = pts.iter().map(|&p| f.grad(p)).collect();
+    let given = ops::project_batch_or_on_given(f, pts, &grads, 8, 1e-10);
+    for ((p, q), r) in pts.iter().zip(&given).zip(&or_on) {
+        let same = match (q, r) {
+            (None, None) => true,
+            (Some(a), Some(b)) => (0..3).all(|k| same_f64(a[k], b[k])),
+            _ => false,
+        };
+        prop_assert!(
+            same,
+            "{}: projection or on S of {:?}, first gradient given: {:?} against {:?}",
+            f.describe(),
+            p,
+            q,
+            r
+        );
+    }
     let proj = ops::project_batch(f, pts, 8, 1e-10);
     for (p, q) in pts.iter().zip(&proj) {
         let want = ops::project(f, *p, 8, 1e-10);

@@ -440,22 +440,28 @@ pub fn project(f: &dyn Implicit, p: [f64; 3], steps: usize, tol: f64) -> Option<
 /// The loop of the batch projections: up to `rounds` rounds over the points still
 /// moving, one batch gradient ([`Implicit::grad_batch`]) per round; `step(i, p, d)`
 /// gets point `i` at `p` with (f, ∇f) = `d` there and returns its next position, or
-/// `None` once it is settled.
+/// `None` once it is settled. `given`: (f, ∇f) at `pts` already (what
+/// [`Implicit::grad_batch`] gives there), used by the first round instead of an
+/// evaluation.
 fn batch_rounds(
     f: &dyn Implicit,
     pts: &[[f64; 3]],
+    given: Option<&[crate::implicit::Dual<f64>]>,
     rounds: usize,
     mut step: impl FnMut(usize, [f64; 3], crate::implicit::Dual<f64>) -> Option<[f64; 3]>,
 ) {
     let mut active: Vec<usize> = (0..pts.len()).collect();
     let mut cur: Vec<[f64; 3]> = pts.to_vec();
     let mut d = vec![crate::implicit::Dual::ZERO; pts.len()];
-    for _ in 0..rounds {
+    for round in 0..rounds {
         if active.is_empty() {
             break;
         }
         let n = active.len();
-        f.grad_batch(&cur[..n], &mut d[..n]);
+        match given {
+            Some(g) if round == 0 => d.copy_from_slice(g),
+            _ => f.grad_batch(&cur[..n], &mut d[..n]),
+        }
         let mut keep = 0;
         for j in 0..n {
             if let Some(q) = step(active[j], cur[j], d[j]) {
@@ -476,7 +482,7 @@ pub fn project_batch(
     steps: usize,
     tol: f64,
 ) -> Vec<Option<[f64; 3]>> {
-    project_rounds(f, pts, steps, tol, false)
+    project_rounds(f, pts, None, steps, tol, false)
 }
 
 /// [`project_batch`], except that a point where f is exactly 0 is kept as it is (also
@@ -489,20 +495,35 @@ pub fn project_batch_or_on(
     steps: usize,
     tol: f64,
 ) -> Vec<Option<[f64; 3]>> {
-    project_rounds(f, pts, steps, tol, true)
+    project_rounds(f, pts, None, steps, tol, true)
+}
+
+/// [`project_batch_or_on`], given (f, ∇f) at every point of `pts` (`grads`, what
+/// [`Implicit::grad_batch`] gives there, e.g. from a test made before): the first
+/// round evaluates nothing. The same points, bit for bit.
+pub fn project_batch_or_on_given(
+    f: &dyn Implicit,
+    pts: &[[f64; 3]],
+    grads: &[crate::implicit::Dual<f64>],
+    steps: usize,
+    tol: f64,
+) -> Vec<Option<[f64; 3]>> {
+    assert_eq!(pts.len(), grads.len(), "one gradient per point");
+    project_rounds(f, pts, Some(grads), steps, tol, true)
 }
 
 /// The Newton rounds of [`project_batch`] (`keep_on_s`: and of [`project_batch_or_on`]).
 fn project_rounds(
     f: &dyn Implicit,
     pts: &[[f64; 3]],
+    given: Option<&[crate::implicit::Dual<f64>]>,
     steps: usize,
     tol: f64,
     keep_on_s: bool,
 ) -> Vec<Option<[f64; 3]>> {
     let mut out = vec![None; pts.len()];
     let mut first = vec![keep_on_s; pts.len()];
-    batch_rounds(f, pts, steps.max(1), |i, p, d| {
+    batch_rounds(f, pts, given, steps.max(1), |i, p, d| {
         if std::mem::take(&mut first[i]) && d.v == 0.0 {
             out[i] = Some(p);
             return None;
@@ -544,7 +565,7 @@ pub fn project_steps_batch(
     steps: usize,
 ) -> Vec<([f64; 3], bool)> {
     let mut out: Vec<([f64; 3], bool)> = pts.iter().map(|&p| (p, true)).collect();
-    batch_rounds(f, pts, steps, |i, p, d| {
+    batch_rounds(f, pts, None, steps, |i, p, d| {
         if d.v == 0.0 {
             return None;
         }

@@ -433,17 +433,18 @@ pub fn surface_points_counted(
                 .collect();
             let mut d = vec![crate::implicit::Dual::ZERO; seeds.len()];
             f.grad_batch(&seeds, &mut d);
-            let near: Vec<[f64; 3]> = seeds
+            // (Their values and gradients are the first Newton round's.)
+            let (near, near_d): (Vec<[f64; 3]>, Vec<_>) = seeds
                 .iter()
                 .zip(&d)
                 .filter(|(_, &d)| estimate_from(d, f.dim()) < reach)
-                .map(|(&p, _)| p)
-                .collect();
-            let found = project_samples(f, &near, steps, tol)
-                .into_iter()
-                .flatten()
-                .filter(|&q| grown.contains(q))
-                .collect();
+                .unzip();
+            let found =
+                crate::implicit::ops::project_batch_or_on_given(f, &near, &near_d, steps, tol)
+                    .into_iter()
+                    .flatten()
+                    .filter(|&q| grown.contains(q))
+                    .collect();
             (found, near.len())
         })
         .collect();
