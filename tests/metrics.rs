@@ -780,6 +780,19 @@ proptest! {
         prop_assert_eq!(bits(ext.min_angle_deg), bits(full.min_angle_deg));
         prop_assert_eq!(bits(ext.max_angle_deg), bits(full.max_angle_deg));
         prop_assert!(ext.mean_min_angle_deg.is_none() && ext.max_edge_ratio.is_none());
+        // The meshers' range over every triangle, degenerate ones included (atan2 only
+        // for a possible extreme): every angle's atan2, bit for bit.
+        let (lo, hi) = angles::angle_range_all(&m);
+        let (want_lo, want_hi) = m.triangles.iter().fold(
+            (f64::INFINITY, f64::NEG_INFINITY),
+            |(lo, hi), t| {
+                let [a, b, c] = t.map(|i| m.vertices[i as usize]);
+                let x = angles::triangle_angles(a, b, c);
+                (lo.min(x[0]).min(x[1]).min(x[2]), hi.max(x[0]).max(x[1]).max(x[2]))
+            },
+        );
+        prop_assert_eq!(lo.to_bits(), want_lo.to_bits());
+        prop_assert_eq!(hi.to_bits(), want_hi.to_bits());
     }
 }
 

@@ -698,20 +698,34 @@ pub fn all_angles(m: &TriMesh) -> Vec<f64> {
 
 /// Smallest and largest angle (degrees) over every triangle, degenerate ones included
 /// (the GradNormal paper's Table 1 measures all triangles); (NaN, NaN) for an empty mesh.
-/// [`triangle_summary`] leaves degenerate triangles out instead.
+/// [`triangle_summary`] leaves degenerate triangles out instead. The angles of
+/// [`triangle_angles`], with atan2 only for an angle that may beat the current
+/// extremes ([`Extremes`]): the same two values, bit for bit.
 pub fn angle_range_all(m: &TriMesh) -> (f64, f64) {
     if m.triangles.is_empty() {
         return (f64::NAN, f64::NAN);
     }
-    m.triangles
+    let e = m
+        .triangles
         .par_iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| m.vertices[i as usize]);
-            let x = triangle_angles(a, b, c);
-            (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]))
-        })
-        .reduce(
-            || (f64::INFINITY, f64::NEG_INFINITY),
-            |p, q| (p.0.min(q.0), p.1.max(q.1)),
+        .with_min_len(4096)
+        .fold(
+            || Extremes::EMPTY,
+            |mut e, t| {
+                let [a, b, c] = t.map(|i| m.vertices[i as usize]);
+                // The pairs of `triangle_angles`' three `angle_deg`.
+                e.offer(angle_pair(c, a, b));
+                e.offer(angle_pair(a, b, c));
+                e.offer(angle_pair(b, c, a));
+                e
+            },
         )
+        .reduce(
+            || Extremes::EMPTY,
+            |mut x, y| {
+                x.merge(y);
+                x
+            },
+        );
+    (e.min, e.max)
 }
