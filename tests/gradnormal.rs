@@ -184,6 +184,62 @@ fn lemma_4_1_spheres_closed_manifold() {
     }
 }
 
+/// The extraction's vertex numbering: one vertex per lattice edge, numbered in key
+/// order (strictly ascending keys), each at its edge's midpoint; and every triangle
+/// and quad is numbered from its own tetrahedron's edges: their endpoints are at most
+/// the tetrahedron's four lattice vertices (a corner's three edges share one). With
+/// and without the quads kept apart.
+#[test]
+fn extraction_numbers_each_lattice_edge_once_in_key_order() {
+    let e = catalog::get("genus2").unwrap();
+    let f = e.function();
+    let g = Goldberg::sommerville(0.08);
+    for keep_quads in [false, true] {
+        let ns = extract(
+            &f,
+            &e.domain,
+            &g,
+            DiagonalRule::Paper,
+            keep_quads,
+            8,
+            true,
+            DEFAULT_MAX_TRIANGLES,
+            &NoProgress,
+        )
+        .unwrap();
+        assert!(ns.triangles.len() > 1000, "{}", ns.triangles.len());
+        assert_eq!(keep_quads, !ns.quads.is_empty());
+        assert!(ns.keys.windows(2).all(|w| w[0] < w[1]));
+        assert_eq!(ns.keys.len(), ns.vertices.len());
+        for (&k, &v) in ns.keys.iter().zip(&ns.vertices) {
+            let (p, q) = edge_endpoints(k);
+            let mid = scale(
+                add(g.vertex(p[0], p[1], p[2]), g.vertex(q[0], q[1], q[2])),
+                0.5,
+            );
+            assert_eq!(mid, v);
+        }
+        let ends = |c: &[u32]| {
+            let mut s: Vec<[i64; 3]> = c
+                .iter()
+                .flat_map(|&v| {
+                    let (p, q) = edge_endpoints(ns.keys[v as usize]);
+                    [p, q]
+                })
+                .collect();
+            s.sort_unstable();
+            s.dedup();
+            s.len()
+        };
+        for t in &ns.triangles {
+            assert!(ends(t) <= 4, "{t:?}");
+        }
+        for q in &ns.quads {
+            assert_eq!(ends(q), 4, "{q:?}");
+        }
+    }
+}
+
 #[test]
 fn pruning_changes_cost_not_result() {
     let f = catalog::get("sphere").unwrap().function();
