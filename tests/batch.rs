@@ -157,6 +157,15 @@ fn same_f64(a: f64, b: f64) -> bool {
     a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
 }
 
+/// Two projections' results the same, bit for bit (both failed, or the same point).
+fn same_point(a: Option<[f64; 3]>, b: Option<[f64; 3]>) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(a), Some(b)) => (0..3).all(|k| same_f64(a[k], b[k])),
+        _ => false,
+    }
+}
+
 fn check_points(f: &Formula, pts: &[[f64; 3]]) -> Result<(), TestCaseError> {
     let xs: [Vec<f64>; 3] = [0, 1, 2].map(|a| pts.iter().map(|p| p[a]).collect());
     let mut out = vec![0.0; pts.len()];
@@ -303,11 +312,7 @@ fn check_gradients(f: &dyn Implicit, pts: &[[f64; 3]]) -> Result<(), TestCaseErr
         } else {
             ops::project(f, *p, 8, 1e-10)
         };
-        let same = match (q, want) {
-            (None, None) => true,
-            (Some(a), Some(b)) => (0..3).all(|k| same_f64(a[k], b[k])),
-            _ => false,
-        };
+        let same = same_point(*q, want);
         prop_assert!(
             same,
             "{}: projection or on S of {:?}: {:?} against {:?}",
@@ -322,11 +327,7 @@ fn check_gradients(f: &dyn Implicit, pts: &[[f64; 3]]) -> Result<(), TestCaseErr
     let grads: Vec<_> = pts.iter().map(|&p| f.grad(p)).collect();
     let given = ops::project_batch_or_on_given(f, pts, &grads, 8, 1e-10);
     for ((p, q), r) in pts.iter().zip(&given).zip(&or_on) {
-        let same = match (q, r) {
-            (None, None) => true,
-            (Some(a), Some(b)) => (0..3).all(|k| same_f64(a[k], b[k])),
-            _ => false,
-        };
+        let same = same_point(*q, *r);
         prop_assert!(
             same,
             "{}: projection or on S of {:?}, first gradient given: {:?} against {:?}",
@@ -339,11 +340,7 @@ fn check_gradients(f: &dyn Implicit, pts: &[[f64; 3]]) -> Result<(), TestCaseErr
     let proj = ops::project_batch(f, pts, 8, 1e-10);
     for (p, q) in pts.iter().zip(&proj) {
         let want = ops::project(f, *p, 8, 1e-10);
-        let same = match (q, want) {
-            (None, None) => true,
-            (Some(a), Some(b)) => (0..3).all(|k| same_f64(a[k], b[k])),
-            _ => false,
-        };
+        let same = same_point(*q, want);
         prop_assert!(
             same,
             "{}: projection of {:?}: batch {:?} scalar {:?}",

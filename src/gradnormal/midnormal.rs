@@ -404,6 +404,9 @@ fn number_corners(
             (k >> 3) & mask,
         ]
     };
+    if n_tris + n_quads == 0 {
+        return (Vec::new(), Vec::new(), Vec::new());
+    }
     let all = || {
         outs.par_iter()
             .flat_map_iter(|o| o.tris.iter().flatten().copied())
@@ -428,9 +431,6 @@ fn number_corners(
                 [0, 1, 2].map(|a| h0[a].max(h1[a])),
             )
         });
-    if n_tris + n_quads == 0 {
-        return (Vec::new(), Vec::new(), Vec::new());
-    }
     // Each extent is at most 2^KEY_BITS, so a dense number has at most 3 KEY_BITS + 3
     // bits.
     let n = [0, 1, 2].map(|a| hi[a] - lo[a] + 1);
