@@ -11,7 +11,7 @@
 //! tetrahedra share them and the output is a closed oriented manifold away from the
 //! domain boundary.
 use super::tiling::{
-    colour, edge_dir, edge_endpoints, edge_key, Goldberg, TetType, A, KEY_BITS, KEY_OFFSET,
+    colour, edge_dir, edge_endpoints, edge_key, unpack_vertex, Goldberg, TetType, A, KEY_OFFSET,
     MIDPOINT_EDGES, NORMAL_QUADS, NORMAL_TRIANGLES,
 };
 use super::DiagonalRule;
@@ -394,16 +394,8 @@ fn number_corners(
     n_tris: usize,
     n_quads: usize,
 ) -> (Vec<u64>, Vec<[u32; 3]>, Vec<[u32; 4]>) {
-    // A key is (vertex key << 3) | direction, the vertex key i, j, m (each offset to be
-    // non-negative) in KEY_BITS bits each, i the highest.
-    let mask = (1u64 << KEY_BITS) - 1;
-    let coords = |k: u64| {
-        [
-            (k >> (3 + 2 * KEY_BITS)) & mask,
-            (k >> (3 + KEY_BITS)) & mask,
-            (k >> 3) & mask,
-        ]
-    };
+    // A key is (vertex key << 3) | direction.
+    let coords = |k: u64| unpack_vertex(k >> 3);
     if n_tris + n_quads == 0 {
         return (Vec::new(), Vec::new(), Vec::new());
     }
@@ -415,7 +407,7 @@ fn number_corners(
                     .flat_map_iter(|o| o.quads.iter().flatten().copied()),
             )
     };
-    let none = || ([u64::MAX; 3], [0u64; 3]);
+    let none = || ([i64::MAX; 3], [i64::MIN; 3]);
     let (lo, hi) = all()
         .fold(none, |(mut lo, mut hi), k| {
             let c = coords(k);
@@ -432,17 +424,18 @@ fn number_corners(
             )
         });
     // Each extent is at most 2^KEY_BITS, so a dense number has at most 3 KEY_BITS + 3
-    // bits.
-    let n = [0, 1, 2].map(|a| hi[a] - lo[a] + 1);
+    // bits; it orders keys as they are ordered (i highest, then j, m, the direction).
+    let n = [0, 1, 2].map(|a| (hi[a] - lo[a] + 1) as u64);
     let dense = |k: u64| {
         let c = coords(k);
-        ((((c[0] - lo[0]) * n[1] + (c[1] - lo[1])) * n[2] + (c[2] - lo[2])) << 3) | (k & 7)
+        let c = [0, 1, 2].map(|a| (c[a] - lo[a]) as u64);
+        (((c[0] * n[1] + c[1]) * n[2] + c[2]) << 3) | (k & 7)
     };
     let key = |d: u64| {
         let r = d >> 3;
-        let (m, r) = (r % n[2] + lo[2], r / n[2]);
-        let (j, i) = (r % n[1] + lo[1], r / n[1] + lo[0]);
-        (((i << (2 * KEY_BITS)) | (j << KEY_BITS) | m) << 3) | (d & 7)
+        let (m, r) = ((r % n[2]) as i64 + lo[2], r / n[2]);
+        let (j, i) = ((r % n[1]) as i64 + lo[1], (r / n[1]) as i64 + lo[0]);
+        edge_key(i, j, m, (d & 7) as usize)
     };
     if n[0] * n[1] * n[2] <= 1 << 29 {
         numbered(

@@ -418,25 +418,22 @@ fn sweeps(mesh: &TriMesh, queries: &[[f64; 3]], hint: f64) -> (Vec<Option<f64>>,
     if queries.is_empty() {
         return (out, 0);
     }
-    // The mean bounding radius of evenly spread triangles (the middle of each run of
-    // `step`).
+    // Evenly spread triangles (the middle of each run of `step`): their mean bounding
+    // radius, and their largest box extents.
     let step = nf.div_ceil(SWEEP_RADIUS_SAMPLE).max(1);
-    let (sum, count) = (step / 2..nf)
-        .step_by(step)
-        .fold((0.0, 0usize), |(s, c), t| {
-            (s + centre_r2(mesh, t).1.sqrt(), c + 1)
-        });
-    let mean_radius = sum / count.max(1) as f64;
-    // The same triangles' largest box extents, and their 95th percentile.
+    let mut sum = 0.0;
     let mut extents: Vec<f64> = (step / 2..nf)
         .step_by(step)
         .map(|t| {
+            sum += centre_r2(mesh, t).1.sqrt();
             let [a, b, c] = mesh.corners(t);
             (0..3)
                 .map(|k| mx(mx(a[k], b[k]), c[k]) - mn(mn(a[k], b[k]), c[k]))
                 .fold(0.0, mx)
         })
         .collect();
+    let mean_radius = sum / extents.len().max(1) as f64;
+    // The 95th percentile of the extents.
     let q = ((extents.len() as f64 * SWEEP_MASK_QUANTILE) as usize).min(extents.len() - 1);
     let extent = *extents.select_nth_unstable_by(q, f64::total_cmp).1;
     let mut r = if hint.is_finite() && hint >= 0.0 {
