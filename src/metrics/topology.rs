@@ -150,6 +150,17 @@ pub struct TopologyReport {
     pub component_list: Vec<ComponentReport>,
 }
 
+/// The link edge (a, b) of corner `c` (face `c / 3`, its vertex `c % 3`: the face runs
+/// v → a → b → v from that vertex v).
+#[inline(always)]
+fn corner_ends(c: u32, tris: &[[u32; 3]]) -> (u32, u32) {
+    // By index, not by a branch on the position (which would be mispredicted).
+    const NEXT: [usize; 3] = [1, 2, 0];
+    let t = tris[(c / 3) as usize];
+    let k = (c % 3) as usize;
+    (t[NEXT[k]], t[NEXT[NEXT[k]]])
+}
+
 /// Reusable buffers of [`link_is_disk_or_sphere`] (one per rayon task, no allocation
 /// per vertex).
 #[derive(Default)]
@@ -160,29 +171,21 @@ struct LinkScratch {
     uf: UnionFind,
 }
 
-/// Check the link of a vertex: its faces' opposite edges must form one path or cycle.
-fn link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]], s: &mut LinkScratch) -> bool {
-    if faces.len() <= SMALL_LINK {
-        small_link_is_disk_or_sphere(v, faces, tris)
+/// Check the link of a vertex from its corners (see [`corner_ends`]): its faces'
+/// opposite edges must form one path or cycle.
+fn link_is_disk_or_sphere(corners: &[u32], tris: &[[u32; 3]], s: &mut LinkScratch) -> bool {
+    if corners.len() <= SMALL_LINK {
+        small_link_is_disk_or_sphere(corners, tris)
     } else {
-        general_link_is_disk_or_sphere(v, faces, tris, s)
+        general_link_is_disk_or_sphere(corners, tris, s)
     }
 }
 
 /// [`link_is_disk_or_sphere`] for any valence: link vertices sorted and numbered, then
 /// degrees and a union-find.
-fn general_link_is_disk_or_sphere(
-    v: u32,
-    faces: &[u32],
-    tris: &[[u32; 3]],
-    s: &mut LinkScratch,
-) -> bool {
+fn general_link_is_disk_or_sphere(corners: &[u32], tris: &[[u32; 3]], s: &mut LinkScratch) -> bool {
     s.ends.clear();
-    for &f in faces {
-        let t = tris[f as usize];
-        let k = t.iter().position(|&x| x == v).unwrap_or(0);
-        s.ends.push((t[(k + 1) % 3], t[(k + 2) % 3]));
-    }
+    s.ends.extend(corners.iter().map(|&c| corner_ends(c, tris)));
     s.ids.clear();
     s.ids.extend(s.ends.iter().flat_map(|&(a, b)| [a, b]));
     s.ids.sort_unstable();
@@ -243,13 +246,11 @@ fn is_one_directed_cycle(ends: &[(u32, u32)]) -> bool {
 /// [`link_is_disk_or_sphere`] for a small link, without sorting or allocation: the
 /// link edges must be connected (a search over edges sharing an end, quadratic in the
 /// valence) and no link vertex may end more than two of them.
-fn small_link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]]) -> bool {
-    let n = faces.len();
+fn small_link_is_disk_or_sphere(corners: &[u32], tris: &[[u32; 3]]) -> bool {
+    let n = corners.len();
     let mut ends = [(0u32, 0u32); SMALL_LINK];
-    for (e, &f) in ends.iter_mut().zip(faces) {
-        let t = tris[f as usize];
-        let k = t.iter().position(|&x| x == v).unwrap_or(0);
-        *e = (t[(k + 1) % 3], t[(k + 2) % 3]);
+    for (e, &c) in ends.iter_mut().zip(corners) {
+        *e = corner_ends(c, tris);
     }
     let ends = &ends[..n];
     if is_one_directed_cycle(ends) {
@@ -285,16 +286,17 @@ fn small_link_is_disk_or_sphere(v: u32, faces: &[u32], tris: &[[u32; 3]]) -> boo
     count == n
 }
 
-/// Every vertex's faces (a counting sort by vertex: `faces[start[v]..start[v + 1]]`).
+/// Every vertex's corners (a counting sort by vertex: `corners[start[v]..start[v +
+/// 1]]`), each 3 f + k for the vertex at position k of face f ([`corner_ends`]).
 struct StarLists {
     start: Vec<u32>,
-    faces: Vec<u32>,
+    corners: Vec<u32>,
 }
 
 impl StarLists {
     #[inline]
     fn bucket(&self, v: usize) -> &[u32] {
-        &self.faces[self.start[v] as usize..self.start[v + 1] as usize]
+        &self.corners[self.start[v] as usize..self.start[v + 1] as usize]
     }
 }
 
@@ -315,26 +317,26 @@ fn star_buckets(nv: usize, tris: &[[u32; 3]], degenerate: &[bool]) -> StarLists 
             }
         }
     }
-    // Each count becomes its bucket's end; the faces, placed from the last down,
-    // move every end to its bucket's start (no second array of positions) and come
-    // out ascending in each bucket.
+    // Each count becomes its bucket's end; the corners, placed from the last face
+    // down, move every end to its bucket's start (no second array of positions) and
+    // come out ascending in each bucket (a non-degenerate face has one corner at v).
     for k in 0..nv {
         start[k + 1] += start[k];
     }
-    let mut faces = vec![0u32; start[nv] as usize];
+    let mut corners = vec![0u32; start[nv] as usize];
     for (f, (t, &d)) in tris.iter().zip(degenerate).enumerate().rev() {
         if !d {
-            for &v in t {
+            for (k, &v) in t.iter().enumerate() {
                 let slot = &mut start[v as usize + 1];
                 *slot -= 1;
-                faces[*slot as usize] = f as u32;
+                corners[*slot as usize] = 3 * f as u32 + k as u32;
             }
         }
     }
     // Now start[v + 1] is bucket v's start: shift down by one.
     start.copy_within(1..=nv, 0);
-    start[nv] = faces.len() as u32;
-    StarLists { start, faces }
+    start[nv] = corners.len() as u32;
+    StarLists { start, corners }
 }
 
 /// Vertices per task of the star pass of [`analyze`].
@@ -402,19 +404,17 @@ fn stars_of_with(
     let mut sets: Vec<(u32, u32)> = Vec::new();
     let mut scratch = LinkScratch::default();
     for (k, v) in range.enumerate() {
-        let fs = vfaces.bucket(v);
-        if fs.is_empty() {
+        let cs = vfaces.bucket(v);
+        if cs.is_empty() {
             continue;
         }
         let v32 = v as u32;
-        if fast && fs.len() >= 3 && fs.len() <= SMALL_LINK {
+        if fast && cs.len() >= 3 && cs.len() <= SMALL_LINK {
             let mut ends = [(0u32, 0u32); SMALL_LINK];
-            for (e, &f) in ends.iter_mut().zip(fs) {
-                let t = tris[f as usize];
-                let k = t.iter().position(|&x| x == v32).unwrap_or(0);
-                *e = (t[(k + 1) % 3], t[(k + 2) % 3]);
+            for (e, &c) in ends.iter_mut().zip(cs) {
+                *e = corner_ends(c, tris);
             }
-            let ends = &ends[..fs.len()];
+            let ends = &ends[..cs.len()];
             if is_one_directed_cycle(ends) {
                 out.at[k].edges = ends.iter().filter(|e| e.0 > v32).count() as u32;
                 continue;
@@ -422,11 +422,10 @@ fn stars_of_with(
         }
         half.clear();
         sets.clear();
-        for &f in fs {
-            let t = tris[f as usize];
-            let i = t.iter().position(|&x| x == v32).unwrap_or(0);
+        for &c in cs {
+            let f = c / 3;
             // The face runs v -> a and b -> v.
-            let (a, b) = (t[(i + 1) % 3], t[(i + 2) % 3]);
+            let (a, b) = corner_ends(c, tris);
             if a > v32 {
                 half.push((a, f, true));
             }
@@ -460,7 +459,7 @@ fn stars_of_with(
             sets.sort_unstable();
             out.duplicate_faces += sets.windows(2).filter(|w| w[0] == w[1]).count();
         }
-        at.bad_link = !link_is_disk_or_sphere(v32, fs, tris, &mut scratch);
+        at.bad_link = !link_is_disk_or_sphere(cs, tris, &mut scratch);
     }
     out
 }
@@ -1542,10 +1541,11 @@ mod tests {
             fan in prop::collection::vec((1u32..9, 1u32..9), 1..SMALL_LINK + 1),
         ) {
             let tris: Vec<[u32; 3]> = fan.iter().map(|&(a, b)| [0, a, b]).collect();
-            let faces: Vec<u32> = (0..tris.len() as u32).collect();
-            let small = small_link_is_disk_or_sphere(0, &faces, &tris);
+            // Vertex 0 first in every face: corner 3 f.
+            let corners: Vec<u32> = (0..tris.len() as u32).map(|f| 3 * f).collect();
+            let small = small_link_is_disk_or_sphere(&corners, &tris);
             let mut s = LinkScratch::default();
-            let general = general_link_is_disk_or_sphere(0, &faces, &tris, &mut s);
+            let general = general_link_is_disk_or_sphere(&corners, &tris, &mut s);
             prop_assert_eq!(small, general, "fan {:?}", fan);
         }
 
@@ -1580,10 +1580,11 @@ mod tests {
                 }
             }
             tris.truncate(SMALL_LINK);
-            let faces: Vec<u32> = (0..tris.len() as u32).collect();
-            let small = small_link_is_disk_or_sphere(0, &faces, &tris);
+            // Vertex 0 first in every face: corner 3 f.
+            let corners: Vec<u32> = (0..tris.len() as u32).map(|f| 3 * f).collect();
+            let small = small_link_is_disk_or_sphere(&corners, &tris);
             let mut s = LinkScratch::default();
-            let general = general_link_is_disk_or_sphere(0, &faces, &tris, &mut s);
+            let general = general_link_is_disk_or_sphere(&corners, &tris, &mut s);
             prop_assert_eq!(small, general, "fan {:?}", tris);
         }
 
