@@ -573,20 +573,23 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
     let mut boundary: Vec<(u32, u32)> = Vec::new();
     // Face adjacency over manifold edges: (f, g, same direction).
     let mut adj_pairs: Vec<(u32, u32, bool)> = Vec::new();
+    // (A vertex without a star, unused or in degenerate faces only, counts zero. One
+    // component's sums are the totals, set after the loop: no per-vertex store.)
+    let (mut boundary_edges, mut any_bad) = (0usize, false);
     for st in stars {
         for (k, at) in st.at.iter().enumerate() {
-            if !used[st.first + k] {
-                continue;
-            }
-            let c = comp((st.first + k) as u32);
-            c_edges[c] += at.edges as usize;
-            c_bedges[c] += at.boundary_edges as usize;
-            if at.non_manifold_edges > 0 || at.bad_link {
-                c_bad[c] = true;
-            }
+            let bad = at.non_manifold_edges > 0 || at.bad_link;
             non_manifold_vertices += at.bad_link as usize;
             edges += at.edges as usize;
             non_manifold_edges += at.non_manifold_edges as usize;
+            boundary_edges += at.boundary_edges as usize;
+            any_bad |= bad;
+            if ncomp > 1 && used[st.first + k] {
+                let c = comp_of[st.first + k] as usize;
+                c_edges[c] += at.edges as usize;
+                c_bedges[c] += at.boundary_edges as usize;
+                c_bad[c] |= bad;
+            }
         }
         inconsistent_edges += st.inconsistent_edges;
         duplicate_faces += st.duplicate_faces;
@@ -607,17 +610,26 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         .collect();
     degenerate_sets.sort_unstable();
     duplicate_faces += degenerate_sets.windows(2).filter(|w| w[0] == w[1]).count();
-    for (f, t) in tris.iter().enumerate() {
-        let c = comp(t[0]);
-        if degenerate[f] {
-            c_bad[c] = true;
-        } else {
-            c_faces[c] += 1;
+    if ncomp == 1 {
+        let degenerate_faces = degenerate.iter().filter(|&&d| d).count();
+        c_edges[0] = edges;
+        c_bedges[0] = boundary_edges;
+        c_bad[0] = any_bad || degenerate_faces > 0;
+        c_faces[0] = nf - degenerate_faces;
+        c_verts[0] = used.iter().filter(|&&u| u).count();
+    } else {
+        for (f, t) in tris.iter().enumerate() {
+            let c = comp(t[0]);
+            if degenerate[f] {
+                c_bad[c] = true;
+            } else {
+                c_faces[c] += 1;
+            }
         }
-    }
-    for v in 0..nv {
-        if used[v] {
-            c_verts[comp(v as u32)] += 1;
+        for v in 0..nv {
+            if used[v] {
+                c_verts[comp(v as u32)] += 1;
+            }
         }
     }
 
