@@ -300,8 +300,8 @@ impl StarLists {
     }
 }
 
-/// Every vertex's non-degenerate faces, in face order: the stars of [`stars_of`]. A
-/// counting sort written out (count, prefix sums, fill), the two passes over the faces
+/// Every vertex's corners in its non-degenerate faces, in face order: the stars of
+/// [`stars_of`]. A counting sort written out (count, prefix sums, fill), the two passes over the faces
 /// without a closure call per incidence.
 fn star_buckets(nv: usize, tris: &[[u32; 3]], degenerate: &[bool]) -> StarLists {
     assert!(
@@ -371,8 +371,8 @@ struct Stars {
 /// face) gives, edge by edge); v's link; and the vertex sets of the faces whose
 /// smallest vertex is v.
 #[cfg(test)]
-fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &StarLists) -> Stars {
-    stars_of_with(range, tris, vfaces, false)
+fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vcorners: &StarLists) -> Stars {
+    stars_of_with(range, tris, vcorners, false)
 }
 
 /// [`stars_of`], with `fast`: a vertex whose star is one consistently oriented disk
@@ -389,7 +389,7 @@ fn stars_of(range: std::ops::Range<usize>, tris: &[[u32; 3]], vfaces: &StarLists
 fn stars_of_with(
     range: std::ops::Range<usize>,
     tris: &[[u32; 3]],
-    vfaces: &StarLists,
+    vcorners: &StarLists,
     fast: bool,
 ) -> Stars {
     let mut out = Stars {
@@ -404,7 +404,7 @@ fn stars_of_with(
     let mut sets: Vec<(u32, u32)> = Vec::new();
     let mut scratch = LinkScratch::default();
     for (k, v) in range.enumerate() {
-        let cs = vfaces.bucket(v);
+        let cs = vcorners.bucket(v);
         if cs.is_empty() {
             continue;
         }
@@ -465,14 +465,14 @@ fn stars_of_with(
 }
 
 /// [`stars_of_with`] over every vertex, in parallel chunks, in vertex order.
-fn all_stars(nv: usize, tris: &[[u32; 3]], vfaces: &StarLists, fast: bool) -> Vec<Stars> {
+fn all_stars(nv: usize, tris: &[[u32; 3]], vcorners: &StarLists, fast: bool) -> Vec<Stars> {
     (0..nv.div_ceil(STAR_CHUNK))
         .into_par_iter()
         .map(|c| {
             stars_of_with(
                 c * STAR_CHUNK..((c + 1) * STAR_CHUNK).min(nv),
                 tris,
-                vfaces,
+                vcorners,
                 fast,
             )
         })
@@ -499,11 +499,11 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         .collect();
 
     // Components (union the vertices of every face) beside the stars (every vertex's
-    // non-degenerate faces, in face order) and one parallel pass over them, which
+    // corners in non-degenerate faces, in face order) and one parallel pass over them, which
     // finds every edge at its smaller vertex, the link of every vertex and the
     // duplicate faces at their smallest vertex; consistently oriented disk stars are
     // settled on the fast path of [`stars_of_with`].
-    let ((used, comp_of, ncomp), (vfaces, stars)) = rayon::join(
+    let ((used, comp_of, ncomp), (vcorners, stars)) = rayon::join(
         || {
             let mut uf = UnionFind::for_join(nv);
             let mut used = vec![false; nv];
@@ -534,20 +534,20 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
             (used, comp_of, ncomp)
         },
         || {
-            let vfaces = star_buckets(nv, tris, &degenerate);
-            let stars = all_stars(nv, tris, &vfaces, true);
-            (vfaces, stars)
+            let vcorners = star_buckets(nv, tris, &degenerate);
+            let stars = all_stars(nv, tris, &vcorners, true);
+            (vcorners, stars)
         },
     );
     // Some edge is traversed twice in the same direction: the orientation search needs
     // the face pairs of every manifold edge, which the general pass lists (the same
     // counts as the fast one).
     let stars = if stars.iter().any(|s| s.inconsistent_edges > 0) {
-        all_stars(nv, tris, &vfaces, false)
+        all_stars(nv, tris, &vcorners, false)
     } else {
         stars
     };
-    drop(vfaces);
+    drop(vcorners);
     // (One component: no lookups.)
     let comp = |v: u32| {
         if ncomp == 1 {
@@ -1611,8 +1611,8 @@ mod tests {
                 .map(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
                 .collect();
             let sorted = edges_by_sort(&tris, &degenerate);
-            let vfaces = star_buckets(10, &tris, &degenerate);
-            let st = stars_of(0..10, &tris, &vfaces);
+            let vcorners = star_buckets(10, &tris, &degenerate);
+            let st = stars_of(0..10, &tris, &vcorners);
             let boundary: Vec<(u32, u32)> =
                 sorted.iter().filter(|e| e.2.len() == 1).map(|e| (e.0, e.1)).collect();
             let adjacent: Vec<(u32, u32, bool)> = sorted
