@@ -575,14 +575,13 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
     let mut adj_pairs: Vec<(u32, u32, bool)> = Vec::new();
     // (A vertex without a star, unused or in degenerate faces only, counts zero. One
     // component's sums are the totals, set after the loop: no per-vertex store.)
-    let (mut boundary_edges, mut any_bad) = (0usize, false);
+    let mut any_bad = false;
     for st in stars {
         for (k, at) in st.at.iter().enumerate() {
             let bad = at.non_manifold_edges > 0 || at.bad_link;
             non_manifold_vertices += at.bad_link as usize;
             edges += at.edges as usize;
             non_manifold_edges += at.non_manifold_edges as usize;
-            boundary_edges += at.boundary_edges as usize;
             any_bad |= bad;
             if ncomp > 1 && used[st.first + k] {
                 let c = comp_of[st.first + k] as usize;
@@ -610,13 +609,14 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         .collect();
     degenerate_sets.sort_unstable();
     duplicate_faces += degenerate_sets.windows(2).filter(|w| w[0] == w[1]).count();
+    let vertices = used.iter().filter(|&&u| u).count();
+    let degenerate_faces = degenerate.iter().filter(|&&d| d).count();
     if ncomp == 1 {
-        let degenerate_faces = degenerate.iter().filter(|&&d| d).count();
         c_edges[0] = edges;
-        c_bedges[0] = boundary_edges;
+        c_bedges[0] = boundary.len();
         c_bad[0] = any_bad || degenerate_faces > 0;
         c_faces[0] = nf - degenerate_faces;
-        c_verts[0] = used.iter().filter(|&&u| u).count();
+        c_verts[0] = vertices;
     } else {
         for (f, t) in tris.iter().enumerate() {
             let c = comp(t[0]);
@@ -732,8 +732,6 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
         .collect();
     // Largest first, for readable reports.
     component_list.sort_by(|a, b| b.faces.cmp(&a.faces).then(b.vertices.cmp(&a.vertices)));
-    let vertices = used.iter().filter(|&&u| u).count();
-    let degenerate_faces = degenerate.iter().filter(|&&d| d).count();
     let mut genus: Vec<usize> = component_list
         .iter()
         .filter(|c| c.closed)
