@@ -108,9 +108,12 @@ impl<'a> TriGrid<'a> {
     }
 
     /// The cell holding `p`, clamped into the grid.
-    #[inline]
+    #[inline(always)]
     fn cell(&self, p: [f64; 3]) -> [usize; 3] {
-        [0, 1, 2].map(|k| clamp_cell((p[k] - self.min[k]) / self.h[k], self.n[k]))
+        // Written per axis: `[0, 1, 2].map` was left out of line here (as
+        // `array::try_map`), a call per point.
+        let axis = |k: usize| clamp_cell((p[k] - self.min[k]) / self.h[k], self.n[k]);
+        [axis(0), axis(1), axis(2)]
     }
 
     #[inline]

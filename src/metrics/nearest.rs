@@ -175,7 +175,12 @@ impl<'a> CentroidGrid<'a> {
         let tasks = if total < 8192 {
             1
         } else {
-            2 * rayon::current_num_threads()
+            let n = rayon::current_num_threads();
+            if n == 1 {
+                1
+            } else {
+                2 * n
+            }
         };
         // Task j's cells: from the first cell whose start reaches j/tasks of the spheres.
         let bounds: Vec<usize> = (0..=tasks)
@@ -189,29 +194,45 @@ impl<'a> CentroidGrid<'a> {
                 }
             })
             .collect();
-        let mut items = vec![Item::default(); total];
+        let mut items: Vec<Item> = Vec::with_capacity(total);
         let mut parts = Vec::with_capacity(tasks);
-        let mut rest = &mut items[..];
+        let mut rest = &mut items.spare_capacity_mut()[..total];
         for w in bounds.windows(2) {
             let (lo, hi) = (w[0], w[1].max(w[0]));
             let (mine, tail) = rest.split_at_mut((start[hi] - start[lo]) as usize);
             parts.push((lo, hi, mine));
             rest = tail;
         }
-        parts.into_par_iter().for_each(|(lo, hi, out)| {
-            let base = start[lo];
-            let mut fill: Vec<u32> = start[lo..hi].iter().map(|&s| s - base).collect();
-            for (t, &c) in cells_of.iter().enumerate() {
-                let c = c as usize;
-                if c >= lo && c < hi {
-                    let slot = &mut fill[c - lo];
-                    out[*slot as usize] = sphere(mesh, t);
-                    *slot += 1;
+        let (written, rmax) = parts
+            .into_par_iter()
+            .map(|(lo, hi, out)| {
+                let base = start[lo];
+                let mut fill: Vec<u32> = start[lo..hi].iter().map(|&s| s - base).collect();
+                let (mut written, mut rmax) = (0usize, 0.0f64);
+                for (t, &c) in cells_of.iter().enumerate() {
+                    let c = c as usize;
+                    if c >= lo && c < hi {
+                        let slot = &mut fill[c - lo];
+                        let it = sphere(mesh, t);
+                        rmax = rmax.max(it.radius);
+                        out[*slot as usize].write(it);
+                        *slot += 1;
+                        written += 1;
+                    }
                 }
-            }
-        });
+                (written, rmax)
+            })
+            .reduce(|| (0, 0.0), |a, b| (a.0 + b.0, a.1.max(b.1)));
         drop(cells_of);
-        let rmax = items.iter().map(|it| it.radius).fold(0.0f64, f64::max);
+        // Every slot was written: each task's cells hold as many triangles as it
+        // wrote, into distinct slots of its own part (each cell's slots run from its
+        // start up, and its count came from the same cells).
+        assert_eq!(
+            written, total,
+            "the centroid grid's placement left a slot empty"
+        );
+        // SAFETY: the `total` items were initialised above (the assertion).
+        unsafe { items.set_len(total) };
         g.rmax = rmax;
         g.start = start;
         g.items = items;
@@ -219,9 +240,12 @@ impl<'a> CentroidGrid<'a> {
     }
 
     /// The cell holding `p`, clamped into the grid.
-    #[inline]
+    #[inline(always)]
     fn cell(&self, p: [f64; 3]) -> [usize; 3] {
-        [0, 1, 2].map(|k| clamp_cell((p[k] - self.min[k]) * self.inv, self.n[k]))
+        // Written per axis: `[0, 1, 2].map` was left out of line (as
+        // `array::try_map`), a call per triangle of the build.
+        let axis = |k: usize| clamp_cell((p[k] - self.min[k]) * self.inv, self.n[k]);
+        [axis(0), axis(1), axis(2)]
     }
 
     #[inline]
