@@ -412,7 +412,8 @@ pub(crate) fn eval_points(tape: &Tape, p: [&[f64]; 3], out: &mut [f64]) {
         tape,
         n,
         &mut regs,
-        |at| p.map(|v| gather(v, at)),
+        // (Per axis: `p.map` was left out of line, a call per chunk.)
+        |at| [gather(p[0], at), gather(p[1], at), gather(p[2], at)],
         |at, r| {
             let m = (n - at).min(LANES);
             out[at..at + m].copy_from_slice(&r[..m]);
@@ -511,7 +512,10 @@ impl Tape {
             n,
             rl,
             rh,
-            |at| (lo.map(|v| gather(v, at)), hi.map(|v| gather(v, at))),
+            |at| {
+                let g = |v: [&[f64]; 3]| [gather(v[0], at), gather(v[1], at), gather(v[2], at)];
+                (g(lo), g(hi))
+            },
             |at, l, h| {
                 let m = (n - at).min(LANES);
                 out_lo[at..at + m].copy_from_slice(&l[..m]);

@@ -391,13 +391,16 @@ pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Res
                                 case |= ((r[x >> 6] >> (x & 63) & 1) as usize) << c;
                             }
                             visited += 1;
+                            // (Per corner: `t.map` left its closure out of line, a
+                            // call per corner.)
+                            let id = |e: u8| {
+                                let (c, d) = scheme.edges[e as usize];
+                                let o = corner(c);
+                                let map = if o[2] == 0 { &ids } else { &up };
+                                map[((j + o[1]) * nx + i + o[0]) * nd + d as usize]
+                            };
                             for t in &scheme.cases[case] {
-                                tris.push(t.map(|e| {
-                                    let (c, d) = scheme.edges[e as usize];
-                                    let o = corner(c);
-                                    let map = if o[2] == 0 { &ids } else { &up };
-                                    map[((j + o[1]) * nx + i + o[0]) * nd + d as usize]
-                                }));
+                                tris.push([id(t[0]), id(t[1]), id(t[2])]);
                             }
                         }
                     }
