@@ -525,6 +525,21 @@ fn mn(a: f64, b: f64) -> f64 {
     }
 }
 
+/// Set bits `a..=b` of `mask` (a ≤ b), a word at a time.
+#[inline]
+fn set_bits(mask: &mut [u64], a: usize, b: usize) {
+    let (wa, wb) = (a / 64, b / 64);
+    // The bits from a's position up, and those up to b's position.
+    let (from, upto) = (u64::MAX << (a % 64), u64::MAX >> (63 - b % 64));
+    if wa == wb {
+        mask[wa] |= from & upto;
+    } else {
+        mask[wa] |= from;
+        mask[wa + 1..wb].fill(u64::MAX);
+        mask[wb] |= upto;
+    }
+}
+
 /// One pass of [`closest_dist2_all`]: the open query points sorted into a grid, and
 /// the reach.
 struct Sweep<'a> {
@@ -648,9 +663,7 @@ impl<'a> Sweep<'a> {
             for z in lo[2]..=hi[2] {
                 for y in lo[1]..=hi[1] {
                     let row = (z * fine_n[1] + y) * fine_n[0];
-                    for bit in row + lo[0]..=row + hi[0] {
-                        mask[bit / 64] |= 1 << (bit % 64);
-                    }
+                    set_bits(&mut mask, row + lo[0], row + hi[0]);
                 }
             }
         }
@@ -982,6 +995,27 @@ mod tests {
                 d[..51].iter().all(|d| d.unwrap() <= 1.0001e-10),
                 "hint {hint}"
             );
+        }
+    }
+
+    proptest! {
+        /// `set_bits` sets exactly the bits of `a..=b` and keeps the others, as one bit
+        /// at a time does: ranges within a word, across one boundary and several, on
+        /// words already partly set.
+        #[test]
+        fn set_bits_sets_the_range(
+            a in 0usize..400,
+            len in 0usize..200,
+            init in proptest::collection::vec(any::<u64>(), 10),
+        ) {
+            let b = a + len;
+            let mut got = init.clone();
+            set_bits(&mut got, a, b);
+            let mut want = init;
+            for bit in a..=b {
+                want[bit / 64] |= 1 << (bit % 64);
+            }
+            prop_assert_eq!(got, want);
         }
     }
 
