@@ -44,9 +44,12 @@ impl TriMesh {
         }
     }
     /// The corners of triangle `t`.
-    #[inline]
+    #[inline(always)]
     pub fn corners(&self, t: usize) -> [[f64; 3]; 3] {
-        self.triangles[t].map(|i| self.vertices[i as usize])
+        // (Per corner: `[u32; 3].map` can be left out of line, a call per triangle.)
+        let [a, b, c] = self.triangles[t];
+        let v = &self.vertices;
+        [v[a as usize], v[b as usize], v[c as usize]]
     }
     /// Drop vertices no triangle uses, renumbering the rest.
     pub fn compact(&mut self) {
@@ -140,9 +143,11 @@ pub fn icosphere(level: u32) -> TriMesh {
 }
 
 impl TetMesh {
-    #[inline]
+    #[inline(always)]
     pub fn corners(&self, t: usize) -> [[f64; 3]; 4] {
-        self.tets[t].map(|i| self.vertices[i as usize])
+        let [a, b, c, d] = self.tets[t];
+        let v = &self.vertices;
+        [v[a as usize], v[b as usize], v[c as usize], v[d as usize]]
     }
     /// Every face of every tetrahedron (of the non-degenerate ones, without a repeated
     /// vertex, when `skip_degenerate`), grouped by vertex set in linear time: bucket

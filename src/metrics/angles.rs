@@ -210,7 +210,8 @@ pub fn per_triangle(mesh: &TriMesh) -> Result<Vec<Option<[f64; 3]>>> {
             if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
                 return None;
             }
-            let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+            let v = &mesh.vertices;
+            let [a, b, c] = [v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]];
             if triangle_is_degenerate(a, b, c) {
                 None
             } else {
@@ -292,7 +293,8 @@ pub fn triangle_ranges(mesh: &TriMesh) -> Result<TriangleAngles> {
                 if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
                     continue;
                 }
-                let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+                let v = &mesh.vertices;
+                let [a, b, c] = [v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]];
                 let Some((pairs, r)) = triangle_pairs(a, b, c) else {
                     continue;
                 };
@@ -374,7 +376,8 @@ pub fn triangle_extremes(mesh: &TriMesh) -> Result<TriangleAngles> {
                 if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
                     continue;
                 }
-                let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+                let v = &mesh.vertices;
+                let [a, b, c] = [v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]];
                 let (ab, bc, ca) = (sub(b, a), sub(c, b), sub(a, c));
                 let (lab, lbc, lca) = (dot(ab, ab), dot(bc, bc), dot(ca, ca));
                 let l2max = lab.max(lbc).max(lca);
