@@ -139,7 +139,9 @@ pub fn grad_batch(
     assert!(p.len() == out.len(), "batch slices of different lengths");
     for (pc, oc) in p.chunks(LANES).zip(out.chunks_mut(LANES)) {
         let at = |k: usize| pc[k.min(pc.len() - 1)];
-        let v = [0, 1, 2].map(|a| Dual::var(Lanes(std::array::from_fn(|k| at(k)[a])), a));
+        // (Per axis: `[0, 1, 2].map` left this closure out of line.)
+        let var = |a: usize| Dual::var(Lanes(std::array::from_fn(|k| at(k)[a])), a);
+        let v = [var(0), var(1), var(2)];
         let d = eval(v);
         for (k, o) in oc.iter_mut().enumerate() {
             *o = Dual {

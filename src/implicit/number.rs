@@ -495,8 +495,11 @@ impl<T: Num> Neg for Dual<T> {
 impl<T: Num> Mul for Dual<T> {
     type Output = Self;
     fn mul(self, o: Self) -> Self {
-        let g =
-            [0, 1, 2].map(|k| self.g[k].clone() * o.v.clone() + self.v.clone() * o.g[k].clone());
+        // (Per component, as `Add` above: `[0, 1, 2].map` calls its closure through a
+        // type-erased loop, left out of line for `Dual<Lanes>`: a call per component
+        // in the batch gradient's loop.)
+        let d = |k: usize| self.g[k].clone() * o.v.clone() + self.v.clone() * o.g[k].clone();
+        let g = [d(0), d(1), d(2)];
         Dual { v: self.v * o.v, g }
     }
 }
@@ -504,7 +507,8 @@ impl<T: Num> Div for Dual<T> {
     type Output = Self;
     fn div(self, o: Self) -> Self {
         let q = self.v / o.v.clone();
-        let g = [0, 1, 2].map(|k| (self.g[k].clone() - q.clone() * o.g[k].clone()) / o.v.clone());
+        let d = |k: usize| (self.g[k].clone() - q.clone() * o.g[k].clone()) / o.v.clone();
+        let g = [d(0), d(1), d(2)];
         Dual { v: q, g }
     }
 }
