@@ -42,7 +42,7 @@ const MAX_CELLS: usize = 128;
 const SLACK_REL: f64 = 1e-9;
 
 /// A triangle's bounding sphere and index, in cell order.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 struct Item {
     centre: [f64; 3],
     radius: f64,
@@ -172,6 +172,7 @@ impl<'a> CentroidGrid<'a> {
             start[k + 1] += start[k];
         }
         let total = start[cells] as usize;
+        // (One task on one thread: every task scans all the triangles' cells.)
         let tasks = if total < 8192 {
             1
         } else {
