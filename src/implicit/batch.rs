@@ -328,6 +328,13 @@ fn gather(src: &[f64], at: usize) -> L {
     o
 }
 
+/// [`gather`] along each axis. (Written out: `p.map` was left out of line, a call per
+/// chunk.)
+#[inline(always)]
+fn gather3(p: [&[f64]; 3], at: usize) -> [L; 3] {
+    [gather(p[0], at), gather(p[1], at), gather(p[2], at)]
+}
+
 /// Registers for a tape of `n` instructions: `regs` when large enough, else a new
 /// buffer in `spill`.
 fn registers<'a>(regs: &'a mut [L], spill: &'a mut Vec<L>, n: usize) -> &'a mut [L] {
@@ -412,8 +419,7 @@ pub(crate) fn eval_points(tape: &Tape, p: [&[f64]; 3], out: &mut [f64]) {
         tape,
         n,
         &mut regs,
-        // (Per axis: `p.map` was left out of line, a call per chunk.)
-        |at| [gather(p[0], at), gather(p[1], at), gather(p[2], at)],
+        |at| gather3(p, at),
         |at, r| {
             let m = (n - at).min(LANES);
             out[at..at + m].copy_from_slice(&r[..m]);
@@ -512,10 +518,7 @@ impl Tape {
             n,
             rl,
             rh,
-            |at| {
-                let g = |v: [&[f64]; 3]| [gather(v[0], at), gather(v[1], at), gather(v[2], at)];
-                (g(lo), g(hi))
-            },
+            |at| (gather3(lo, at), gather3(hi, at)),
             |at, l, h| {
                 let m = (n - at).min(LANES);
                 out_lo[at..at + m].copy_from_slice(&l[..m]);

@@ -46,8 +46,12 @@ impl TriMesh {
     /// The corners of triangle `t`.
     #[inline(always)]
     pub fn corners(&self, t: usize) -> [[f64; 3]; 3] {
+        self.corners_of(self.triangles[t])
+    }
+    /// The corners of the triangle with vertex indices `t`.
+    #[inline(always)]
+    pub fn corners_of(&self, [a, b, c]: [u32; 3]) -> [[f64; 3]; 3] {
         // (Per corner: `[u32; 3].map` can be left out of line, a call per triangle.)
-        let [a, b, c] = self.triangles[t];
         let v = &self.vertices;
         [v[a as usize], v[b as usize], v[c as usize]]
     }

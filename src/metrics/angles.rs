@@ -210,8 +210,7 @@ pub fn per_triangle(mesh: &TriMesh) -> Result<Vec<Option<[f64; 3]>>> {
             if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
                 return None;
             }
-            let v = &mesh.vertices;
-            let [a, b, c] = [v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]];
+            let [a, b, c] = mesh.corners_of(*t);
             if triangle_is_degenerate(a, b, c) {
                 None
             } else {
@@ -293,8 +292,7 @@ pub fn triangle_ranges(mesh: &TriMesh) -> Result<TriangleAngles> {
                 if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
                     continue;
                 }
-                let v = &mesh.vertices;
-                let [a, b, c] = [v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]];
+                let [a, b, c] = mesh.corners_of(*t);
                 let Some((pairs, r)) = triangle_pairs(a, b, c) else {
                     continue;
                 };
@@ -376,8 +374,7 @@ pub fn triangle_extremes(mesh: &TriMesh) -> Result<TriangleAngles> {
                 if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
                     continue;
                 }
-                let v = &mesh.vertices;
-                let [a, b, c] = [v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]];
+                let [a, b, c] = mesh.corners_of(*t);
                 let (ab, bc, ca) = (sub(b, a), sub(c, b), sub(a, c));
                 let (lab, lbc, lca) = (dot(ab, ab), dot(bc, bc), dot(ca, ca));
                 let l2max = lab.max(lbc).max(lca);
