@@ -55,6 +55,12 @@ impl TriMesh {
         let v = &self.vertices;
         [v[a as usize], v[b as usize], v[c as usize]]
     }
+    /// Whether the triangle with vertex indices `t` names a vertex twice (a degenerate
+    /// face: the metrics leave it out of the angles and the topology).
+    #[inline(always)]
+    pub fn repeats_vertex(t: [u32; 3]) -> bool {
+        t[0] == t[1] || t[1] == t[2] || t[2] == t[0]
+    }
     /// Drop vertices no triangle uses, renumbering the rest.
     pub fn compact(&mut self) {
         let mut map = vec![u32::MAX; self.vertices.len()];

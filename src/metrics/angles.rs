@@ -207,7 +207,7 @@ pub fn per_triangle(mesh: &TriMesh) -> Result<Vec<Option<[f64; 3]>>> {
         .triangles
         .par_iter()
         .map(|t| {
-            if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
+            if TriMesh::repeats_vertex(*t) {
                 return None;
             }
             let [a, b, c] = mesh.corners_of(*t);
@@ -289,7 +289,7 @@ pub fn triangle_ranges(mesh: &TriMesh) -> Result<TriangleAngles> {
                 ratios: None,
             };
             for t in ch {
-                if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
+                if TriMesh::repeats_vertex(*t) {
                     continue;
                 }
                 let [a, b, c] = mesh.corners_of(*t);
@@ -371,7 +371,7 @@ pub fn triangle_extremes(mesh: &TriMesh) -> Result<TriangleAngles> {
             let mut ext = Extremes::EMPTY;
             let mut ok = 0usize;
             for t in ch {
-                if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
+                if TriMesh::repeats_vertex(*t) {
                     continue;
                 }
                 let [a, b, c] = mesh.corners_of(*t);

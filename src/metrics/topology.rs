@@ -493,10 +493,7 @@ pub fn analyze(mesh: &TriMesh) -> Result<TopologyReport> {
     let nv = mesh.vertices.len();
     let tris = &mesh.triangles;
     let nf = tris.len();
-    let degenerate: Vec<bool> = tris
-        .iter()
-        .map(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
-        .collect();
+    let degenerate: Vec<bool> = tris.iter().map(|&t| TriMesh::repeats_vertex(t)).collect();
 
     // Components (union the vertices of every face) beside the stars (every vertex's
     // corners in non-degenerate faces, in face order) and one parallel pass over them, which
