@@ -164,6 +164,7 @@ fn malformed_mesh_files_name_the_line() {
     let (code, _, err) = certmesh(&["stats", p.to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(err.contains("line 4"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
@@ -1638,6 +1639,7 @@ fn delaunay_point_file_to_vtk_and_duplicates() {
         })
         .sum();
     assert!((vol - 8.0).abs() < 1e-9, "volume {vol}");
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
@@ -1700,6 +1702,7 @@ fn delaunay_errors_are_clear() {
         assert_eq!(v["kind"], kind, "{args:?}: {out}");
         assert_eq!(v["position"], pos, "{args:?}: {out}");
     }
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// `--metrics` (issue 20): `fast` (the default) and `full` give the same report but for
@@ -1832,4 +1835,5 @@ fn mesh_output_into_a_fifo() {
         got.len(),
         want.len()
     );
+    std::fs::remove_dir_all(&d).ok();
 }

@@ -109,10 +109,12 @@ fn format_line(e: Error) -> (&'static str, usize, String) {
     }
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("certmesh-io-test-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
+/// A fresh folder for one test, removed when the test ends (also when it fails).
+fn scratch() -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix("certmesh-io-test-")
+        .tempdir()
+        .expect("create a temporary folder")
 }
 
 // ---------------------------------------------------------------- round trips
@@ -320,6 +322,8 @@ fn writers_refuse_what_would_not_read_back() {
 /// vertex leaves the file empty, as a truncated file was before.
 #[test]
 fn writing_over_an_existing_file_leaves_only_the_new_mesh() {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     let grid = |n: u32| {
         let vertices: Vec<[f64; 3]> = (0..n * n)
             .map(|k| [(k % n) as f64 * 0.25, (k / n) as f64 * 0.5, 0.125])
@@ -367,6 +371,8 @@ fn writing_over_an_existing_file_leaves_only_the_new_mesh() {
 #[cfg(unix)]
 #[test]
 fn writing_into_a_fifo_gives_the_reader_the_file() {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     let fifo = tmp("into.ply");
     let _ = std::fs::remove_file(&fifo);
     let made = std::process::Command::new("mkfifo").arg(&fifo).status();
@@ -537,6 +543,8 @@ fn real_meshes_load_with_the_right_counts() {
 
 #[test]
 fn spot_survives_every_triangle_format() {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     let m = io::read_tri(data("spot.obj")).unwrap();
     for ext in ["obj", "OFF", "ply", "vtk", "mesh"] {
         let p = tmp(&format!("spot.{ext}"));
@@ -563,6 +571,8 @@ fn spot_survives_every_triangle_format() {
 
 #[test]
 fn formats_by_extension() {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     assert_eq!(Format::from_path("a/b.OBJ").unwrap(), Format::Obj);
     assert_eq!(Format::from_path("x.Mesh").unwrap(), Format::Medit);
     for f in Format::ALL {
@@ -607,6 +617,8 @@ fn formats_by_extension() {
 
 #[test]
 fn tet_and_curve_files_by_extension() {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     let t = TetMesh {
         vertices: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
         tets: vec![[0, 1, 2, 3]],

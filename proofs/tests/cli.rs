@@ -11,10 +11,12 @@ fn proofs(args: &[&str]) -> Output {
         .expect("run proofs")
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("proofs-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
+/// A fresh folder for one test, removed when the test ends (also when it fails).
+fn scratch() -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix("proofs-cli-")
+        .tempdir()
+        .expect("create a temporary folder")
 }
 
 fn json_error(o: &Output) -> serde_json::Value {
@@ -28,6 +30,8 @@ fn json_error(o: &Output) -> serde_json::Value {
 
 #[test]
 fn unreachable_tolerance_and_out_of_range_parameters_are_input_errors() {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     let out = tmp("never.json");
     for args in [
         vec!["gradnormal", "--tol-deg", "1e-300"],
@@ -74,6 +78,8 @@ fn usage_errors_are_json_with_json() {
 
 #[test]
 fn a_run_stopped_by_its_budget_writes_no_certificate() {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     let out = tmp("budget.json");
     let o = proofs(&[
         "gradnormal",
@@ -92,6 +98,8 @@ fn a_run_stopped_by_its_budget_writes_no_certificate() {
 
 #[test]
 fn unreadable_certificates_are_input_errors_with_a_position() {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     let p = tmp("broken.json");
     std::fs::write(
         &p,
@@ -115,6 +123,8 @@ fn unreadable_certificates_are_input_errors_with_a_position() {
 
 #[test]
 fn a_shard_is_partial_and_a_tampered_summary_is_rejected() {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     let out = tmp("shard.json");
     let o = proofs(&[
         "stuffing",
@@ -187,6 +197,8 @@ fn a_shard_is_partial_and_a_tampered_summary_is_rejected() {
 
 #[test]
 fn gradnormal_shard_is_partial() {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     let out = tmp("g-shard.json");
     let o = proofs(&[
         "gradnormal",
@@ -220,6 +232,8 @@ fn gradnormal_shard_is_partial() {
 /// summary carries the audit block, and `proofs check` accepts it.
 #[test]
 fn stuffing_audit_of_a_custom_pair() {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     let out = tmp("audit.json");
     for args in [
         vec!["stuffing", "--alpha-long", "0.5", "--alpha-short", "0.3"],
