@@ -119,6 +119,31 @@ fn cdrr_outputs_are_certified_and_edits_of_them_are_not() {
         let t0 = dup.triangles[0];
         dup.triangles.push([t0[0], t0[2], t0[1]]);
         assert!(!certify(&dup, name).homeomorphic, "{name}");
+        // A vertex doubled (a copy at the same point) and half of its triangles moved
+        // to the copy: the same triangles as point sets, but the file's surface is cut
+        // open there (checked independently by the combinatorial topology), so it is
+        // not certified; the report says the merged copy would be.
+        let mut cut = m.clone();
+        let v = cut.triangles[0][0];
+        let star: Vec<usize> = (0..cut.triangles.len())
+            .filter(|&t| cut.triangles[t].contains(&v))
+            .collect();
+        let copy = cut.vertices.len() as u32;
+        cut.vertices.push(cut.vertices[v as usize]);
+        for &t in &star[..star.len() / 2] {
+            for w in cut.triangles[t].iter_mut().filter(|w| **w == v) {
+                *w = copy;
+            }
+        }
+        assert!(
+            topology(&cut).is_none(),
+            "{name}: the cut mesh is a closed manifold"
+        );
+        let r = certify(&cut, name);
+        assert!(!r.homeomorphic, "{name}: {}", r.verdict);
+        assert_eq!(r.duplicate_vertices, 1);
+        assert!(r.is_rdt && r.tbp.holds, "{name}: {}", r.verdict);
+        assert!(r.verdict.contains("would be certified"), "{}", r.verdict);
     }
 }
 

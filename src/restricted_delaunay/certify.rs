@@ -10,6 +10,12 @@
 //! vertices are left out; exact duplicates are merged). The mesh equals the
 //! restricted triangulation when the two sets of vertex triples are equal (either
 //! orientation); otherwise the differing triangles are listed.
+//!
+//! A mesh with duplicate vertices (two indices, one point) is never certified: its
+//! triangles, as the file connects them, are not the complex that was checked (a
+//! surface cut open along an edge whose vertices are doubled has the same triangles as
+//! point sets, but boundary edges and pinched vertices). The report then says whether
+//! the copy with those vertices merged would be.
 use super::tbp::{self, Failure, TbpOptions, TbpReport, Test};
 use crate::error::{Error, Result};
 use crate::implicit::Implicit;
@@ -65,6 +71,8 @@ pub struct CertifyReport {
     /// Distinct vertices used by triangles: the sample P.
     pub sample_points: usize,
     pub unreferenced_vertices: usize,
+    /// Vertices at the same point as an earlier one (merged in P). Any makes the mesh
+    /// uncertified (see the module's documentation).
     pub duplicate_vertices: usize,
     pub vertices_outside_domain: usize,
     /// Facets of the certified restricted Delaunay triangulation of P.
@@ -79,7 +87,7 @@ pub struct CertifyReport {
     pub failures: Vec<MeshFailure>,
     /// Outward-rounded max over the vertices of |f| / |∇f| (`None` where ∇f may vanish).
     pub max_f_over_grad: Option<f64>,
-    /// (c) (a) and (b): the mesh is homeomorphic to S.
+    /// (c) (a) and (b), and no duplicate vertices: the mesh is homeomorphic to S.
     pub homeomorphic: bool,
     pub verdict: String,
     pub seconds: f64,
@@ -204,11 +212,24 @@ pub fn certify_mesh(
         })
         .collect();
     let holds = check.report.holds;
-    let homeomorphic = is_rdt && holds;
+    let duplicates = bulk.duplicates.len();
+    let homeomorphic = is_rdt && holds && duplicates == 0;
     let verdict = if homeomorphic {
         "certified homeomorphic to f = 0 (topological ball property, Theorem 5; homeomorphism, not isotopy)".to_string()
     } else {
         let mut why = Vec::new();
+        if duplicates > 0 {
+            why.push(format!(
+                "{duplicates} vertices repeat the point of an earlier vertex, so the \
+                 triangles as the file connects them are not the triangulation checked \
+                 (the copy with those vertices merged {})",
+                if is_rdt && holds {
+                    "would be certified"
+                } else {
+                    "would not be certified either"
+                }
+            ));
+        }
         if !is_rdt {
             why.push(format!(
                 "the mesh is not the restricted Delaunay triangulation of its vertices ({} of its triangles are not restricted facets{}, {} restricted facets are missing)",
