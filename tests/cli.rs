@@ -1837,3 +1837,71 @@ fn mesh_output_into_a_fifo() {
     );
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// Arguments that look like options (found by an adversarial run): a formula that
+/// starts with a minus sign is a formula, a negative number is the option's value and
+/// gets that option's range error, a missing argument is named in the JSON error, and
+/// a time limit past what the clock can hold is no limit (it used to panic).
+#[test]
+fn leading_minus_signs_and_huge_time_limits() {
+    let dir = tmp("minus");
+    let out = dir.join("s.ply");
+    let out = out.to_str().unwrap();
+    let (code, stdout, err) = certmesh(&[
+        "mesh",
+        "--formula",
+        "-x^2 - y^2 - z^2 + 1",
+        "--algo",
+        "mc",
+        "--resolution",
+        "12",
+        "-q",
+        "--json",
+        "-o",
+        out,
+    ]);
+    assert_eq!(code, 0, "{stdout}{err}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["found"], "1 component, genus [0]", "{stdout}");
+    let (code, stdout, _) = certmesh(&[
+        "mesh",
+        "sphere",
+        "--algo",
+        "pv",
+        "--time-limit",
+        "-1",
+        "--json",
+        "-o",
+        out,
+    ]);
+    assert_eq!(code, 2, "{stdout}");
+    let e = json_error(&stdout);
+    assert!(
+        e["error"]
+            .as_str()
+            .unwrap()
+            .contains("--time-limit must be a positive"),
+        "{e}"
+    );
+    let (code, stdout, _) = certmesh(&["mesh", "sphere", "--margin", "0.1", "--json", "-o", out]);
+    assert_eq!(code, 2, "{stdout}");
+    let e = json_error(&stdout);
+    assert!(e["error"].as_str().unwrap().contains("--mesh-input"), "{e}");
+    for limit in ["1e19", "1e300"] {
+        let (code, stdout, err) = certmesh(&[
+            "mesh",
+            "sphere",
+            "--algo",
+            "pv",
+            "--time-limit",
+            limit,
+            "-q",
+            "--json",
+            "-o",
+            out,
+        ]);
+        assert_eq!(code, 0, "--time-limit {limit}: {stdout}{err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

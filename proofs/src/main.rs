@@ -945,7 +945,16 @@ fn graded_cmd(
 
 fn main() -> ExitCode {
     let json = std::env::args_os().any(|a| a == "--json");
-    let cli = match Cli::try_parse() {
+    // In every subcommand a negative number is an option's value (`--a -1` gets that
+    // option's range error, not "unexpected argument").
+    let parsed = {
+        use clap::{CommandFactory, FromArgMatches};
+        Cli::command()
+            .mut_subcommands(|c| c.allow_negative_numbers(true))
+            .try_get_matches()
+            .and_then(|m| Cli::from_arg_matches(&m))
+    };
+    let cli = match parsed {
         Ok(c) => c,
         Err(e) => {
             use clap::error::ErrorKind;
@@ -958,11 +967,15 @@ fn main() -> ExitCode {
             if json && !info {
                 let f = Fail {
                     kind: Kind::Usage,
+                    // clap's first paragraph on one line (a missing argument's name
+                    // is on the line after "were not provided:").
                     msg: e
                         .to_string()
                         .lines()
-                        .next()
-                        .unwrap_or("")
+                        .take_while(|l| !l.trim().is_empty())
+                        .map(str::trim)
+                        .collect::<Vec<_>>()
+                        .join(" ")
                         .trim_start_matches("error: ")
                         .to_string(),
                     position: None,

@@ -36,6 +36,9 @@ fn unreachable_tolerance_and_out_of_range_parameters_are_input_errors() {
     for args in [
         vec!["gradnormal", "--tol-deg", "1e-300"],
         vec!["gradnormal", "--a", "10"],
+        // A negative number is the option's value, out of its range (not an unknown
+        // argument: that was a usage error).
+        vec!["gradnormal", "--a", "-1"],
         vec!["gradnormal", "--scan", "1000000"],
         vec![
             "stuffing",

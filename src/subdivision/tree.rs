@@ -231,8 +231,12 @@ impl Budget {
     pub fn new(max_boxes: u64, time_limit: Option<f64>) -> Budget {
         Budget {
             max_boxes,
-            deadline: time_limit
-                .map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s)),
+            // A limit past what the clock can represent (1e19 s, 1e300 s) is no limit:
+            // no deadline rather than an overflow.
+            deadline: time_limit.and_then(|s| {
+                let d = std::time::Duration::try_from_secs_f64(s).ok()?;
+                std::time::Instant::now().checked_add(d)
+            }),
             used: AtomicU64::new(0),
             stopped: std::sync::atomic::AtomicBool::new(false),
         }

@@ -11,7 +11,13 @@ pub(crate) struct MeshArgs {
     pub(crate) name: Option<String>,
     /// A formula instead of a catalog name; `@FILE` reads it from FILE (for formulas
     /// longer than the command line allows).
-    #[arg(long, short = 'f', conflicts_with = "formula_file")]
+    /// A formula may start with a minus sign (`--formula "-x^2 - y^2 + 1"`).
+    #[arg(
+        long,
+        short = 'f',
+        conflicts_with = "formula_file",
+        allow_hyphen_values = true
+    )]
     pub(crate) formula: Option<String>,
     /// Read the formula from this file (same as `--formula @FILE`).
     #[arg(long, value_name = "FILE")]
@@ -206,7 +212,7 @@ pub(crate) struct StatsArgs {
     #[arg(long, conflicts_with_all = ["formula", "formula_file"])]
     pub(crate) surface: Option<String>,
     /// Compare against this formula (`@FILE` reads it from a file).
-    #[arg(long, conflicts_with = "formula_file")]
+    #[arg(long, conflicts_with = "formula_file", allow_hyphen_values = true)]
     pub(crate) formula: Option<String>,
     /// Compare against the formula in this file.
     #[arg(long, value_name = "FILE")]

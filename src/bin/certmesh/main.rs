@@ -266,11 +266,19 @@ enum Cmd {
     Render(render_cmd::RenderArgs),
 }
 
+/// The command line, parsed. In every subcommand a negative number is an option's
+/// value (`--margin -1` gets that option's range error, not "unexpected argument").
+fn parse(args: &[std::ffi::OsString]) -> Result<Cli, clap::Error> {
+    use clap::{CommandFactory, FromArgMatches};
+    let cmd = Cli::command().mut_subcommands(|c| c.allow_negative_numbers(true));
+    Cli::from_arg_matches(&cmd.try_get_matches_from(args)?)
+}
+
 fn main() {
     memory::keep_freed_memory();
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
     let json = wants_json(&args);
-    let cli = match Cli::try_parse_from(&args) {
+    let cli = match parse(&args) {
         Ok(c) => c,
         Err(e) => {
             use clap::error::ErrorKind;
@@ -285,10 +293,14 @@ fn main() {
                 e.exit();
             }
             let text = e.render().to_string();
+            // The message: clap's first paragraph on one line (a missing argument's
+            // name is on the line after "were not provided:").
             let first = text
                 .lines()
-                .next()
-                .unwrap_or("")
+                .take_while(|l| !l.trim().is_empty())
+                .map(str::trim)
+                .collect::<Vec<_>>()
+                .join(" ")
                 .trim_start_matches("error: ")
                 .to_string();
             report_error(
