@@ -452,6 +452,7 @@ impl<'a> Run<'a> {
             Err(InsertError::Duplicate(_))
             | Err(InsertError::OutsideDomain)
             | Err(InsertError::NonFinite)
+            | Err(InsertError::OutOfRange)
             | Err(InsertError::TooMany) => {
                 self.stats.refused += 1;
                 return false;

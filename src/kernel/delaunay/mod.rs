@@ -86,6 +86,9 @@ pub enum InsertError {
     Duplicate(VertexId),
     /// A coordinate is NaN or infinite.
     NonFinite,
+    /// A coordinate is outside the range where the predicates are exact
+    /// ([`in_exact_range`]).
+    OutOfRange,
     /// The point is not strictly inside the far box.
     OutsideDomain,
     /// The triangulation already holds 2³⁰ vertices (ids keep two spare bits for the
@@ -93,11 +96,32 @@ pub enum InsertError {
     TooMany,
 }
 
+/// The smallest magnitude of a nonzero coordinate, 2⁻¹⁶²: every coordinate is then a
+/// multiple of 2⁻²¹⁴ (its last bit), every product of five coordinate differences (the
+/// in-sphere determinant's degree) a multiple of 2⁻¹⁰⁷⁰, which the doubles hold exactly
+/// down to their subnormals, so the adaptive predicates' error-free sums and products
+/// lose nothing to underflow. Below it (a surface meshed at a scale of 1e-120) they did,
+/// and the kernel panicked or gave an invalid triangulation.
+pub const MIN_COORDINATE: f64 = 1.0 / (1u128 << 81) as f64 / (1u128 << 81) as f64;
+/// The largest magnitude of a coordinate, 2¹⁵⁰: the far box (ten bounding radii) and
+/// degree-5 products stay far from overflow.
+pub const MAX_COORDINATE: f64 = (1u128 << 75) as f64 * (1u128 << 75) as f64;
+
+const RANGE_MESSAGE: &str = "a coordinate is outside the range where the exact predicates \
+     hold (0, or a magnitude from 2^-162 ≈ 1.7e-49 to 2^150 ≈ 1.4e45): rescale the input";
+
+/// `x` is 0 or of a magnitude in [[`MIN_COORDINATE`], [`MAX_COORDINATE`]].
+#[inline]
+pub fn in_exact_range(x: f64) -> bool {
+    x == 0.0 || (MIN_COORDINATE..=MAX_COORDINATE).contains(&x.abs())
+}
+
 impl std::fmt::Display for InsertError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             InsertError::Duplicate(v) => write!(f, "duplicate of vertex {v}"),
             InsertError::NonFinite => write!(f, "coordinate is not finite"),
+            InsertError::OutOfRange => write!(f, "{RANGE_MESSAGE}"),
             InsertError::OutsideDomain => write!(f, "point is outside the far box"),
             InsertError::TooMany => write!(f, "too many vertices (2^30)"),
         }
@@ -173,6 +197,17 @@ impl Delaunay {
                 "delaunay far box overflows".into(),
             ));
         }
+        if let Some(x) = lo
+            .iter()
+            .chain(&hi)
+            .chain(&flo)
+            .chain(&fhi)
+            .find(|x| !in_exact_range(**x))
+        {
+            return Err(crate::error::Error::Domain(format!(
+                "delaunay domain {lo:?}..{hi:?} (far box corner coordinate {x:e}): {RANGE_MESSAGE}"
+            )));
+        }
         let mut t = Delaunay {
             pts: Vec::new(),
             cells: Vec::new(),
@@ -213,6 +248,11 @@ impl Delaunay {
             if !p.iter().all(|x| x.is_finite()) {
                 return Err(crate::error::Error::NotFinite(format!(
                     "delaunay input point {i} is {p:?}"
+                )));
+            }
+            if !p.iter().all(|&x| in_exact_range(x)) {
+                return Err(crate::error::Error::Domain(format!(
+                    "delaunay input point {i} is {p:?}: {RANGE_MESSAGE}"
                 )));
             }
             for k in 0..3 {
@@ -314,6 +354,9 @@ impl Delaunay {
     ) -> Result<VertexId, InsertError> {
         if !p.iter().all(|x| x.is_finite()) {
             return Err(InsertError::NonFinite);
+        }
+        if !p.iter().all(|&x| in_exact_range(x)) {
+            return Err(InsertError::OutOfRange);
         }
         if (0..3).any(|k| !(p[k] > self.lo[k] && p[k] < self.hi[k])) {
             return Err(InsertError::OutsideDomain);
