@@ -1173,7 +1173,7 @@ fn a_run_stopped_by_its_box_budget_says_so() {
         &[
             "mesh",
             "--formula",
-            "0",
+            "(x^2 + y^2 + z^2 - 0.25)^2",
             "--domain",
             "-1,-1,-1,1,1,1",
             "--algo",
@@ -1199,7 +1199,7 @@ fn a_run_stopped_by_its_box_budget_says_so() {
         &[
             "mesh",
             "--formula",
-            "0",
+            "(x^2 + y^2 + z^2 - 0.25)^2",
             "--domain",
             "-1,-1,-1,1,1,1",
             "--algo",

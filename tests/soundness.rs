@@ -374,7 +374,9 @@ fn smooth_catalog_entries_still_certify() {
 
 #[test]
 fn the_box_budget_stops_and_says_so() {
-    let f = Formula::surface("0").unwrap();
+    // A double sphere: no box meeting it is ever certified, so the boxes near it are
+    // split until the budget runs out.
+    let f = Formula::surface("(x^2 + y^2 + z^2 - 0.25)^2").unwrap();
     let p = PvParams::new(3).with_max_depth(12).with_max_boxes(5000);
     let (tree, out) = run_pv(&f, &cube(3, 1.0), &p, 3, &NoProgress).unwrap();
     assert!(!tree.refinement_complete);
@@ -393,6 +395,34 @@ fn the_box_budget_stops_and_says_so() {
         Ok(_) => panic!("min_depth 20 was accepted"),
     };
     assert!(e.to_string().contains("--max-boxes"), "{e}");
+}
+
+/// f ≡ 0: every box is a failure that names it, at once, instead of splitting every
+/// box until the budget runs out (30 s at the defaults, with "raise --max-boxes" as
+/// the reason, which could never help: found by an adversarial run).
+#[test]
+fn an_identically_zero_function_is_named_not_split() {
+    let f = Formula::surface("0").unwrap();
+    let d = cube(3, 1.0);
+    let pv = PvParams::new(3).with_max_depth(12).with_max_boxes(5000);
+    let sn = SnyderParams::new(3).with_max_depth(12).with_max_boxes(5000);
+    for (tree, out) in [
+        run_pv(&f, &d, &pv, 3, &NoProgress).unwrap(),
+        run_snyder(&f, &d, &sn, 3, &NoProgress).unwrap(),
+    ] {
+        assert!(!out.certificate.is_certified());
+        match &out.certificate {
+            certmesh::Certificate::Uncertified { regions, .. } => {
+                assert!(!regions.is_empty());
+                assert!(
+                    regions.iter().all(|r| r.reason.contains("identically 0")),
+                    "{regions:?}"
+                );
+            }
+            c => panic!("{c:?}"),
+        }
+        assert!(tree.refinement_complete, "stopped by the budget");
+    }
 }
 
 // ---------------------------------------------------------------------------------

@@ -104,6 +104,17 @@ impl SupIv for Interval {
 pub const UNDEFINED_BOX: &str =
     "f is undefined on this whole box (a division by 0, a root of a negative number)";
 
+/// The reason for a box on which the enclosure of f is exactly [0, 0]: f vanishes on
+/// the whole box, its zero set there is the box itself, not a surface or a curve, and
+/// no subdivision can change that (so the box is not split until the budget runs out).
+pub const ZERO_BOX: &str =
+    "f is identically 0 on this whole box: its zero set is not a surface or curve there";
+
+/// The enclosure proves f = 0 everywhere on the box.
+pub(crate) fn identically_zero(v: Interval) -> bool {
+    !v.is_empty() && v.inf() == 0.0 && v.sup() == 0.0
+}
+
 /// `--max-boxes` at least 1, `--time-limit` positive and finite.
 pub(crate) fn check_budget(max_boxes: u64, time_limit: Option<f64>) -> Result<()> {
     if max_boxes == 0 {

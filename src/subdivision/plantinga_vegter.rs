@@ -20,7 +20,7 @@
 use crate::error::{Error, Result};
 use crate::implicit::Implicit;
 use crate::mesher::options::{Crossing, MesherOptions};
-use crate::subdivision::criteria::{boundary_failure, UNDEFINED_BOX};
+use crate::subdivision::criteria::{boundary_failure, identically_zero, UNDEFINED_BOX, ZERO_BOX};
 use crate::subdivision::engine::{Criterion, SubdivisionMesher, SubdivisionParams};
 use crate::subdivision::{
     cos_lower_bound, cut_arcs, excludes_zero, mean_value, snv_dot, AngleBound, Cell, Decision,
@@ -151,6 +151,9 @@ pub(crate) fn pv_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &PvParams) -> 
     let v = f.eval_interval(&ib);
     if v.is_empty() {
         return Decision::Leaf(Verdict::Failed(UNDEFINED_BOX));
+    }
+    if identically_zero(v) {
+        return Decision::Leaf(Verdict::Failed(ZERO_BOX));
     }
     if excludes_zero(v) {
         return Decision::Leaf(Verdict::Empty);

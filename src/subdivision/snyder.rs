@@ -18,7 +18,7 @@
 use crate::error::{Error, Result};
 use crate::implicit::Implicit;
 use crate::mesher::options::MesherOptions;
-use crate::subdivision::criteria::{boundary_failure, UNDEFINED_BOX};
+use crate::subdivision::criteria::{boundary_failure, identically_zero, UNDEFINED_BOX, ZERO_BOX};
 use crate::subdivision::engine::{Criterion, SubdivisionMesher, SubdivisionParams};
 use crate::subdivision::plantinga_vegter::PvPairing;
 use crate::subdivision::{
@@ -148,8 +148,12 @@ fn snyder_classify(f: &dyn Implicit, g: &Grid, c: Cell, p: &SnyderParams) -> Dec
     let ib = g.cell_ibox(c);
     let (v, grad) = enclose(f, &ib);
     let d = crate::implicit::Dual { v, g: grad };
-    if f.eval_interval(&ib).is_empty() {
+    let plain = f.eval_interval(&ib);
+    if plain.is_empty() {
         return Decision::Leaf(Verdict::Failed(UNDEFINED_BOX));
+    }
+    if identically_zero(plain) {
+        return Decision::Leaf(Verdict::Failed(ZERO_BOX));
     }
     // Only a strict exclusion proves the box free of f = 0: with □f ⊂ [0, ∞) the box
     // may hold a double zero ((x²+y²+z²−1)² vanishes on the sphere).

@@ -161,6 +161,12 @@ pub(crate) fn delaunay_cmd(a: DelaunayArgs) -> CliResult<()> {
         }
     }
     if valid == Some(false) {
+        if a.json {
+            // The report on stdout already says `"valid": false` and why: one JSON
+            // document, not the report and then an error object.
+            let _ = std::io::stdout().flush();
+            std::process::exit(EXIT_RUNTIME);
+        }
         return Err(CliError::from(Error::Param(format!(
             "the triangulation failed its validity check: {}",
             first_problem.unwrap_or_default()

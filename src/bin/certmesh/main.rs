@@ -82,7 +82,7 @@ enum Cmd {
     ///   certmesh mesh torus --algo mc --resolution 64 -o torus.obj
     ///   certmesh mesh --formula "x^2 + y^2 + z^2 - 1" --algo pv -o sphere.obj
     ///   certmesh mesh -f "x^4 + y^4 + z^4 - 1" --domain -1.2,-1.2,-1.2,1.2,1.2,1.2 --algo mc -o s.ply
-    ///   certmesh mesh --formula 0 --domain -1,-1,-1,1,1,1 --algo pv --max-boxes 2000 -o x.obj
+    ///   certmesh mesh -f "(x^2 + y^2 + z^2 - 1)^2" --algo pv --max-boxes 2000 -o x.obj
     #[command(verbatim_doc_comment)]
     Mesh(MeshArgs),
     /// Mesh a curve f(x, y) = 0 and write it as SVG or CSV.
