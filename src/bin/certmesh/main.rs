@@ -259,8 +259,8 @@ enum Cmd {
     /// it needs the certificate, so it meshes and renders in one step (--surface with
     /// --algo).
     ///
-    /// Example: certmesh render --surface sphere --algo mc --resolution 12 -o out/s.png --wire
-    /// Example: certmesh render --surface torus --algo stuffing --cut y=0 -o out/demo/renders/t.svg
+    /// Example: certmesh render --surface sphere --algo mc --resolution 12 -o s.png --wire
+    /// Example: certmesh render --surface torus --algo stuffing --cut y=0 -o t.svg
     /// Example: certmesh render --surface double-cone --algo pv --max-depth 4 --color certificate -o c.pdf
     #[command(verbatim_doc_comment)]
     Render(render_cmd::RenderArgs),
