@@ -382,27 +382,24 @@ proptest! {
 /// and leaves the triangulation as it was.
 #[test]
 fn coordinates_outside_the_exact_range_are_refused() {
-    for s in [1e-60, 1e-150, 1e-170, 1e-320, 1e60] {
-        let pts = vec![
+    // The origin, the points 1 along each axis and (1, 1, 1), times s.
+    let corners = |s: f64| {
+        vec![
             [0.0; 3],
             [s, 0.0, 0.0],
             [0.0, s, 0.0],
             [0.0, 0.0, s],
             [s; 3],
-        ];
-        let e = Delaunay::from_points(&pts, 1).unwrap_err().to_string();
+        ]
+    };
+    for s in [1e-60, 1e-150, 1e-170, 1e-320, 1e60] {
+        let e = Delaunay::from_points(&corners(s), 1)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("point 1") && e.contains("rescale"), "{s}: {e}");
         assert!(Delaunay::with_domain([-s; 3], [s; 3], 1).is_err(), "{s}");
     }
-    let s = 1e-40;
-    let pts = vec![
-        [0.0; 3],
-        [s, 0.0, 0.0],
-        [0.0, s, 0.0],
-        [0.0, 0.0, s],
-        [s; 3],
-    ];
-    let (t, _) = Delaunay::from_points(&pts, 1).unwrap();
+    let (t, _) = Delaunay::from_points(&corners(1e-40), 1).unwrap();
     assert_valid(&t);
     let (mut t, _) = Delaunay::from_points(&random_points(20, Sampler::Uniform, 3), 1).unwrap();
     let before = cell_set(&t);
