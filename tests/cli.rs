@@ -1905,3 +1905,36 @@ fn leading_minus_signs_and_huge_time_limits() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Refused before any work (found by an adversarial run): a --domain whose width
+/// overflows (it ran 31 s, then failed on NaN coordinates), and a Delaunay run whose
+/// estimated heap exceeds the limit (10⁸ random points, about 50 GB, was accepted).
+#[test]
+fn overflowing_domains_and_huge_point_counts_are_refused_up_front() {
+    let dir = tmp("upfront");
+    let t0 = Instant::now();
+    let (code, out, _) = certmesh_in(
+        &dir,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "pv",
+            "--domain=-1e308,-1e308,-1e308,1e308,1e308,1e308",
+            "--json",
+            "-o",
+            "x.ply",
+        ],
+    );
+    assert_eq!(code, 2, "{out}");
+    let e = json_error(&out);
+    assert_eq!(e["kind"], "domain", "{e}");
+    assert!(e["error"].as_str().unwrap().contains("overflows"), "{e}");
+    let (code, out, _) = certmesh_in(&dir, &["delaunay", "--random", "100000000", "--json"]);
+    assert_eq!(code, 2, "{out}");
+    let e = json_error(&out);
+    assert_eq!(e["kind"], "too-large", "{e}");
+    assert!(e["error"].as_str().unwrap().contains("GB"), "{e}");
+    assert!(t0.elapsed() < Duration::from_secs(20), "{:?}", t0.elapsed());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -33,7 +33,7 @@ pub enum Source<'a> {
 /// The domain given as numbers: `x0,y0,z0,x1,y1,z1` for surfaces, `x0,y0,x1,y1` for
 /// curves.
 pub fn domain_from(v: &[f64], dim: usize) -> Result<Aabb> {
-    match (v.len(), dim) {
+    let b = match (v.len(), dim) {
         (6, 3) => Aabb::new([v[0], v[1], v[2]], [v[3], v[4], v[5]]),
         (4, 2) => Aabb::new([v[0], v[1], 0.0], [v[2], v[3], 0.0]),
         (n, _) => Err(Error::Domain(format!(
@@ -45,7 +45,17 @@ pub fn domain_from(v: &[f64], dim: usize) -> Result<Aabb> {
                 "x0,y0,x1,y1"
             }
         ))),
+    }?;
+    // Finite corners can still give an infinite width or diagonal (±1e308), and then
+    // every cell size, grid coordinate and distance is infinite or NaN.
+    if !b.diagonal().is_finite() {
+        return Err(Error::Domain(format!(
+            "--domain {:?}..{:?}: its width or diagonal overflows to infinity; give a \
+             smaller box",
+            b.min, b.max
+        )));
     }
+    Ok(b)
 }
 
 /// The default domain of a formula: [-2, 2]³, or [-2, 2]² for a curve.
