@@ -337,6 +337,12 @@ fn hundred_thousand_random_points() {
         "{}",
         t.num_cells()
     );
+    // The estimate made before any work bounds the heap the triangulation holds.
+    assert!(
+        t.memory_bytes() as u64 <= Delaunay::estimated_bytes(pts.len()),
+        "{} bytes",
+        t.memory_bytes()
+    );
     let json = serde_json::to_string(&rep).unwrap();
     assert!(json.contains("\"points_per_second\""));
 }

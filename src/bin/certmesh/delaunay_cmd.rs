@@ -5,7 +5,7 @@ use crate::errors::*;
 use crate::input::check_writable;
 use certmesh::error::Error;
 use certmesh::io;
-use certmesh::kernel::delaunay::{self, random_points, ReportOptions, Sampler};
+use certmesh::kernel::delaunay::{self, random_points, Delaunay, ReportOptions, Sampler};
 use clap::Args;
 use serde::Serialize;
 use std::io::Write;
@@ -13,21 +13,18 @@ use std::path::PathBuf;
 
 /// Largest `--random N` (the kernel's vertex ids are 32-bit with room for flags).
 const MAX_RANDOM: usize = 1 << 28;
-/// Heap per point of a triangulation, for the estimate made before any work (482
-/// bytes measured on a million uniform points: `memory_bytes` of the report).
-const BYTES_PER_POINT: u64 = 500;
 /// Largest estimated heap of a triangulation: 16 GiB, about 34 million points.
 const MAX_BYTES: u64 = 16 << 30;
 
-/// Refuse `n` points before generating or triangulating them when their estimated
-/// heap exceeds [`MAX_BYTES`].
+/// Refuse `n` points before generating or triangulating them when the kernel's
+/// estimate of their heap ([`Delaunay::estimated_bytes`]) exceeds [`MAX_BYTES`].
 fn check_memory(n: usize, what: &str) -> CliResult<()> {
-    let bytes = (n as u64).saturating_mul(BYTES_PER_POINT);
+    let bytes = Delaunay::estimated_bytes(n);
     if bytes > MAX_BYTES {
         return Err(CliError::from(Error::TooLarge(format!(
-            "{what}: {n} points need about {:.1} GB ({BYTES_PER_POINT} bytes per point; at \
-             most {:.1} GB)",
+            "{what}: {n} points need about {:.1} GB ({} bytes per point; at most {:.1} GB)",
             bytes as f64 / 1e9,
+            Delaunay::BYTES_PER_POINT,
             MAX_BYTES as f64 / 1e9
         ))));
     }

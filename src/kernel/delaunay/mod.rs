@@ -501,6 +501,15 @@ impl Delaunay {
             })
         })
     }
+    /// Heap bytes a triangulation of `n` points will hold, estimated before any work
+    /// (for a refusal up front): [`Self::BYTES_PER_POINT`] per point.
+    pub fn estimated_bytes(n: usize) -> u64 {
+        (n as u64).saturating_mul(Self::BYTES_PER_POINT)
+    }
+    /// Heap per point of a finished triangulation, rounded up: 482 bytes measured by
+    /// [`Self::memory_bytes`] on a million uniform points (about 6.5 cells of 32 bytes
+    /// per point, with the arrays' spare capacity).
+    pub const BYTES_PER_POINT: u64 = 500;
     /// Estimated heap bytes held by the triangulation.
     pub fn memory_bytes(&self) -> usize {
         self.pts.capacity() * 24
