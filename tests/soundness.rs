@@ -359,6 +359,55 @@ fn poles_are_reported_as_discontinuities() {
     );
 }
 
+/// A pole plane off every grid plane, at the meshers' defaults (depth limit 12, the
+/// default box budget): the boxes on it stop `NONSMOOTH_MARGIN` levels early with the
+/// discontinuity as their reason, so the run finishes (it spent the whole budget, 11 s,
+/// and was reported as "box budget exhausted"), and the summary names the pole even
+/// though other regions (f = 0 meets the domain boundary) come first in the tree.
+#[test]
+fn a_pole_plane_ends_the_refinement_early_and_is_named() {
+    use certmesh::subdivision::engine::{NONSMOOTH_MARGIN, NONSMOOTH_MIN_LEVEL};
+    let f = Formula::surface("1/(x - 0.1234) - 1").unwrap();
+    let d = cube(3, 2.0);
+    let pvp = PvParams::new(3);
+    let (tree, pv_out) = run_pv(&f, &d, &pvp, 3, &NoProgress).unwrap();
+    let sp = SnyderParams::new(3);
+    let (stree, sn_out) = run_snyder(&f, &d, &sp, 3, &NoProgress).unwrap();
+    for (name, tree, out, depth) in [
+        ("pv", &tree, &pv_out, pvp.max_depth),
+        ("snyder", &stree, &sn_out, sp.max_depth),
+    ] {
+        assert!(tree.refinement_complete, "{name}: the budget ran out");
+        let certmesh::Certificate::Uncertified {
+            reason, regions, ..
+        } = &out.certificate
+        else {
+            panic!("{name} certified a pole plane")
+        };
+        assert!(reason.contains("not continuous"), "{name}: {reason}");
+        // The regions on the pole are boxes of the early level that contain x = 0.1234.
+        let level = (depth - NONSMOOTH_MARGIN).max(NONSMOOTH_MIN_LEVEL);
+        assert!(level < depth, "{name}: the test needs a deeper default");
+        let side = 4.0 / (1u64 << level) as f64;
+        let pole: Vec<_> = regions
+            .iter()
+            .filter(|r| r.cause == certmesh::mesher::Cause::NotContinuous)
+            .collect();
+        assert!(!pole.is_empty(), "{name}");
+        assert_eq!(regions[0].cause, certmesh::mesher::Cause::NotContinuous);
+        for r in &pole {
+            assert!(
+                r.region.min[0] <= 0.1234 && 0.1234 <= r.region.max[0],
+                "{name}"
+            );
+            assert!(
+                (r.region.max[0] - r.region.min[0] - side).abs() < 1e-12,
+                "{name}"
+            );
+        }
+    }
+}
+
 #[test]
 fn smooth_catalog_entries_still_certify() {
     for (t, dim) in [("x^2 + y^2 - 1", 2), ("x^2 + y^2 + z^2 - 1", 3)] {
@@ -728,4 +777,103 @@ fn a_surface_leaving_the_domain_is_not_certified() {
     let f =
         Formula::surface("(x - (0.1))^2/0.9857666756195742^2 + y^2/0.3^2 + z^2/0.3^2 - 1").unwrap();
     assert!(pv(&f, &d, 3, 7).certificate.is_certified());
+}
+
+/// A pole plane between grid planes, where f changes sign (1/(x − a) − 1 at
+/// a = 0.1234): every lattice mesher refuses it, naming a point of the pole, instead of
+/// meshing the pole plane as a second surface. The point named is checked against the
+/// pole itself; a pole whose sides have one sign (1/(x − a)² − 4) and a pole outside
+/// the domain are no error, and their meshes have no vertex near x = a.
+#[test]
+fn lattice_meshers_refuse_a_sign_change_across_a_pole() {
+    use certmesh::mesher::registry;
+    let a = 0.1234;
+    let o = certmesh::mesher::options::MesherOptions::default();
+    for (algo, dim, text, ok_text) in [
+        ("mc", 3, "1/(x - 0.1234) - 1", "1/(x - 0.1234)^2 - 4"),
+        ("mt", 3, "1/(x - 0.1234) - 1", "1/(x - 0.1234)^2 - 4"),
+        ("bcsv", 3, "1/(x - 0.1234) - 1", "1/(x - 0.1234)^2 - 4"),
+        ("midnormal", 3, "1/(x - 0.1234) - 1", "1/(x - 0.1234)^2 - 4"),
+        (
+            "gradnormal",
+            3,
+            "1/(x - 0.1234) - 1",
+            "1/(x - 0.1234)^2 - 4",
+        ),
+        ("stuffing", 3, "1/(x - 0.1234) - 1", "1/(x - 0.1234)^2 - 4"),
+        ("ms", 2, "1/(x - 0.1234) - y", "1/(x - 0.1234)^2 - 4 - y"),
+        (
+            "midnormal",
+            2,
+            "1/(x - 0.1234) - y",
+            "1/(x - 0.1234)^2 - 4 - y",
+        ),
+        (
+            "gradnormal",
+            2,
+            "1/(x - 0.1234) - y",
+            "1/(x - 0.1234)^2 - 4 - y",
+        ),
+    ] {
+        let m = registry::build(algo, dim, &o).unwrap();
+        let d = cube(dim, 2.0);
+        let f = Formula::with_dim(text, dim).unwrap();
+        let e = match m.mesh(&f, &d, &NoProgress) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("{algo} {dim}D meshed a sign change across the pole of {text}"),
+        };
+        let near = e.split("continuous near [").nth(1).expect(&e);
+        let x: f64 = near.split(',').next().unwrap().trim().parse().expect(&e);
+        assert!((x - a).abs() < 1e-6, "{algo} {dim}D: {e}");
+        let g = Formula::with_dim(ok_text, dim).unwrap();
+        let out = m
+            .mesh(&g, &d, &NoProgress)
+            .unwrap_or_else(|e| panic!("{algo} {dim}D on {ok_text}: {e}"));
+        let xs: Vec<f64> = match &out.mesh {
+            Mesh::Surface(s) => s.vertices.iter().map(|v| v[0]).collect(),
+            Mesh::Curve(c) => c.vertices.iter().map(|v| v[0]).collect(),
+            Mesh::Volume { boundary, .. } => boundary.vertices.iter().map(|v| v[0]).collect(),
+        };
+        assert!(!xs.is_empty(), "{algo} {dim}D on {ok_text}");
+        // Its zero set is |x − a| = 0.5: nothing lies within 0.25 of the pole.
+        assert!(
+            xs.iter().all(|x| (x - a).abs() > 0.25),
+            "{algo} {dim}D on {ok_text}: a vertex near the pole"
+        );
+    }
+    let far = Formula::surface("x^2 + y^2 + z^2 - 1 + 0.01/(x - 3)").unwrap();
+    let m = registry::build("mc", 3, &o).unwrap();
+    assert!(m.mesh(&far, &cube(3, 2.0), &NoProgress).is_ok());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+    /// `discontinuity_on_segment` against the pole it is given: 1/(x − c) on a random
+    /// segment is continuous there exactly when c is not between the ends' x, and the
+    /// point it names then lies within the last piece (2⁻³⁰ of the segment) of x = c.
+    #[test]
+    fn discontinuity_on_segment_finds_the_pole(
+        c in -1.0f64..1.0,
+        a in prop::array::uniform3(-2.0f64..2.0),
+        b in prop::array::uniform3(-2.0f64..2.0),
+        k in 1u32..4,
+    ) {
+        use certmesh::implicit::ops::{discontinuity_on_segment, DISCONTINUITY_DEPTH};
+        let f = Formula::surface(&format!("1/(x - ({c}))^{k} + y*z")).unwrap();
+        let got = discontinuity_on_segment(&f, a, b, DISCONTINUITY_DEPTH);
+        let (lo, hi) = (a[0].min(b[0]), a[0].max(b[0]));
+        let len = (0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>().sqrt();
+        // Margins of a few ulps and of the last piece: on the line, decide only where
+        // the answer is clear.
+        let piece = len * 2f64.powi(-(DISCONTINUITY_DEPTH as i32));
+        if c < lo - 1e-12 || c > hi + 1e-12 {
+            prop_assert!(got.is_none(), "pole {c} outside [{lo}, {hi}] but {got:?}");
+        } else if c > lo + 1e-12 && c < hi - 1e-12 {
+            let x = got.expect("the pole is inside the segment");
+            prop_assert!((x[0] - c).abs() <= piece + 1e-12, "{x:?} against {c}");
+        }
+        // A polynomial is continuous on every segment.
+        let p = Formula::surface(&format!("(x - ({c}))^{k} + y*z")).unwrap();
+        prop_assert!(discontinuity_on_segment(&p, a, b, DISCONTINUITY_DEPTH).is_none());
+    }
 }

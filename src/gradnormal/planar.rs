@@ -9,6 +9,7 @@
 //! arithmetic over a quadtree of lattice blocks.
 use super::GradNormalParams;
 use crate::error::{Error, Result};
+use crate::implicit::ops::{discontinuity_on_segment, sign_change_not_a_zero, DISCONTINUITY_DEPTH};
 use crate::implicit::Implicit;
 use crate::kernel::geom::{dist, Aabb};
 use crate::mesh::Curve2;
@@ -214,6 +215,19 @@ pub fn extract2(
     let mut keys: Vec<u64> = all.iter().flatten().copied().collect();
     keys.par_sort_unstable();
     keys.dedup();
+    // Every vertex is on a lattice edge whose ends differ in sign: a sign change across
+    // a pole of f is no zero of f, and is refused with the edge named.
+    let pole = keys.par_iter().find_map_first(|&k| {
+        let (p, q) = endpoints(k);
+        let (a, b) = (point(e, p[0], p[1]), point(e, q[0], q[1]));
+        discontinuity_on_segment(f, a, b, DISCONTINUITY_DEPTH).map(|x| {
+            let which = format!("lattice edge {p:?}–{q:?}");
+            sign_change_not_a_zero(a, f.eval(a), b, f.eval(b), &which, x)
+        })
+    });
+    if let Some(e) = pole {
+        return Err(e);
+    }
     let idx = |k: u64| keys.binary_search(&k).expect("key present") as u32;
     let segments = all.iter().map(|s| s.map(idx)).collect();
     let vertices = keys

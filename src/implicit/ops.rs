@@ -194,6 +194,75 @@ pub fn crossing_t(
     }
 }
 
+/// Levels of bisection [`discontinuity_on_segment`] spends localising a point where f
+/// is not proven continuous (the piece is then 2⁻³⁰ of the segment).
+pub const DISCONTINUITY_DEPTH: u32 = 30;
+
+/// Is f proven continuous on the segment a → b? `None` when it is: f is at least
+/// [`Regularity::Continuous`] on the segment's bounding box, or on each piece of a
+/// bisection of the segment (an enclosure that only overestimates is resolved by the
+/// bisection). Otherwise `Some(p)`, the midpoint of a piece 2⁻ᵈᵉᵖᵗʰ of the segment long
+/// on which it is not: a pole, or the edge of f's domain. A lattice mesher asks this of
+/// each sign-change edge: a sign change across a pole is no zero of f (1/(x − a)
+/// changes sign at x = a), and without the question the pole is meshed as a surface.
+/// At most 4·`depth` + 1 pieces are tested; a segment that needs more (f not
+/// continuous on many pieces) is answered with the first piece left.
+pub fn discontinuity_on_segment(
+    f: &dyn Implicit,
+    a: [f64; 3],
+    b: [f64; 3],
+    depth: u32,
+) -> Option<[f64; 3]> {
+    let piece = |t0: f64, t1: f64| -> IBox {
+        let (p, q) = (lerp(a, b, t0), lerp(a, b, t1));
+        // The float points of the piece's ends may differ from the true ones by an
+        // ulp: widen the box by one on each side so it holds the true segment piece.
+        [0, 1, 2].map(|k| {
+            let lo = p[k].min(q[k]).next_down();
+            let hi = p[k].max(q[k]).next_up();
+            Interval::try_from((lo, hi)).unwrap_or(Interval::ENTIRE)
+        })
+    };
+    let ok = |t0: f64, t1: f64| f.regularity(&piece(t0, t1)) >= Regularity::Continuous;
+    if ok(0.0, 1.0) {
+        return None;
+    }
+    let mut stack = vec![(0.0f64, 1.0f64, 0u32)];
+    let mut tested = 1u32;
+    while let Some((t0, t1, d)) = stack.pop() {
+        let m = 0.5 * (t0 + t1);
+        if d >= depth || tested > 4 * depth || !(t0 < m && m < t1) {
+            return Some(lerp(a, b, m));
+        }
+        for (u0, u1) in [(m, t1), (t0, m)] {
+            tested += 1;
+            if !ok(u0, u1) {
+                stack.push((u0, u1, d + 1));
+            }
+        }
+    }
+    None
+}
+
+/// The error of a lattice mesher for a sign change that [`discontinuity_on_segment`]
+/// found not to be a zero of f: the edge from `p` (f = `fp`) to `q` (f = `fq`),
+/// `which` naming it in the mesher's lattice, and the point `x` where f is not proven
+/// continuous.
+pub fn sign_change_not_a_zero(
+    p: [f64; 3],
+    fp: f64,
+    q: [f64; 3],
+    fq: f64,
+    which: &str,
+    x: [f64; 3],
+) -> Error {
+    Error::NotFinite(format!(
+        "f changes sign between {p:?} and {q:?} ({which}; f = {fp} and {fq}) but is not \
+         proven continuous near {x:?}: a pole or the edge of f's domain, not a zero of f \
+         (meshing it would add a false surface there)"
+    ))
+}
+
 /// One segment for [`crossing_t_batch`]: its ends and the values of f there.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SignChange {

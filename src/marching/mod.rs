@@ -51,8 +51,10 @@ pub use squares::{marching_squares, MarchingSquares, Squares};
 pub use tets::{marching_tetrahedra, MarchingTetrahedra, Tetrahedra};
 
 use crate::error::{Error, Result};
-use crate::implicit::ops::crossing_t;
-use crate::implicit::{Counted, Implicit};
+use crate::implicit::ops::{
+    crossing_t, discontinuity_on_segment, sign_change_not_a_zero, DISCONTINUITY_DEPTH,
+};
+use crate::implicit::{Counted, Implicit, Regularity};
 use crate::kernel::geom::{lerp, Aabb};
 use crate::lattice::grid::{Field, Grid, Samples, SignBits};
 use crate::lattice::octree;
@@ -422,6 +424,60 @@ pub(crate) fn extract<F: Field>(field: &F, scheme: &Scheme, place: Place) -> Res
     })
 }
 
+/// Refuse a sign change of the samples that is not a zero of f: on every grid edge
+/// (directions `dirs`, as in [`Scheme::dirs`]) whose two samples differ in sign (f < 0
+/// against f ≥ 0, the extractors' convention), f must be proven continuous
+/// ([`discontinuity_on_segment`]), else the error names the edge and the point where it
+/// is not: 1/(x − a) − 1 changes sign across its pole x = a, and a marching mesher
+/// would mesh the pole plane as a second surface. A pole on a grid vertex is refused by
+/// the sampling (f is not finite there). One decorated evaluation on the domain answers
+/// for every edge when f is continuous there (every polynomial, and rational functions
+/// whose poles lie outside); only the others pay a pass over the edges.
+pub(crate) fn check_crossings_continuous<F: Field>(
+    f: &dyn Implicit,
+    field: &F,
+    dirs: &[u8],
+) -> Result<()> {
+    let grid = *field.grid();
+    let [nx, ny, nz] = grid.vertex_dims();
+    let (lo, hi) = (grid.point(0, 0, 0), grid.point(nx - 1, ny - 1, nz - 1));
+    let dom = [0, 1, 2].map(|k| {
+        inari::Interval::try_from((lo[k].min(hi[k]), lo[k].max(hi[k])))
+            .unwrap_or(inari::Interval::ENTIRE)
+    });
+    if f.regularity(&dom) >= Regularity::Continuous {
+        return Ok(());
+    }
+    let offs: Vec<[usize; 3]> = dirs.iter().map(|&d| corner(d)).collect();
+    let first = (0..nz).into_par_iter().find_map_first(|k| {
+        for j in 0..ny {
+            for i in 0..nx {
+                let a = field.value(i, j, k);
+                if a.is_nan() {
+                    continue;
+                }
+                for o in &offs {
+                    let (i2, j2, k2) = (i + o[0], j + o[1], k + o[2]);
+                    if i2 >= nx || j2 >= ny || k2 >= nz {
+                        continue;
+                    }
+                    let b = field.value(i2, j2, k2);
+                    if b.is_nan() || (a < 0.0) == (b < 0.0) {
+                        continue;
+                    }
+                    let (p, q) = (grid.point(i, j, k), grid.point(i2, j2, k2));
+                    if let Some(x) = discontinuity_on_segment(f, p, q, DISCONTINUITY_DEPTH) {
+                        let which = format!("grid vertices {i}, {j}, {k} and {i2}, {j2}, {k2}");
+                        return Some(sign_change_not_a_zero(p, a, q, b, &which, x));
+                    }
+                }
+            }
+        }
+        None
+    });
+    first.map_or(Ok(()), Err)
+}
+
 /// The linear-interpolation crossing parameter for a sign change (f == 0 at an end puts
 /// the crossing there).
 #[inline(always)]
@@ -525,7 +581,14 @@ impl Table {
         }
     }
     /// Extract f = 0 from a sampled grid: the mesh and the cells with a sign change.
-    fn extract<F: Field>(&self, field: &F, place: Place) -> Result<(Mesh, u64)> {
+    /// First, a sign change of the samples across a pole of `f` is refused
+    /// ([`check_crossings_continuous`]).
+    fn extract<F: Field>(&self, f: &dyn Implicit, field: &F, place: Place) -> Result<(Mesh, u64)> {
+        let dirs: &[u8] = match self {
+            Table::Cube(s) => &s.dirs,
+            Table::Square(_) => &[1, 2],
+        };
+        check_crossings_continuous(f, field, dirs)?;
         match self {
             Table::Cube(s) => {
                 let ex = extract(field, s, place)?;
@@ -644,13 +707,13 @@ impl<C: Cells> Mesher for Marching<C> {
                 stats.prune_leaf = Some(p.leaf);
                 progress.start("extracting", 0);
             }
-            table.extract(&s, place)?
+            table.extract(f, &s, place)?
         } else {
             let s = Samples::sample(f, &grid, progress)?;
             if surface {
                 progress.start("extracting", 0);
             }
-            table.extract(&s, place)?
+            table.extract(f, &s, place)?
         };
         if surface {
             progress.finish();

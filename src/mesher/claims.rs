@@ -216,8 +216,11 @@ impl Claim {
     }
 }
 
-/// Why a region is uncertified, by kind (the text is in the region's `reason`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// Why a region is uncertified, by kind (the text is in the region's `reason`). Ordered
+/// from the input's own defects (a pole) to the run's limits (the budgets).
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Cause {
     /// f may have a pole, a gap of its domain, or a discontinuity on the box.

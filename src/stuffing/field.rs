@@ -7,7 +7,9 @@
 //! `f > 0`, and *zero* when `f == 0` exactly. Meshing the exterior (§3.3, double
 //! sided) uses `sign(f)` instead.
 use crate::error::{Error, Result};
-use crate::implicit::ops::SignChange;
+use crate::implicit::ops::{
+    discontinuity_on_segment, sign_change_not_a_zero, SignChange, DISCONTINUITY_DEPTH,
+};
 use crate::implicit::Implicit;
 use crate::kernel::geom::{lerp, Aabb};
 use crate::lattice::bcc::{self, Lattice, NEIGHBORS};
@@ -297,7 +299,15 @@ impl Field {
 
     /// Step 2: cut points on every edge with a positive and a negative end.
     /// `tol` is the tolerance on the edge parameter (0: full f64 precision).
-    pub fn compute_cuts(&mut self, f: &dyn Implicit, how: Crossing, tol: f64, parallel: bool) {
+    /// A sign change across a pole of f is refused (the error names the edge): it is
+    /// no zero of f ([`crate::implicit::ops::discontinuity_on_segment`]).
+    pub fn compute_cuts(
+        &mut self,
+        f: &dyn Implicit,
+        how: Crossing,
+        tol: f64,
+        parallel: bool,
+    ) -> Result<()> {
         let lat = &self.lat;
         let sign = &self.sign;
         let fv = &self.f;
@@ -335,6 +345,19 @@ impl Field {
         } else {
             (0..n).flat_map(edges_of).collect()
         };
+        let pole = |e: &(u32, u8, SignChange)| {
+            let s = &e.2;
+            discontinuity_on_segment(f, s.a, s.b, DISCONTINUITY_DEPTH)
+                .map(|x| sign_change_not_a_zero(s.a, s.fa, s.b, s.fb, "lattice edge", x))
+        };
+        let first = if parallel {
+            edges.par_iter().find_map_first(pole)
+        } else {
+            edges.iter().find_map(pole)
+        };
+        if let Some(e) = first {
+            return Err(e);
+        }
         const BATCH: usize = 1024;
         let solve = |c: &[(u32, u8, SignChange)]| {
             let segs: Vec<SignChange> = c.iter().map(|e| e.2).collect();
@@ -360,6 +383,7 @@ impl Field {
         for (i, r) in self.cuts.iter().enumerate() {
             self.surf[r.p as usize] = i as u32;
         }
+        Ok(())
     }
 
     /// The surviving cut on the edge of `q` in direction `d`: (parameter from `q`,

@@ -96,7 +96,7 @@ pub fn stuff_graded(
     let h = p.spacing(domain)?;
     let lat = Field::lattice(domain, h, p.offset)?;
     let mut fl = Field::evaluate(f, lat, p.seeding, false, p.parallel)?;
-    fl.compute_cuts(f, p.crossing, p.tolerance, p.parallel);
+    fl.compute_cuts(f, p.crossing, p.tolerance, p.parallel)?;
     let (al, as_) = p.alphas();
     let n = fl.lat.n;
     let in_window = |c: Coord| (0..3).all(|k| c[k] >= 0 && c[k] < n[k] as i64);

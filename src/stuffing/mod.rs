@@ -365,7 +365,7 @@ pub fn prepare(f: &dyn Implicit, domain: &Aabb, p: &StuffingParams) -> Result<Fi
     };
     // For the exterior, `evaluate` stores sign(f): the "positive" points are outside.
     let mut fl = Field::evaluate(f, lat, seeding, outside, p.parallel)?;
-    fl.compute_cuts(f, p.crossing, p.tolerance, p.parallel);
+    fl.compute_cuts(f, p.crossing, p.tolerance, p.parallel)?;
     Ok(fl)
 }
 
@@ -483,7 +483,7 @@ pub fn stuff_double_sided(
     let h = p.spacing(domain)?;
     let lat = Field::lattice(domain, h, p.offset)?;
     let mut fl = Field::evaluate(f, lat, Seeding::BoundingBox, false, p.parallel)?;
-    fl.compute_cuts(f, p.crossing, p.tolerance, p.parallel);
+    fl.compute_cuts(f, p.crossing, p.tolerance, p.parallel)?;
     let (al, as_) = p.alphas();
     warp::warp(&mut fl, al, as_, p.order, p.parallel);
     let inside = emit::emit(&mut fl, Side::Inside, p.parallel);

@@ -1,7 +1,7 @@
 //! Statistics of a finished subdivision ([`SubdivisionStats`]) and the leaf boxes for figures.
 use super::*;
 use crate::kernel::geom::Aabb;
-use crate::mesher::{Certificate, Claim, Uncertified};
+use crate::mesher::{Cause, Certificate, Claim, Uncertified};
 use std::collections::BTreeMap;
 
 /// The statistics of a finished subdivision, shared by every criterion (a criterion adds
@@ -65,6 +65,27 @@ pub fn leaf_boxes(tree: &Tree) -> Vec<(Aabb, Verdict)> {
         .collect()
 }
 
+/// "N region(s) not certified: n₁ reason₁; n₂ reason₂; …", the reasons in order of
+/// [`Cause`] (a pole or a discontinuity first, the budgets last), then by count: every
+/// cause is named, not only the first region's (a pole plane was hidden behind the
+/// domain boundary's regions).
+pub fn regions_summary(regions: &[Uncertified]) -> String {
+    let mut counts: Vec<(Cause, &str, usize)> = Vec::new();
+    for r in regions {
+        match counts.iter_mut().find(|(_, t, _)| *t == r.reason) {
+            Some(c) => c.2 += 1,
+            None => counts.push((r.cause, &r.reason, 1)),
+        }
+    }
+    counts.sort_by(|a, b| a.0.cmp(&b.0).then(b.2.cmp(&a.2)).then(a.1.cmp(b.1)));
+    let parts: Vec<String> = counts.iter().map(|(_, t, n)| format!("{n} {t}")).collect();
+    format!(
+        "{} region(s) not certified: {}",
+        regions.len(),
+        parts.join("; ")
+    )
+}
+
 /// The certificate of a finished subdivision run: certified (isotopy by `theorem`
 /// inside `inside`, the regularity of the zero set it rests on, the boxes excluded as
 /// empty) when no region failed, else uncertified with the regions.
@@ -74,18 +95,13 @@ pub fn certificate(
     dim: usize,
     inside: &Aabb,
     generic_position: bool,
-    regions: Vec<Uncertified>,
+    mut regions: Vec<Uncertified>,
 ) -> Certificate {
     if !regions.is_empty() {
-        return Certificate::uncertified(
-            format!(
-                "{} region(s) not certified (first: {})",
-                regions.len(),
-                regions[0].reason
-            ),
-            Vec::new(),
-            regions,
-        );
+        // The most serious causes first (stable: tree order within a cause), so the
+        // regions a report lists are those of a pole before those of a budget.
+        regions.sort_by_key(|r| r.cause);
+        return Certificate::uncertified(regions_summary(&regions), Vec::new(), regions);
     }
     let empty = tree
         .leaves
