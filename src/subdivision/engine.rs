@@ -15,13 +15,20 @@ use crate::error::{Error, Result};
 use crate::implicit::Implicit;
 use crate::kernel::geom::Aabb;
 use crate::mesher::check_input;
-use crate::mesher::options::MesherOptions;
+use crate::mesher::options::{MesherOptions, DEFAULT_TIME_LIMIT};
 use crate::mesher::{Mesh, MeshOutput, Mesher, Progress};
 use crate::subdivision::criteria::check_budget;
 use crate::subdivision::{
     assemble, certificate, subdivide, tree_stats, Budget, Cell, Decision, GenericMotion, Grid,
-    Pairing, RootFinder, Tree, DEFAULT_MAX_BOXES, MAX_LEVEL,
+    Pairing, RootFinder, Tree, Verdict, DEFAULT_MAX_BOXES, MAX_LEVEL,
 };
+
+/// Levels above the depth limit at which a box that f is not proven C¹ on stops being
+/// bisected and is reported uncertified with the reason (see [`run_subdivision`]).
+pub const NONSMOOTH_MARGIN: u32 = 4;
+/// The level below which [`NONSMOOTH_MARGIN`] never stops a box (a depth limit of 8
+/// or less is not affected).
+pub const NONSMOOTH_MIN_LEVEL: u32 = 8;
 
 /// The parameters of a subdivision mesher: the limits shared by all of them and the
 /// criterion's own settings.
@@ -39,7 +46,8 @@ pub struct SubdivisionParams<K> {
     /// Box tests allowed (default [`DEFAULT_MAX_BOXES`]; `--max-boxes`). A run that
     /// spends them stops, reports `refinement_complete: false` and certifies nothing.
     pub max_boxes: u64,
-    /// Wall-clock limit of the subdivision in seconds (default none; `--time-limit`).
+    /// Wall-clock limit of the subdivision in seconds (default none here; built from
+    /// options, [`DEFAULT_TIME_LIMIT`] unless `--time-limit` is given).
     pub time_limit: Option<f64>,
     /// The criterion's own settings.
     pub criterion: K,
@@ -97,7 +105,7 @@ impl<K: Criterion> SubdivisionParams<K> {
         if let Some(n) = o.max_boxes {
             p.max_boxes = n;
         }
-        p.time_limit = o.time_limit;
+        p.time_limit = Some(o.time_limit.unwrap_or(DEFAULT_TIME_LIMIT));
         p.validate()?;
         Ok(p)
     }
@@ -191,9 +199,34 @@ pub fn run_subdivision<K: Criterion>(
     let budget = Budget::new(p.max_boxes, p.time_limit);
     budget.check_min_depth(dim, p.min_depth)?;
     progress.start("subdivision", 0);
-    let mut tree = subdivide(grid, p.min_depth, p.max_depth, &budget, &|gr: &Grid, c| {
-        K::classify(p, g, gr, c)
-    });
+    // A box that f is not proven C¹ on (a pole, a kink, the edge of f's domain) is
+    // bisected only to `NONSMOOTH_MARGIN` levels above the depth limit (but at least to
+    // level `NONSMOOTH_MIN_LEVEL`): no criterion
+    // certifies it, and localising a pole plane to the depth limit costs 4ᵏ boxes (a
+    // pole plane through the default domain spent the whole box budget, 11 s, and
+    // was reported as "box budget exhausted" instead of by its cause).
+    // Never before level `NONSMOOTH_MIN_LEVEL`: refining near a pole can still prove
+    // boxes empty (beside the pole of 1/x, 1/x dominates and □f excludes 0).
+    let nonsmooth_level = p
+        .max_depth
+        .saturating_sub(NONSMOOTH_MARGIN)
+        .max(NONSMOOTH_MIN_LEVEL);
+    let mut tree =
+        subdivide(
+            grid,
+            p.min_depth,
+            p.max_depth,
+            &budget,
+            &|gr: &Grid, c| match K::classify(p, g, gr, c) {
+                Decision::Split(why) if c.level as u32 >= nonsmooth_level => {
+                    match g.regularity(&gr.cell_ibox(c)).c1_failure() {
+                        Some(not_c1) => Decision::Leaf(Verdict::Failed(not_c1)),
+                        None => Decision::Split(why),
+                    }
+                }
+                d => d,
+            },
+        );
     if K::BALANCED {
         tree.balance(g);
     }
