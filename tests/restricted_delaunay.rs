@@ -1054,3 +1054,33 @@ fn no_claim_survives_a_non_rigorous_function() {
         .to_string();
     assert!(err.contains("not rigorous"), "{err}");
 }
+
+/// Built from options without `--time-limit`, every mesher whose box or vertex budget
+/// can take minutes to reach has the default wall-clock limit; a given limit wins.
+#[test]
+fn refinement_meshers_have_a_default_time_limit() {
+    use certmesh::mesher::options::DEFAULT_TIME_LIMIT;
+    use certmesh::restricted_delaunay::curve::BoissonnatOudot2;
+    use certmesh::restricted_delaunay::{bo::BoissonnatOudot, cdrr::ChengDeyRamosRay};
+    use certmesh::subdivision::engine::SubdivisionParams;
+    use certmesh::subdivision::plantinga_vegter::PvCriterion;
+    use certmesh::subdivision::snyder::SnyderCriterion;
+    for (given, want) in [(None, DEFAULT_TIME_LIMIT), (Some(2.5), 2.5)] {
+        let o = MesherOptions {
+            time_limit: given,
+            ..Default::default()
+        };
+        let got = [
+            BoissonnatOudot::from_options(&o).unwrap().time_limit,
+            ChengDeyRamosRay::from_options(&o).unwrap().time_limit,
+            BoissonnatOudot2::from_options(&o).unwrap().time_limit,
+            SubdivisionParams::<PvCriterion>::from_options(&o, 3)
+                .unwrap()
+                .time_limit,
+            SubdivisionParams::<SnyderCriterion>::from_options(&o, 2)
+                .unwrap()
+                .time_limit,
+        ];
+        assert_eq!(got, [Some(want); 5], "given {given:?}");
+    }
+}

@@ -6,6 +6,15 @@ pub use crate::implicit::ops::Crossing;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+/// The wall-clock limit, in seconds, of a mesher built from [`MesherOptions`] without
+/// `--time-limit`: pv, snyder, stander-hart, bo (surfaces and curves) and cdrr. Their
+/// other budgets (boxes, vertices) bound the work but not its time: near a pole or a
+/// singular point a refinement may spend minutes before it reaches them (cdrr on two
+/// touching spheres, 226 s to its 200,000 vertices; bo over 300 s). A run stopped by
+/// the limit says so and certifies nothing. The library's parameter types
+/// (`PvParams::new`, ...) have no limit unless one is set.
+pub const DEFAULT_TIME_LIMIT: f64 = 60.0;
+
 /// Options common to the meshers. `None` means "the mesher's documented default".
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct MesherOptions {
@@ -31,7 +40,8 @@ pub struct MesherOptions {
     pub graded: bool,
     /// Box tests allowed (subdivision meshers; `--max-boxes`).
     pub max_boxes: Option<u64>,
-    /// Wall-clock limit in seconds (subdivision meshers; `--time-limit`).
+    /// Wall-clock limit in seconds (subdivision and refinement meshers:
+    /// `--time-limit`); `None` means [`DEFAULT_TIME_LIMIT`].
     pub time_limit: Option<f64>,
     /// Smallest triangle angle in degrees (restricted-Delaunay meshers; CGAL's
     /// `facet_angle`).

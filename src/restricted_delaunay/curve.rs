@@ -75,7 +75,7 @@ use crate::implicit::ops::{
 use crate::implicit::{IBox, Implicit};
 use crate::kernel::geom::{dist, lerp, Aabb};
 use crate::mesh::Curve2;
-use crate::mesher::options::MesherOptions;
+use crate::mesher::options::{MesherOptions, DEFAULT_TIME_LIMIT};
 use crate::mesher::{
     check_input, stats_map, Certificate, Claim, Mesh, MeshOutput, Mesher, Progress, Uncertified,
 };
@@ -152,14 +152,13 @@ impl BoissonnatOudot2 {
             }
             m.max_vertices = n;
         }
-        if let Some(t) = o.time_limit {
-            if !(t.is_finite() && t > 0.0) {
-                return Err(Error::Param(format!(
-                    "--time-limit must be a positive number of seconds, got {t}"
-                )));
-            }
-            m.time_limit = Some(t);
+        let t = o.time_limit.unwrap_or(DEFAULT_TIME_LIMIT);
+        if !(t.is_finite() && t > 0.0) {
+            return Err(Error::Param(format!(
+                "--time-limit must be a positive number of seconds, got {t}"
+            )));
         }
+        m.time_limit = Some(t);
         if let Some(n) = o.get::<usize>("seed-lines")? {
             m.seed_lines = n.clamp(1, 1000);
         }

@@ -105,15 +105,20 @@ pub(crate) struct OptArgs {
     #[arg(long)]
     pub(crate) graded: bool,
     /// Budget of box tests of the subdivision meshers (pv, snyder; default 1000000,
-    /// a few seconds). When it is spent the run stops: the boxes not yet decided are
+    /// a few seconds on a formula, minutes on --mesh-input, whose every box test is
+    /// a distance query to the mesh: --time-limit stops those first). When it is spent
+    /// the run stops: the boxes not yet decided are
     /// returned as uncertified regions with the reason "box budget exhausted (raise
     /// --max-boxes)", the stats say refinement_complete: false, the report says that
     /// the run stopped and why, and nothing is certified.
     #[arg(long, value_name = "N")]
     pub(crate) max_boxes: Option<u64>,
-    /// Wall-clock limit of the subdivision meshers (pv, snyder), in seconds (default:
-    /// none). A run stopped by it reports "time limit reached (raise --time-limit)",
-    /// refinement_complete: false, and certifies nothing.
+    /// Wall-clock limit of the subdivision and refinement meshers (pv, snyder,
+    /// stander-hart, bo, cdrr), in seconds (default 60). Their box and vertex budgets
+    /// bound the work, but near a pole or a singular point (two touching spheres, the
+    /// Whitney umbrella) reaching them can take minutes. A run stopped by the limit
+    /// reports "time limit reached (raise --time-limit)", refinement_complete: false,
+    /// and certifies nothing.
     #[arg(long, value_name = "SECONDS")]
     pub(crate) time_limit: Option<f64>,
     /// Smallest triangle angle in degrees (bo; CGAL's facet_angle, default 30;
