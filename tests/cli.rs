@@ -1938,3 +1938,34 @@ fn overflowing_domains_and_huge_point_counts_are_refused_up_front() {
     assert!(t0.elapsed() < Duration::from_secs(20), "{:?}", t0.elapsed());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A render the input cannot satisfy is an input error (exit 2, like every bad
+/// parameter), not a failure during the work (exit 1): `--color certificate` on a mesh
+/// file (which carries no certificate), and a mesh with no faces.
+#[test]
+fn render_errors_of_the_input_exit_2() {
+    let d = tmp("render-input");
+    std::fs::write(d.join("empty.obj"), "").unwrap();
+    let spot = repo().join("data/spot.obj");
+    for (args, says) in [
+        (
+            vec![
+                spot.to_str().unwrap(),
+                "--color",
+                "certificate",
+                "-o",
+                "a.svg",
+            ],
+            "certificate",
+        ),
+        (vec!["empty.obj", "-o", "b.svg"], "no faces"),
+    ] {
+        let mut all = vec!["render"];
+        all.extend(args);
+        let (code, out, err) = certmesh_in(&d, &all);
+        assert_eq!(code, 2, "{all:?}: {out}{err}");
+        assert!(err.contains(says), "{all:?}: {err}");
+        assert!(!d.join("a.svg").exists() && !d.join("b.svg").exists());
+    }
+    std::fs::remove_dir_all(&d).unwrap();
+}

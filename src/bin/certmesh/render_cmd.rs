@@ -116,7 +116,7 @@ pub(crate) fn render_cmd(a: RenderArgs, quiet: bool) -> CliResult<()> {
                     render::render(&base, Input::Surface(&m), None, &o, &formats)
                 }
             }
-            .runtime()?
+            .map_err(render_error)?
         }
         (None, Some(name), Some(algo)) => {
             let opts = a.opts.to_options()?;
@@ -138,7 +138,7 @@ pub(crate) fn render_cmd(a: RenderArgs, quiet: bool) -> CliResult<()> {
                 }
                 Mesh::Curve(_) => Err(Error::Param(format!("'{algo}' made a curve"))),
             }
-            .runtime()?
+            .map_err(render_error)?
         }
         _ => {
             return Err(CliError::from(Error::Param(
@@ -166,4 +166,15 @@ pub(crate) fn render_cmd(a: RenderArgs, quiet: bool) -> CliResult<()> {
         }
     }
     Ok(())
+}
+
+/// A render error: a parameter the input cannot satisfy (`--color certificate` on a
+/// mesh file, which carries no certificate; a mesh with no faces) is an input error
+/// (exit 2), like every other bad parameter; anything else (writing the figure) is a
+/// failure during the work (exit 1).
+fn render_error(e: Error) -> CliError {
+    match e {
+        Error::Param(_) => CliError::from(e),
+        e => CliError::from(e).runtime(),
+    }
 }
