@@ -16,7 +16,9 @@ use super::tiling::{
 };
 use super::DiagonalRule;
 use crate::error::{Error, Result};
-use crate::implicit::ops::{discontinuity_on_segment, sign_change_not_a_zero, DISCONTINUITY_DEPTH};
+use crate::implicit::ops::{
+    continuous_on, discontinuity_on_segment, sign_change_not_a_zero, DISCONTINUITY_DEPTH,
+};
 use crate::implicit::Implicit;
 use crate::kernel::geom::{add, cross, dot, scale, sub, Aabb};
 use crate::mesher::Progress;
@@ -363,20 +365,6 @@ pub fn extract(
         )));
     }
     let (keys, triangles, quads) = number_corners(&outs_ok, n_tris, n_quads);
-    // Every vertex is on a lattice edge whose ends differ in sign: a sign change across
-    // a pole of f is no zero of f, and is refused with the edge named.
-    let pole = keys.par_iter().find_map_first(|&k| {
-        let (p, q) = edge_endpoints(k);
-        let a = g.vertex(p[0], p[1], p[2]);
-        let b = g.vertex(q[0], q[1], q[2]);
-        discontinuity_on_segment(f, a, b, DISCONTINUITY_DEPTH).map(|x| {
-            let which = format!("lattice edge {p:?}–{q:?}");
-            sign_change_not_a_zero(a, f.eval(a), b, f.eval(b), &which, x)
-        })
-    });
-    if let Some(e) = pole {
-        return Err(e);
-    }
     let vertices: Vec<[f64; 3]> = keys
         .par_iter()
         .map(|&k| {
@@ -386,6 +374,25 @@ pub fn extract(
             scale(add(a, b), 0.5)
         })
         .collect();
+    // Every vertex is on a lattice edge whose ends differ in sign: a sign change across
+    // a pole of f is no zero of f, and is refused with the edge named.
+    // The edges' midpoints are the vertices; no lattice edge is longer than
+    // 2(e + a), so the box of the midpoints grown by that holds every edge.
+    let near = Aabb::of_points_par(&vertices).map(|b| b.inflate(2.0 * (g.e + g.a)));
+    let pole = near.filter(|b| !continuous_on(f, b)).map(|_| {
+        keys.par_iter().find_map_first(|&k| {
+            let (p, q) = edge_endpoints(k);
+            let a = g.vertex(p[0], p[1], p[2]);
+            let b = g.vertex(q[0], q[1], q[2]);
+            discontinuity_on_segment(f, a, b, DISCONTINUITY_DEPTH).map(|x| {
+                let which = format!("lattice edge {p:?}–{q:?}");
+                sign_change_not_a_zero(a, f.eval(a), b, f.eval(b), &which, x)
+            })
+        })
+    });
+    if let Some(Some(e)) = pole {
+        return Err(e);
+    }
     Ok(NormalSurface {
         goldberg: Some(*g),
         keys,

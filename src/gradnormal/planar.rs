@@ -9,7 +9,9 @@
 //! arithmetic over a quadtree of lattice blocks.
 use super::GradNormalParams;
 use crate::error::{Error, Result};
-use crate::implicit::ops::{discontinuity_on_segment, sign_change_not_a_zero, DISCONTINUITY_DEPTH};
+use crate::implicit::ops::{
+    continuous_on, discontinuity_on_segment, sign_change_not_a_zero, DISCONTINUITY_DEPTH,
+};
 use crate::implicit::Implicit;
 use crate::kernel::geom::{dist, Aabb};
 use crate::mesh::Curve2;
@@ -215,22 +217,9 @@ pub fn extract2(
     let mut keys: Vec<u64> = all.iter().flatten().copied().collect();
     keys.par_sort_unstable();
     keys.dedup();
-    // Every vertex is on a lattice edge whose ends differ in sign: a sign change across
-    // a pole of f is no zero of f, and is refused with the edge named.
-    let pole = keys.par_iter().find_map_first(|&k| {
-        let (p, q) = endpoints(k);
-        let (a, b) = (point(e, p[0], p[1]), point(e, q[0], q[1]));
-        discontinuity_on_segment(f, a, b, DISCONTINUITY_DEPTH).map(|x| {
-            let which = format!("lattice edge {p:?}–{q:?}");
-            sign_change_not_a_zero(a, f.eval(a), b, f.eval(b), &which, x)
-        })
-    });
-    if let Some(e) = pole {
-        return Err(e);
-    }
     let idx = |k: u64| keys.binary_search(&k).expect("key present") as u32;
     let segments = all.iter().map(|s| s.map(idx)).collect();
-    let vertices = keys
+    let vertices: Vec<[f64; 2]> = keys
         .iter()
         .map(|&k| {
             let (p, q) = endpoints(k);
@@ -238,6 +227,28 @@ pub fn extract2(
             [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
         })
         .collect();
+    // Every vertex is on a lattice edge whose ends differ in sign: a sign change across
+    // a pole of f is no zero of f, and is refused with the edge named.
+    // The edges' midpoints are the vertices and every lattice edge is e long: the
+    // box of the midpoints grown by e holds every edge.
+    let mids: Vec<[f64; 3]> = vertices
+        .iter()
+        .map(|v: &[f64; 2]| [v[0], v[1], 0.0])
+        .collect();
+    let near = Aabb::of_points(&mids).map(|b| b.inflate(e));
+    let pole = near.filter(|b| !continuous_on(f, b)).map(|_| {
+        keys.par_iter().find_map_first(|&k| {
+            let (p, q) = endpoints(k);
+            let (a, b) = (point(e, p[0], p[1]), point(e, q[0], q[1]));
+            discontinuity_on_segment(f, a, b, DISCONTINUITY_DEPTH).map(|x| {
+                let which = format!("lattice edge {p:?}–{q:?}");
+                sign_change_not_a_zero(a, f.eval(a), b, f.eval(b), &which, x)
+            })
+        })
+    });
+    if let Some(Some(e)) = pole {
+        return Err(e);
+    }
     Ok(NormalCurve {
         e,
         keys,

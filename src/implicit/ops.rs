@@ -244,6 +244,14 @@ pub fn discontinuity_on_segment(
     None
 }
 
+/// Is f proven continuous on the whole box `b` (one decorated evaluation)? A lattice
+/// mesher asks this first and calls [`discontinuity_on_segment`] per edge only when
+/// not: every polynomial, and every rational function whose poles lie outside `b`,
+/// pays nothing more.
+pub fn continuous_on(f: &dyn Implicit, b: &crate::kernel::geom::Aabb) -> bool {
+    f.regularity(&b.intervals()) >= Regularity::Continuous
+}
+
 /// The error of a lattice mesher for a sign change that [`discontinuity_on_segment`]
 /// found not to be a zero of f: the edge from `p` (f = `fp`) to `q` (f = `fq`),
 /// `which` naming it in the mesher's lattice, and the point `x` where f is not proven

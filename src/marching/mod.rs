@@ -52,9 +52,10 @@ pub use tets::{marching_tetrahedra, MarchingTetrahedra, Tetrahedra};
 
 use crate::error::{Error, Result};
 use crate::implicit::ops::{
-    crossing_t, discontinuity_on_segment, sign_change_not_a_zero, DISCONTINUITY_DEPTH,
+    continuous_on, crossing_t, discontinuity_on_segment, sign_change_not_a_zero,
+    DISCONTINUITY_DEPTH,
 };
-use crate::implicit::{Counted, Implicit, Regularity};
+use crate::implicit::{Counted, Implicit};
 use crate::kernel::geom::{lerp, Aabb};
 use crate::lattice::grid::{Field, Grid, Samples, SignBits};
 use crate::lattice::octree;
@@ -441,11 +442,7 @@ pub(crate) fn check_crossings_continuous<F: Field>(
     let grid = *field.grid();
     let [nx, ny, nz] = grid.vertex_dims();
     let (lo, hi) = (grid.point(0, 0, 0), grid.point(nx - 1, ny - 1, nz - 1));
-    let dom = [0, 1, 2].map(|k| {
-        inari::Interval::try_from((lo[k].min(hi[k]), lo[k].max(hi[k])))
-            .unwrap_or(inari::Interval::ENTIRE)
-    });
-    if f.regularity(&dom) >= Regularity::Continuous {
+    if Aabb::of_points(&[lo, hi]).is_some_and(|b| continuous_on(f, &b)) {
         return Ok(());
     }
     let offs: Vec<[usize; 3]> = dirs.iter().map(|&d| corner(d)).collect();

@@ -8,7 +8,8 @@
 //! sided) uses `sign(f)` instead.
 use crate::error::{Error, Result};
 use crate::implicit::ops::{
-    discontinuity_on_segment, sign_change_not_a_zero, SignChange, DISCONTINUITY_DEPTH,
+    continuous_on, discontinuity_on_segment, sign_change_not_a_zero, SignChange,
+    DISCONTINUITY_DEPTH,
 };
 use crate::implicit::Implicit;
 use crate::kernel::geom::{lerp, Aabb};
@@ -350,10 +351,17 @@ impl Field {
             discontinuity_on_segment(f, s.a, s.b, DISCONTINUITY_DEPTH)
                 .map(|x| sign_change_not_a_zero(s.a, s.fa, s.b, s.fb, "lattice edge", x))
         };
-        let first = if parallel {
-            edges.par_iter().find_map_first(pole)
-        } else {
-            edges.iter().find_map(pole)
+        let ends: Vec<[f64; 3]> = edges.iter().flat_map(|e| [e.2.a, e.2.b]).collect();
+        let hull = Aabb::of_points(&ends);
+        let first = match hull {
+            Some(h) if !continuous_on(f, &h) => {
+                if parallel {
+                    edges.par_iter().find_map_first(pole)
+                } else {
+                    edges.iter().find_map(pole)
+                }
+            }
+            _ => None,
         };
         if let Some(e) = first {
             return Err(e);
