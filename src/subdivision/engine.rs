@@ -200,13 +200,12 @@ pub fn run_subdivision<K: Criterion>(
     budget.check_min_depth(dim, p.min_depth)?;
     progress.start("subdivision", 0);
     // A box that f is not proven C¹ on (a pole, a kink, the edge of f's domain) is
-    // bisected only to `NONSMOOTH_MARGIN` levels above the depth limit (but at least to
-    // level `NONSMOOTH_MIN_LEVEL`): no criterion
+    // bisected only to `NONSMOOTH_MARGIN` levels above the depth limit: no criterion
     // certifies it, and localising a pole plane to the depth limit costs 4ᵏ boxes (a
-    // pole plane through the default domain spent the whole box budget, 11 s, and
-    // was reported as "box budget exhausted" instead of by its cause).
-    // Never before level `NONSMOOTH_MIN_LEVEL`: refining near a pole can still prove
-    // boxes empty (beside the pole of 1/x, 1/x dominates and □f excludes 0).
+    // pole plane through the default domain spent the whole box budget, 11 s, and was
+    // reported as "box budget exhausted" instead of by its cause). Never before level
+    // `NONSMOOTH_MIN_LEVEL`: refining near a pole can still prove boxes empty (beside
+    // the pole of 1/x, 1/x dominates and □f excludes 0).
     let nonsmooth_level = p
         .max_depth
         .saturating_sub(NONSMOOTH_MARGIN)

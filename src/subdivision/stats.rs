@@ -70,15 +70,24 @@ pub fn leaf_boxes(tree: &Tree) -> Vec<(Aabb, Verdict)> {
 /// cause is named, not only the first region's (a pole plane was hidden behind the
 /// domain boundary's regions).
 pub fn regions_summary(regions: &[Uncertified]) -> String {
-    let mut counts: Vec<(Cause, &str, usize)> = Vec::new();
+    /// Reasons named; the rest are counted.
+    const NAMED: usize = 6;
+    let mut by_reason: std::collections::HashMap<&str, (Cause, usize)> = Default::default();
     for r in regions {
-        match counts.iter_mut().find(|(_, t, _)| *t == r.reason) {
-            Some(c) => c.2 += 1,
-            None => counts.push((r.cause, &r.reason, 1)),
-        }
+        by_reason.entry(&r.reason).or_insert((r.cause, 0)).1 += 1;
     }
+    let mut counts: Vec<(Cause, &str, usize)> =
+        by_reason.into_iter().map(|(t, (c, n))| (c, t, n)).collect();
     counts.sort_by(|a, b| a.0.cmp(&b.0).then(b.2.cmp(&a.2)).then(a.1.cmp(b.1)));
-    let parts: Vec<String> = counts.iter().map(|(_, t, n)| format!("{n} {t}")).collect();
+    let mut parts: Vec<String> = counts
+        .iter()
+        .take(NAMED)
+        .map(|(_, t, n)| format!("{n} {t}"))
+        .collect();
+    if counts.len() > NAMED {
+        let rest: usize = counts[NAMED..].iter().map(|c| c.2).sum();
+        parts.push(format!("{rest} for {} other reasons", counts.len() - NAMED));
+    }
     format!(
         "{} region(s) not certified: {}",
         regions.len(),
@@ -123,4 +132,38 @@ pub fn certificate(
             boxes: tree.leaves.len(),
         },
     ])
+}
+
+#[cfg(test)]
+mod summary_tests {
+    use super::*;
+
+    fn region(reason: &str) -> Uncertified {
+        Uncertified::new(Aabb::new([0.0; 3], [1.0; 3]).unwrap(), reason)
+    }
+
+    /// Every reason counted, a pole before the far more numerous boundary regions and
+    /// the budget last; past six reasons the rest are counted, not listed.
+    #[test]
+    fn the_summary_counts_every_reason_most_serious_first() {
+        let mut rs = vec![region(BOX_BUDGET_REASON)];
+        rs.extend((0..5).map(|_| region("f = 0 meets the domain boundary")));
+        rs.extend((0..2).map(|_| region(UNDEFINED_BOX)));
+        rs.push(region(
+            "f is not continuous on this box (pole or domain boundary)",
+        ));
+        let s = regions_summary(&rs);
+        assert_eq!(
+            s,
+            format!(
+                "9 region(s) not certified: 1 f is not continuous on this box (pole or \
+                 domain boundary); 2 {UNDEFINED_BOX}; 5 f = 0 meets the domain boundary; \
+                 1 {BOX_BUDGET_REASON}"
+            )
+        );
+        let many: Vec<Uncertified> = (0..9).map(|k| region(&format!("other {k}"))).collect();
+        let s = regions_summary(&many);
+        assert!(s.ends_with("; 3 for 3 other reasons"), "{s}");
+        assert_eq!(s.matches("other ").count(), 6 + 1, "{s}");
+    }
 }
