@@ -1969,3 +1969,29 @@ fn render_errors_of_the_input_exit_2() {
     }
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// A refinement mesher stopped by a guard: the report names the guard (the mesher's
+/// own stop reason), not "a work budget was spent".
+#[test]
+fn the_report_names_the_guard_that_stopped_bo() {
+    let d = tmp("bo-guard");
+    let (code, out, err) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bo",
+            "--max-vertices",
+            "60",
+            "-o",
+            "s.ply",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let stopped = v["stopped"].as_str().expect("stopped");
+    assert!(stopped.contains("--max-vertices"), "{stopped}");
+    std::fs::remove_dir_all(&d).unwrap();
+}

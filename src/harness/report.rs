@@ -76,7 +76,9 @@ pub struct MeshReport {
     pub metrics_seconds: f64,
 }
 
-/// Why a run stopped before its refinement was complete (a budget), if it did.
+/// Why a run stopped before its refinement was complete (a budget), if it did: the
+/// mesher's own `stop_reason` when its statistics carry one, else the budget named by
+/// its regions.
 pub fn stop_reason(run: &Run) -> Option<String> {
     let complete = run
         .output
@@ -85,6 +87,16 @@ pub fn stop_reason(run: &Run) -> Option<String> {
         .and_then(|v| v.as_bool());
     if complete != Some(false) {
         return None;
+    }
+    // The refinement meshers (bo, cdrr) say which guard stopped them.
+    if let Some(why) = run
+        .output
+        .stats
+        .get("stop_reason")
+        .and_then(|v| v.as_str())
+        .filter(|s| !s.is_empty())
+    {
+        return Some(why.to_string());
     }
     let budget = [
         crate::subdivision::BOX_BUDGET_REASON,
