@@ -1055,7 +1055,8 @@ fn stats_histogram_with_an_image_extension_writes_that_file() {
 #[test]
 fn undefined_and_infinite_figures_are_reported_as_such() {
     let dir = tmp("honest");
-    // mc on 1/x meshes the pole x = 0: no point of that mesh is on f = 0.
+    // pv on 1/x meshes the pole x = 0 (uncertified; the lattice meshers refuse the
+    // sign change across it): f = 0 itself is empty, so no point of it is located.
     let (code, out, err) = certmesh_in(
         &dir,
         &[
@@ -1065,7 +1066,7 @@ fn undefined_and_infinite_figures_are_reported_as_such() {
             "--domain",
             "-1.1,-1,-1,1,1,1",
             "--algo",
-            "mc",
+            "pv",
             "-o",
             "p.obj",
             "--json",
@@ -1077,7 +1078,7 @@ fn undefined_and_infinite_figures_are_reported_as_such() {
     assert_eq!(v["hausdorff"], serde_json::Value::Null, "{out}");
     let note = v["hausdorff_note"].as_str().expect("a reason");
     assert!(
-        note.starts_with("undefined") && note.contains("no mesh point"),
+        note.starts_with("undefined") && note.contains("no point of f = 0"),
         "{note}"
     );
     assert!(
@@ -1093,7 +1094,7 @@ fn undefined_and_infinite_figures_are_reported_as_such() {
             "--domain",
             "-1.1,-1,-1,1,1,1",
             "--algo",
-            "mc",
+            "pv",
             "-o",
             "p.obj",
         ],
@@ -1103,6 +1104,12 @@ fn undefined_and_infinite_figures_are_reported_as_such() {
         "{text}"
     );
     // stats: null in JSON with the reason, "undefined" in text; the field names stay.
+    // The mesh is a square on the pole plane, as mc made before it refused the pole.
+    std::fs::write(
+        dir.join("p.obj"),
+        "v 0.01 -1 -1\nv 0.01 1 -1\nv 0.01 1 1\nv 0.01 -1 1\nf 1 2 3\nf 1 3 4\n",
+    )
+    .unwrap();
     let (code, out, err) = certmesh_in(&dir, &["stats", "p.obj", "--formula", "1/x", "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();

@@ -17,7 +17,7 @@ use super::tiling::{
 use super::DiagonalRule;
 use crate::error::{Error, Result};
 use crate::implicit::ops::{
-    continuous_on, discontinuity_on_segment, sign_change_not_a_zero, DISCONTINUITY_DEPTH,
+    discontinuity_on_segment, edges_need_pole_check, sign_change_not_a_zero, DISCONTINUITY_DEPTH,
 };
 use crate::implicit::Implicit;
 use crate::kernel::geom::{add, cross, dot, scale, sub, Aabb};
@@ -379,7 +379,7 @@ pub fn extract(
     // The edges' midpoints are the vertices; no lattice edge is longer than
     // 2(e + a), so the box of the midpoints grown by that holds every edge.
     let near = Aabb::of_points_par(&vertices).map(|b| b.inflate(2.0 * (g.e + g.a)));
-    let pole = near.filter(|b| !continuous_on(f, b)).map(|_| {
+    let pole = near.filter(|b| edges_need_pole_check(f, b)).map(|_| {
         keys.par_iter().find_map_first(|&k| {
             let (p, q) = edge_endpoints(k);
             let a = g.vertex(p[0], p[1], p[2]);

@@ -10,7 +10,7 @@
 use super::GradNormalParams;
 use crate::error::{Error, Result};
 use crate::implicit::ops::{
-    continuous_on, discontinuity_on_segment, sign_change_not_a_zero, DISCONTINUITY_DEPTH,
+    discontinuity_on_segment, edges_need_pole_check, sign_change_not_a_zero, DISCONTINUITY_DEPTH,
 };
 use crate::implicit::Implicit;
 use crate::kernel::geom::{dist, Aabb};
@@ -236,7 +236,7 @@ pub fn extract2(
         .map(|v: &[f64; 2]| [v[0], v[1], 0.0])
         .collect();
     let near = Aabb::of_points(&mids).map(|b| b.inflate(e));
-    let pole = near.filter(|b| !continuous_on(f, b)).map(|_| {
+    let pole = near.filter(|b| edges_need_pole_check(f, b)).map(|_| {
         keys.par_iter().find_map_first(|&k| {
             let (p, q) = endpoints(k);
             let (a, b) = (point(e, p[0], p[1]), point(e, q[0], q[1]));

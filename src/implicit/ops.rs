@@ -244,12 +244,14 @@ pub fn discontinuity_on_segment(
     None
 }
 
-/// Is f proven continuous on the whole box `b` (one decorated evaluation)? A lattice
-/// mesher asks this first and calls [`discontinuity_on_segment`] per edge only when
-/// not: every polynomial, and every rational function whose poles lie outside `b`,
-/// pays nothing more.
-pub fn continuous_on(f: &dyn Implicit, b: &crate::kernel::geom::Aabb) -> bool {
-    f.regularity(&b.intervals()) >= Regularity::Continuous
+/// Must a lattice mesher ask [`discontinuity_on_segment`] of its sign-change edges
+/// inside the box `b`? Not when one decorated evaluation proves f continuous on all of
+/// `b` (every polynomial, every rational function whose poles lie outside `b`), and not
+/// when f has no rigorous interval methods ([`Implicit::is_rigorous`]: a mesh's signed
+/// distance, a Rust closure), whose regularity proves nothing either way: there the
+/// question cannot be answered, and refusing every edge would refuse every input.
+pub fn edges_need_pole_check(f: &dyn Implicit, b: &crate::kernel::geom::Aabb) -> bool {
+    f.is_rigorous() && f.regularity(&b.intervals()) < Regularity::Continuous
 }
 
 /// The error of a lattice mesher for a sign change that [`discontinuity_on_segment`]

@@ -52,7 +52,7 @@ pub use tets::{marching_tetrahedra, MarchingTetrahedra, Tetrahedra};
 
 use crate::error::{Error, Result};
 use crate::implicit::ops::{
-    continuous_on, crossing_t, discontinuity_on_segment, sign_change_not_a_zero,
+    crossing_t, discontinuity_on_segment, edges_need_pole_check, sign_change_not_a_zero,
     DISCONTINUITY_DEPTH,
 };
 use crate::implicit::{Counted, Implicit};
@@ -442,7 +442,7 @@ pub(crate) fn check_crossings_continuous<F: Field>(
     let grid = *field.grid();
     let [nx, ny, nz] = grid.vertex_dims();
     let (lo, hi) = (grid.point(0, 0, 0), grid.point(nx - 1, ny - 1, nz - 1));
-    if Aabb::of_points(&[lo, hi]).is_some_and(|b| continuous_on(f, &b)) {
+    if !Aabb::of_points(&[lo, hi]).is_some_and(|b| edges_need_pole_check(f, &b)) {
         return Ok(());
     }
     let offs: Vec<[usize; 3]> = dirs.iter().map(|&d| corner(d)).collect();

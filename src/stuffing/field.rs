@@ -8,7 +8,7 @@
 //! sided) uses `sign(f)` instead.
 use crate::error::{Error, Result};
 use crate::implicit::ops::{
-    continuous_on, discontinuity_on_segment, sign_change_not_a_zero, SignChange,
+    discontinuity_on_segment, edges_need_pole_check, sign_change_not_a_zero, SignChange,
     DISCONTINUITY_DEPTH,
 };
 use crate::implicit::Implicit;
@@ -354,7 +354,7 @@ impl Field {
         let ends: Vec<[f64; 3]> = edges.iter().flat_map(|e| [e.2.a, e.2.b]).collect();
         let hull = Aabb::of_points(&ends);
         let first = match hull {
-            Some(h) if !continuous_on(f, &h) => {
+            Some(h) if edges_need_pole_check(f, &h) => {
                 if parallel {
                     edges.par_iter().find_map_first(pole)
                 } else {

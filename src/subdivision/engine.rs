@@ -205,7 +205,10 @@ pub fn run_subdivision<K: Criterion>(
     // pole plane through the default domain spent the whole box budget, 11 s, and was
     // reported as "box budget exhausted" instead of by its cause). Never before level
     // `NONSMOOTH_MIN_LEVEL`: refining near a pole can still prove boxes empty (beside
-    // the pole of 1/x, 1/x dominates and □f excludes 0).
+    // the pole of 1/x, 1/x dominates and □f excludes 0). A function without rigorous
+    // interval methods (a mesh's signed distance, a Python callback) has no regularity
+    // to ask (it would read as "not continuous" everywhere) and is split as before.
+    let nonsmooth_stop = g.is_rigorous();
     let nonsmooth_level = p
         .max_depth
         .saturating_sub(NONSMOOTH_MARGIN)
@@ -217,7 +220,7 @@ pub fn run_subdivision<K: Criterion>(
             p.max_depth,
             &budget,
             &|gr: &Grid, c| match K::classify(p, g, gr, c) {
-                Decision::Split(why) if c.level as u32 >= nonsmooth_level => {
+                Decision::Split(why) if nonsmooth_stop && c.level as u32 >= nonsmooth_level => {
                     match g.regularity(&gr.cell_ibox(c)).c1_failure() {
                         Some(not_c1) => Decision::Leaf(Verdict::Failed(not_c1)),
                         None => Decision::Split(why),
