@@ -184,9 +184,11 @@ fn certificate_colours_are_the_typed_claims_never_more() {
         &sphere.certificate,
         &t.map(|i| s.vertices[i as usize])
     ) == CertClass::Isotopic));
-    // Certificate colouring without a certificate is refused.
+    // Certificate colouring without a certificate is refused (before anything is
+    // written: the folder stays empty, and is removed).
+    let nocert = tmp("nocert");
     let e = render::render(
-        &tmp("nocert").join("x"),
+        &nocert.join("x"),
         Input::Surface(s),
         None,
         &RenderOptions {
@@ -200,4 +202,5 @@ fn certificate_colours_are_the_typed_claims_never_more() {
         e.to_string().contains("needs the mesher's certificate"),
         "{e}"
     );
+    std::fs::remove_dir(&nocert).expect("nothing was written");
 }
