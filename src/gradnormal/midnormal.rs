@@ -375,9 +375,10 @@ pub fn extract(
         })
         .collect();
     // Every vertex is on a lattice edge whose ends differ in sign: a sign change across
-    // a pole of f is no zero of f, and is refused with the edge named.
-    // The edges' midpoints are the vertices; no lattice edge is longer than
-    // 2(e + a), so the box of the midpoints grown by that holds every edge.
+    // a pole of f is no zero of f, and is refused with the edge named. The vertices are
+    // the edges' midpoints, and no edge of `EDGE_DIRS` is longer than e + 3a (3a up,
+    // or e across and at most 2a up): the midpoints' box grown by 2(e + a) holds every
+    // edge.
     let near = Aabb::of_points_par(&vertices).map(|b| b.inflate(2.0 * (g.e + g.a)));
     let pole = near.filter(|b| edges_need_pole_check(f, b)).map(|_| {
         keys.par_iter().find_map_first(|&k| {

@@ -228,9 +228,9 @@ pub fn extract2(
         })
         .collect();
     // Every vertex is on a lattice edge whose ends differ in sign: a sign change across
-    // a pole of f is no zero of f, and is refused with the edge named.
-    // The edges' midpoints are the vertices and every lattice edge is e long: the
-    // box of the midpoints grown by e holds every edge.
+    // a pole of f is no zero of f, and is refused with the edge named. The vertices are
+    // the edges' midpoints and every lattice edge is e long: the midpoints' box grown
+    // by e holds every edge.
     let mids: Vec<[f64; 3]> = vertices
         .iter()
         .map(|v: &[f64; 2]| [v[0], v[1], 0.0])
