@@ -16,9 +16,7 @@ use super::tiling::{
 };
 use super::DiagonalRule;
 use crate::error::{Error, Result};
-use crate::implicit::ops::{
-    discontinuity_on_segment, edges_need_pole_check, sign_change_not_a_zero, DISCONTINUITY_DEPTH,
-};
+use crate::implicit::ops::refuse_pole_edges;
 use crate::implicit::Implicit;
 use crate::kernel::geom::{add, cross, dot, scale, sub, Aabb};
 use crate::mesher::Progress;
@@ -380,20 +378,15 @@ pub fn extract(
     // or e across and at most 2a up): the midpoints' box grown by 2(e + a) holds every
     // edge.
     let near = Aabb::of_points_par(&vertices).map(|b| b.inflate(2.0 * (g.e + g.a)));
-    let pole = near.filter(|b| edges_need_pole_check(f, b)).map(|_| {
-        keys.par_iter().find_map_first(|&k| {
-            let (p, q) = edge_endpoints(k);
-            let a = g.vertex(p[0], p[1], p[2]);
-            let b = g.vertex(q[0], q[1], q[2]);
-            discontinuity_on_segment(f, a, b, DISCONTINUITY_DEPTH).map(|x| {
-                let which = format!("lattice edge {p:?}–{q:?}");
-                sign_change_not_a_zero(a, f.eval(a), b, f.eval(b), &which, x)
-            })
-        })
-    });
-    if let Some(Some(e)) = pole {
-        return Err(e);
-    }
+    let ends = |&k: &u64| {
+        let (p, q) = edge_endpoints(k);
+        (g.vertex(p[0], p[1], p[2]), g.vertex(q[0], q[1], q[2]))
+    };
+    let name = |&k: &u64| {
+        let (p, q) = edge_endpoints(k);
+        format!("lattice edge {p:?}–{q:?}")
+    };
+    refuse_pole_edges(f, near, &keys, ends, name)?;
     Ok(NormalSurface {
         goldberg: Some(*g),
         keys,

@@ -9,9 +9,7 @@
 //! arithmetic over a quadtree of lattice blocks.
 use super::GradNormalParams;
 use crate::error::{Error, Result};
-use crate::implicit::ops::{
-    discontinuity_on_segment, edges_need_pole_check, sign_change_not_a_zero, DISCONTINUITY_DEPTH,
-};
+use crate::implicit::ops::refuse_pole_edges;
 use crate::implicit::Implicit;
 use crate::kernel::geom::{dist, Aabb};
 use crate::mesh::Curve2;
@@ -236,19 +234,15 @@ pub fn extract2(
         .map(|v: &[f64; 2]| [v[0], v[1], 0.0])
         .collect();
     let near = Aabb::of_points(&mids).map(|b| b.inflate(e));
-    let pole = near.filter(|b| edges_need_pole_check(f, b)).map(|_| {
-        keys.par_iter().find_map_first(|&k| {
-            let (p, q) = endpoints(k);
-            let (a, b) = (point(e, p[0], p[1]), point(e, q[0], q[1]));
-            discontinuity_on_segment(f, a, b, DISCONTINUITY_DEPTH).map(|x| {
-                let which = format!("lattice edge {p:?}–{q:?}");
-                sign_change_not_a_zero(a, f.eval(a), b, f.eval(b), &which, x)
-            })
-        })
-    });
-    if let Some(Some(e)) = pole {
-        return Err(e);
-    }
+    let ends = |&k: &u64| {
+        let (p, q) = endpoints(k);
+        (point(e, p[0], p[1]), point(e, q[0], q[1]))
+    };
+    let name = |&k: &u64| {
+        let (p, q) = endpoints(k);
+        format!("lattice edge {p:?}–{q:?}")
+    };
+    refuse_pole_edges(f, near, &keys, ends, name)?;
     Ok(NormalCurve {
         e,
         keys,

@@ -273,6 +273,30 @@ pub fn sign_change_not_a_zero(
     ))
 }
 
+/// The lattice meshers' pole check over a list of sign-change edges: when
+/// [`edges_need_pole_check`] holds on `near` (a box holding every edge; `None`: no
+/// edges), the first edge (in list order) on which [`discontinuity_on_segment`] finds a
+/// point is refused with [`sign_change_not_a_zero`]. `ends` gives an edge's end points,
+/// `name` names it in the mesher's lattice (asked only for the edge refused).
+pub fn refuse_pole_edges<E: Sync>(
+    f: &dyn Implicit,
+    near: Option<crate::kernel::geom::Aabb>,
+    edges: &[E],
+    ends: impl Fn(&E) -> ([f64; 3], [f64; 3]) + Sync,
+    name: impl Fn(&E) -> String + Sync,
+) -> Result<()> {
+    use rayon::prelude::*;
+    if !near.is_some_and(|b| edges_need_pole_check(f, &b)) {
+        return Ok(());
+    }
+    let first = edges.par_iter().find_map_first(|e| {
+        let (a, b) = ends(e);
+        discontinuity_on_segment(f, a, b, DISCONTINUITY_DEPTH)
+            .map(|x| sign_change_not_a_zero(a, f.eval(a), b, f.eval(b), &name(e), x))
+    });
+    first.map_or(Ok(()), Err)
+}
+
 /// One segment for [`crossing_t_batch`]: its ends and the values of f there.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SignChange {

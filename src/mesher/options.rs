@@ -62,6 +62,10 @@ pub struct MesherOptions {
 }
 
 impl MesherOptions {
+    /// `--time-limit`, or [`DEFAULT_TIME_LIMIT`] without it.
+    pub fn time_limit_or_default(&self) -> f64 {
+        self.time_limit.unwrap_or(DEFAULT_TIME_LIMIT)
+    }
     /// An algorithm-specific setting parsed as `T`, with a clear error naming the key.
     pub fn get<T: std::str::FromStr>(&self, key: &str) -> Result<Option<T>> {
         match self.extra.get(key) {

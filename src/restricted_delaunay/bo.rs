@@ -48,7 +48,7 @@ use crate::implicit::Implicit;
 use crate::kernel::delaunay::{CellId, Delaunay, InsertError, VertexId};
 use crate::kernel::geom::{add, cross, dist, dot, scale, sub, Aabb};
 use crate::mesh::TriMesh;
-use crate::mesher::options::{MesherOptions, DEFAULT_TIME_LIMIT};
+use crate::mesher::options::MesherOptions;
 use crate::mesher::{
     check_input, stats_map, Certificate, Claim, Mesh, MeshOutput, Mesher, Progress, Uncertified,
 };
@@ -158,7 +158,7 @@ impl BoissonnatOudot {
             }
             m.max_vertices = n;
         }
-        m.time_limit = Some(o.time_limit.unwrap_or(DEFAULT_TIME_LIMIT));
+        m.time_limit = Some(o.time_limit_or_default());
         m.certify = o.certify;
         if let Some(s) = o.get::<u64>("seed")? {
             m.seed = s;

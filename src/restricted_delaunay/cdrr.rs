@@ -34,7 +34,7 @@ use crate::implicit::ops::{project, SegmentBudget};
 use crate::implicit::Implicit;
 use crate::kernel::delaunay::Delaunay;
 use crate::kernel::geom::{dist, Aabb};
-use crate::mesher::options::{MesherOptions, DEFAULT_TIME_LIMIT};
+use crate::mesher::options::MesherOptions;
 use crate::mesher::{
     check_input, stats_map, Certificate, Claim, HomeomorphismBy, Mesh, MeshOutput, Mesher,
     Progress, Uncertified,
@@ -91,7 +91,7 @@ impl ChengDeyRamosRay {
             }
             m.facet_size = Some(s);
         }
-        m.time_limit = Some(o.time_limit.unwrap_or(DEFAULT_TIME_LIMIT));
+        m.time_limit = Some(o.time_limit_or_default());
         if let Some(s) = o.get::<u64>("seed")? {
             m.seed = s;
         }

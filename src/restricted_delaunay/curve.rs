@@ -75,7 +75,7 @@ use crate::implicit::ops::{
 use crate::implicit::{IBox, Implicit};
 use crate::kernel::geom::{dist, lerp, Aabb};
 use crate::mesh::Curve2;
-use crate::mesher::options::{MesherOptions, DEFAULT_TIME_LIMIT};
+use crate::mesher::options::MesherOptions;
 use crate::mesher::{
     check_input, stats_map, Certificate, Claim, Mesh, MeshOutput, Mesher, Progress, Uncertified,
 };
@@ -152,7 +152,7 @@ impl BoissonnatOudot2 {
             }
             m.max_vertices = n;
         }
-        let t = o.time_limit.unwrap_or(DEFAULT_TIME_LIMIT);
+        let t = o.time_limit_or_default();
         if !(t.is_finite() && t > 0.0) {
             return Err(Error::Param(format!(
                 "--time-limit must be a positive number of seconds, got {t}"

@@ -7,10 +7,7 @@
 //! `f > 0`, and *zero* when `f == 0` exactly. Meshing the exterior (§3.3, double
 //! sided) uses `sign(f)` instead.
 use crate::error::{Error, Result};
-use crate::implicit::ops::{
-    discontinuity_on_segment, edges_need_pole_check, sign_change_not_a_zero, SignChange,
-    DISCONTINUITY_DEPTH,
-};
+use crate::implicit::ops::{refuse_pole_edges, SignChange};
 use crate::implicit::Implicit;
 use crate::kernel::geom::{lerp, Aabb};
 use crate::lattice::bcc::{self, Lattice, NEIGHBORS};
@@ -346,26 +343,14 @@ impl Field {
         } else {
             (0..n).flat_map(edges_of).collect()
         };
-        let pole = |e: &(u32, u8, SignChange)| {
-            let s = &e.2;
-            discontinuity_on_segment(f, s.a, s.b, DISCONTINUITY_DEPTH)
-                .map(|x| sign_change_not_a_zero(s.a, s.fa, s.b, s.fb, "lattice edge", x))
-        };
         let ends: Vec<[f64; 3]> = edges.iter().flat_map(|e| [e.2.a, e.2.b]).collect();
-        let hull = Aabb::of_points(&ends);
-        let first = match hull {
-            Some(h) if edges_need_pole_check(f, &h) => {
-                if parallel {
-                    edges.par_iter().find_map_first(pole)
-                } else {
-                    edges.iter().find_map(pole)
-                }
-            }
-            _ => None,
-        };
-        if let Some(e) = first {
-            return Err(e);
-        }
+        refuse_pole_edges(
+            f,
+            Aabb::of_points(&ends),
+            &edges,
+            |e| (e.2.a, e.2.b),
+            |_| "lattice edge".into(),
+        )?;
         const BATCH: usize = 1024;
         let solve = |c: &[(u32, u8, SignChange)]| {
             let segs: Vec<SignChange> = c.iter().map(|e| e.2).collect();

@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::implicit::Implicit;
 use crate::kernel::geom::Aabb;
 use crate::mesher::check_input;
-use crate::mesher::options::{MesherOptions, DEFAULT_TIME_LIMIT};
+use crate::mesher::options::MesherOptions;
 use crate::mesher::{Mesh, MeshOutput, Mesher, Progress};
 use crate::subdivision::criteria::check_budget;
 use crate::subdivision::{
@@ -47,7 +47,7 @@ pub struct SubdivisionParams<K> {
     /// spends them stops, reports `refinement_complete: false` and certifies nothing.
     pub max_boxes: u64,
     /// Wall-clock limit of the subdivision in seconds (default none here; built from
-    /// options, [`DEFAULT_TIME_LIMIT`] unless `--time-limit` is given).
+    /// options, `--time-limit` or [`crate::mesher::options::DEFAULT_TIME_LIMIT`]).
     pub time_limit: Option<f64>,
     /// The criterion's own settings.
     pub criterion: K,
@@ -105,7 +105,7 @@ impl<K: Criterion> SubdivisionParams<K> {
         if let Some(n) = o.max_boxes {
             p.max_boxes = n;
         }
-        p.time_limit = Some(o.time_limit.unwrap_or(DEFAULT_TIME_LIMIT));
+        p.time_limit = Some(o.time_limit_or_default());
         p.validate()?;
         Ok(p)
     }
