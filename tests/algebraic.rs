@@ -986,6 +986,44 @@ proptest! {
     }
 }
 
+/// A bloated certificate is refused by its size before any arithmetic. The bloat here
+/// keeps every claim true: an event's isolating interval is widened by 3⁻ⁿ, which still
+/// isolates its root. Within the size limit (n = 2,000: about 1,900 digits) it verifies;
+/// far above it (n = 100,000: 95,000 digits, over a minute of exact arithmetic before
+/// the limit) it is refused at once, naming the event and the limit. Ten thousand
+/// events are refused by their count.
+#[test]
+fn checker_refuses_bloated_certificates_by_their_size() {
+    let c0 = &certs()[1]; // the lemniscate, degree 4
+    let i = c0.events.iter().position(|e| e.lo != e.hi).unwrap();
+    let widen = |n: u32| {
+        let mut c = c0.clone();
+        let lo: BigRational = c.events[i].lo.parse().unwrap();
+        let three = BigRational::from_integer(3.into());
+        c.events[i].lo = (lo - num_traits::pow(three, n as usize).recip()).to_string();
+        c
+    };
+    let ok = widen(2_000);
+    assert!(ok.events[i].lo.len() > 1_800);
+    check_curve(&ok).unwrap();
+    let big = widen(100_000);
+    let e = check_curve(&big).unwrap_err().to_string();
+    assert!(
+        e.contains(&format!("event {i}'s interval")) && e.contains("limit"),
+        "{e}"
+    );
+    let mut many = c0.clone();
+    let e0 = many.events[0].clone();
+    many.events = vec![e0; 10_000];
+    let e = check_curve(&many).unwrap_err().to_string();
+    assert!(e.contains("events: 10000, above the 34"), "{e}");
+    // f itself: a coefficient above the checker's bits.
+    let mut wide_f = c0.clone();
+    wide_f.f[0][0] = "7".repeat(3_000);
+    let e = check_curve(&wide_f).unwrap_err().to_string();
+    assert!(e.contains("coefficient of f") && e.contains("limit"), "{e}");
+}
+
 #[test]
 fn every_tampering_kind_applies_somewhere() {
     // Guard against a tamper test that silently skips: each kind changes some certificate.
@@ -1068,6 +1106,12 @@ fn cli_gvn_certificate_written_checked_and_tampering_rejected() {
         err.contains("sqrt(") && err.contains("not a polynomial"),
         "{err}"
     );
+    // Budgets beyond what the checker accepts: refused, naming the range.
+    for (set, range) in [("max-degree=40", "1..=16"), ("max-bits=100000", "1..=8192")] {
+        let (code, _, err) = certmesh_cli(&["curve", "circle", "--algo", "gvn", "--set", set]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(range), "{err}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -16,7 +16,7 @@
 use super::algnum::{eval_interval, exact_interval_sign, root_bound_log2, RealAlg};
 use super::bipoly::BiPoly;
 use super::subres;
-use super::sweep::{genericity_holds, is_root_at_beta, sk_poly, Label};
+use super::sweep::{genericity_holds, is_root_at_beta, sk_poly, Label, BOX_SEARCH_STEPS};
 use super::upoly::{sign, sturm_count, UPoly};
 use crate::error::{Error, Result};
 use num_bigint::BigInt;
@@ -257,6 +257,94 @@ impl Dom {
     }
 }
 
+/// The largest coefficient of f the checker accepts, in bits (the sweep's default
+/// `max-bits` is 512), and as decimal characters (sign included).
+pub const MAX_F_BITS: u64 = 8192;
+const MAX_F_CHARS: usize = (MAX_F_BITS as usize * 30103).div_ceil(100_000) + 1;
+
+/// The checker's size limits, derived from f's total degree `d` and coefficient size
+/// `tau` (bits), so that a bloated certificate is refused before any arithmetic: exact
+/// rationals cost time quadratic in their length (a 60,000-digit interval end that
+/// still isolates its root took 15 s to verify, a 100,000-digit one over a minute).
+///
+/// - Every number: at most 4,096 + d²(τ + 64)/3 characters. The sweep's numbers are an
+///   event's polynomial (a factor of the discriminant or of f on a side: at most
+///   2d(τ + 2 log₂ d + log₂ 2d) bits by Hadamard's bound on the Sylvester determinant,
+///   below d²(τ + 64) bits for d ≥ 2) and isolating intervals (dyadic, refined by at
+///   most `REFINE_STEPS` = 4,000 bisections per decision, about 1,200 digits), and the
+///   domain's corners (doubles: at most 1,075 bits, 325 digits).
+/// - Counts: at most d² + 4d + 2 events (the discriminant has at most d(d − 1) roots,
+///   each of the four sides at most d crossings, and the two vertical sides), one more
+///   fibre than events, at most d roots per fibre or event fibre, at most 4 side
+///   crossings and d² + 1 coefficients per event polynomial, and at most
+///   `BOX_SEARCH_STEPS` excluded boxes per event (the sweep's search visits no more).
+fn check_sizes(c: &CurveCert, d: usize, tau: u64) -> Result<()> {
+    let max_chars = 4096 + (d * d).saturating_mul(tau as usize + 64) / 3;
+    let long = |what: String, s: &str| -> Result<()> {
+        if s.len() > max_chars {
+            return Err(bad(format!(
+                "{what} has {} characters, above the checker's limit of {max_chars} for a curve of degree {d} with {tau}-bit coefficients",
+                s.len()
+            )));
+        }
+        Ok(())
+    };
+    let count = |what: String, n: usize, max: usize| -> Result<()> {
+        if n > max {
+            return Err(bad(format!(
+                "{what}: {n}, above the {max} a curve of degree {d} can have"
+            )));
+        }
+        Ok(())
+    };
+    for (k, x) in c.domain.iter().enumerate() {
+        long(format!("domain corner {k}"), x)?;
+    }
+    let max_events = d * d + 4 * d + 2;
+    count("events".into(), c.events.len(), max_events)?;
+    count("rational fibres".into(), c.fibres.len(), max_events + 1)?;
+    count("strips".into(), c.strips.len(), max_events + 1)?;
+    for (i, e) in c.events.iter().enumerate() {
+        count(
+            format!("event {i}'s polynomial coefficients"),
+            e.poly.len(),
+            d * d + 1,
+        )?;
+        count(format!("event {i}'s roots"), e.roots.len(), d)?;
+        count(format!("event {i}'s side crossings"), e.bpoints.len(), 4)?;
+        count(
+            format!("event {i}'s excluded boxes"),
+            e.excluded.len(),
+            BOX_SEARCH_STEPS,
+        )?;
+        for a in &e.poly {
+            long(format!("a coefficient of event {i}'s polynomial"), a)?;
+        }
+        long(format!("event {i}'s interval"), &e.lo)?;
+        long(format!("event {i}'s interval"), &e.hi)?;
+        for b in e.bpoints.iter().flatten() {
+            long(format!("event {i}'s side crossing"), b)?;
+        }
+        for (j, r) in e.roots.iter().enumerate() {
+            long(format!("event {i}, root {j}"), &r.lo)?;
+            long(format!("event {i}, root {j}"), &r.hi)?;
+        }
+        for x in &e.excluded {
+            long(format!("event {i}'s excluded box"), &x.lo)?;
+            long(format!("event {i}'s excluded box"), &x.hi)?;
+        }
+    }
+    for (i, fb) in c.fibres.iter().enumerate() {
+        count(format!("fibre {i}'s roots"), fb.roots.len(), d)?;
+        long(format!("fibre {i}'s abscissa"), &fb.q)?;
+        for (j, r) in fb.roots.iter().enumerate() {
+            long(format!("fibre {i}, root {j}"), &r.lo)?;
+            long(format!("fibre {i}, root {j}"), &r.hi)?;
+        }
+    }
+    Ok(())
+}
+
 /// Re-verify every claim of a curve certificate with exact rationals.
 pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
     super::algnum::clear_gcd_memo();
@@ -264,6 +352,16 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
         return Err(bad(format!("unknown format '{}'", c.format)));
     }
     let mut claims = 0usize;
+    if let Some((field, len)) =
+        c.f.iter()
+            .flatten()
+            .map(|a| ("f", a.len()))
+            .find(|&(_, len)| len > MAX_F_CHARS)
+    {
+        return Err(bad(format!(
+            "a coefficient of {field} has {len} characters, above the checker's limit of {MAX_F_CHARS} (coefficients of {MAX_F_BITS} bits)"
+        )));
+    }
     let f = BiPoly::new(c.f.iter().map(|p| ppoly(p)).collect::<Result<Vec<_>>>()?);
     if f.is_zero() {
         return Err(bad("f is zero"));
@@ -276,6 +374,7 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
     if dt > 16 {
         return Err(bad("degree above 16"));
     }
+    check_sizes(c, dt.max(1) as usize, f.max_bits())?;
     let g0 = f.shear(s);
     if dt > 0 && (g0.deg_y() <= 0 || g0.lc_y().deg() != 0) {
         return Err(bad(format!("f(x + {s}·y, y) is not y-regular")));

@@ -43,9 +43,11 @@ use std::cmp::Ordering;
 /// Budgets of the sweep.
 #[derive(Clone, Debug, Serialize)]
 pub struct SweepParams {
-    /// Largest total degree accepted (default 10).
+    /// Largest total degree accepted (default 10; at most 16 from the command line, the
+    /// certificate checker's limit).
     pub max_degree: usize,
-    /// Largest coefficient size in bits, after clearing denominators (default 512).
+    /// Largest coefficient size in bits, after clearing denominators (default 512; at
+    /// most [`super::check::MAX_F_BITS`] from the command line, the checker's limit).
     pub max_bits: u64,
     /// Shears tried: s = 0, ±1, …, ±max_shear (default 6).
     pub max_shear: i64,
@@ -90,10 +92,23 @@ impl Sweep {
             ],
         )?;
         let mut p = SweepParams::default();
+        // The same ranges as the certificate checker's, so that every certificate the
+        // sweep writes can be re-checked.
         if let Some(v) = o.get::<usize>("max-degree")? {
+            if !(1..=16).contains(&v) {
+                return Err(Error::Param(
+                    "--set max-degree must be in 1..=16 (the certificate checker's limit)".into(),
+                ));
+            }
             p.max_degree = v;
         }
         if let Some(v) = o.get::<u64>("max-bits")? {
+            if !(1..=super::check::MAX_F_BITS).contains(&v) {
+                return Err(Error::Param(format!(
+                    "--set max-bits must be in 1..={} (the certificate checker's limit)",
+                    super::check::MAX_F_BITS
+                )));
+            }
             p.max_bits = v;
         }
         if let Some(v) = o.get::<i64>("max-shear")? {
@@ -518,7 +533,7 @@ fn fibre_roots(
                 .or(Some(centre))
         };
         let Search::Done(found, excluded, undecided) =
-            box_search(regions, 40_000, cluster, kind, mid)
+            box_search(regions, BOX_SEARCH_STEPS, cluster, kind, mid)
         else {
             continue;
         };
@@ -582,6 +597,10 @@ enum Search<T> {
 /// The bisection of `regions` shared by the f64 filter and the exact rationals:
 /// `kind` classifies a box (None: the evaluation failed), `mid` splits it (None: at
 /// the smallest width).
+/// Boxes one event fibre's root search may visit (exact rationals; half of it with
+/// floats), and so the most excluded boxes a certificate's event can list.
+pub(super) const BOX_SEARCH_STEPS: usize = 40_000;
+
 fn box_search<T: Clone>(
     regions: Vec<(T, T)>,
     mut budget: usize,
@@ -747,11 +766,12 @@ fn fibre_roots_f64(
             let wide = b - a >= minw * (1.0 + a.abs().max(b.abs()));
             (wide && *a < m && m < *b).then_some(m)
         };
-        let (found, excluded, undecided) = match box_search(regions, 20_000, cluster, kind, mid) {
-            Search::Done(f, e, u) => (f, e, u),
-            Search::Failed => continue,
-            Search::Abort => return None,
-        };
+        let (found, excluded, undecided) =
+            match box_search(regions, BOX_SEARCH_STEPS / 2, cluster, kind, mid) {
+                Search::Done(f, e, u) => (f, e, u),
+                Search::Failed => continue,
+                Search::Abort => return None,
+            };
         let Some(boxes) = finish_boxes(found, nbox, undecided, want, cluster) else {
             continue;
         };
