@@ -2002,3 +2002,78 @@ fn the_report_names_the_guard_that_stopped_bo() {
     assert!(stopped.contains("--max-vertices"), "{stopped}");
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// An empty zero set is an error (exit 2, kind `empty-zero-set`) that says whether the
+/// emptiness is proven (pv, snyder, the exact sweep) or only not seen (a lattice mesher),
+/// and writes no file. A sphere that fits between two grid vertices of mc at resolution
+/// 4 is "not seen", and pv then meshes it: the uncertified message must not claim more.
+#[test]
+fn an_empty_zero_set_is_an_error_that_says_whether_it_is_proven() {
+    let dir = std::env::temp_dir().join(format!("certmesh-empty-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("e.ply");
+    let o = out.to_str().unwrap();
+    for (algo, proven) in [
+        ("pv", true),
+        ("snyder", true),
+        ("mc", false),
+        ("gradnormal", false),
+    ] {
+        let (code, stdout, err) = certmesh(&[
+            "mesh",
+            "--formula",
+            "x^2 + y^2 + z^2 + 1",
+            "--algo",
+            algo,
+            "-o",
+            o,
+            "--json",
+        ]);
+        assert_eq!(code, 2, "{algo}: {stdout}{err}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).expect("JSON error");
+        assert_eq!(v["kind"], "empty-zero-set", "{algo}: {v}");
+        let msg = v["error"].as_str().unwrap();
+        assert_eq!(msg.contains("proven by"), proven, "{algo}: {msg}");
+        assert_eq!(msg.contains("not proven empty"), !proven, "{algo}: {msg}");
+        assert!(
+            msg.contains("[-2, 2] × [-2, 2] × [-2, 2]") && msg.contains("--domain"),
+            "{msg}"
+        );
+        assert!(!out.exists(), "{algo} wrote a file");
+    }
+    // A small sphere between mc's grid vertices: not seen by mc, found by pv.
+    let small = [
+        "--formula",
+        "(x - 0.5)^2 + (y - 0.5)^2 + (z - 0.5)^2 - 0.01",
+    ];
+    let (code, _, err) = certmesh(
+        &[
+            &["mesh"][..],
+            &small[..],
+            &["--algo", "mc", "--resolution", "4", "-o", o],
+        ]
+        .concat(),
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("not proven empty"), "{err}");
+    let (code, stdout, err) =
+        certmesh(&[&["mesh"][..], &small[..], &["--algo", "pv", "-o", o, "-q"]].concat());
+    assert_eq!(code, 0, "{stdout}{err}");
+    assert!(out.exists());
+    // Curves: the exact sweep proves x² + y² + 1 = 0 empty.
+    let (code, _, err) = certmesh(&[
+        "curve",
+        "--formula",
+        "x^2 + y^2 + 1",
+        "--algo",
+        "gvn",
+        "-o",
+        dir.join("e.svg").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("proven by 'sweep'") && err.contains("no curve"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -45,6 +45,10 @@ pub(crate) fn mesh_cmd(a: MeshArgs, dim: usize, quiet: bool) -> CliResult<()> {
         std::fs::write(path, text)
             .map_err(|e| CliError::from(certmesh::error::Error::io(path, e)).runtime())?;
     }
+    if let Some(e) = empty_result(&run, &t.domain, dim, t.domain_source) {
+        bar.finish();
+        return Err(e);
+    }
     bar.phase("writing and measuring");
     // The mesh is written while the report is computed (side by side on rayon's
     // threads; one after the other on one thread).
@@ -87,6 +91,59 @@ pub(crate) fn mesh_cmd(a: MeshArgs, dim: usize, quiet: bool) -> CliResult<()> {
         }
     }
     Ok(())
+}
+
+/// A run whose output is empty is an error (exit 2, kind `empty-zero-set`): f = 0 does
+/// not meet the domain, or the mesher found no point of it. The message says which:
+/// proven by the mesher's certificate (Plantinga–Vegter, Snyder, the exact sweep
+/// exclude every box or fibre), or only not seen (a lattice mesher met one sign at
+/// every point it read), and no mesh file is written. A run stopped by a budget is not
+/// this case: its partial, perhaps empty, output is written and its report says why it
+/// stopped.
+fn empty_result(
+    run: &mesher::Run,
+    domain: &certmesh::Aabb,
+    dim: usize,
+    source: certmesh::harness::report::DomainSource,
+) -> Option<CliError> {
+    use certmesh::harness::report::DomainSource;
+    use certmesh::mesher::Certificate;
+    let empty = match &run.output.mesh {
+        Mesh::Surface(m) => m.triangles.is_empty(),
+        Mesh::Volume { tets, .. } => tets.tets.is_empty(),
+        Mesh::Curve(c) => c.segments.is_empty(),
+    };
+    // A run stopped by a budget is partial and says so in its report (exit 0).
+    if !empty || report::stop_reason(run).is_some() {
+        return None;
+    }
+    let dom = (0..dim)
+        .map(|k| format!("[{}, {}]", domain.min[k], domain.max[k]))
+        .collect::<Vec<_>>()
+        .join(" × ");
+    let hint = match source {
+        DomainSource::Default => {
+            "check the formula, or set --domain (this is the default domain of a formula)"
+        }
+        _ => "check the formula and --domain",
+    };
+    let what = if dim == 2 { "curve" } else { "surface" };
+    let message = match &run.output.certificate {
+        Certificate::Certified { .. } => format!(
+            "f = 0 does not meet the domain {dom}: proven by '{}' (its certificate excludes the whole domain), so there is no {what} to mesh; no mesh written; {hint}",
+            run.algo
+        ),
+        Certificate::Uncertified { .. } => format!(
+            "'{}' found no point of f = 0 in the domain {dom}, so it produced no {what}; not proven empty (f had one sign at every point the mesher read, and a component between those points would be missed); no mesh written; {hint}, or mesh with pv or snyder, which prove a domain empty",
+            run.algo
+        ),
+    };
+    Some(CliError {
+        message,
+        kind: "empty-zero-set",
+        position: None,
+        code: EXIT_INPUT,
+    })
 }
 
 /// `certmesh check-curve CERT.json`: re-verify a sweep certificate with exact
