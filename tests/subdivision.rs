@@ -742,3 +742,74 @@ fn subdivision_stats_read_back_as_the_typed_struct() {
         );
     }
 }
+
+// ---- The budget reserves the assembly's time and memory. ----
+
+use certmesh::subdivision::{
+    subdivide, Budget, Decision, Grid, Verdict, ASSEMBLY_BYTES_PER_ACTIVE_LEAF,
+    ASSEMBLY_BYTES_PER_BOX, ASSEMBLY_SECONDS_PER_ACTIVE_LEAF, MEMORY_LIMIT_REASON,
+    TIME_LIMIT_REASON,
+};
+
+fn split_everything_grid() -> Grid {
+    Grid {
+        domain: certmesh::Aabb {
+            min: [-1.0; 3],
+            max: [1.0; 3],
+        },
+        dim: 3,
+        depth: 9,
+    }
+}
+
+/// Boxes that are split to the depth limit everywhere (a criterion that never holds, as
+/// on a singular surface): the leaves are all failed, all to be assembled.
+fn split_all(_: &Grid, _: certmesh::subdivision::Cell) -> Decision {
+    Decision::Split("test: never decided")
+}
+
+/// The deadline reserves the assembly's time: a 0.5 s limit stops the subdivision once
+/// the leaves made so far would take 0.5 s to assemble, whatever the clock says (the
+/// full tree has 8⁹ = 134 M leaves; a run that ignored the reservation would make
+/// millions in 0.5 s on this machine and spend a minute assembling them).
+#[test]
+fn the_deadline_reserves_the_assembly_time() {
+    let budget = Budget::new(u64::MAX, Some(0.5));
+    let t = subdivide(split_everything_grid(), 0, 9, &budget, &split_all);
+    assert!(!t.refinement_complete);
+    let stopped = t
+        .leaves
+        .iter()
+        .filter(|l| l.verdict == Verdict::Failed(TIME_LIMIT_REASON))
+        .count();
+    let tested = t.leaves.len() - stopped;
+    assert!(stopped > 0);
+    // Leaves made before the stop: at most what 0.5 s of assembly covers, plus the
+    // 1024 boxes between two checks on each thread.
+    let most = (0.5 / ASSEMBLY_SECONDS_PER_ACTIVE_LEAF) as usize + 4096;
+    assert!(tested <= most, "{tested} leaves tested, at most {most}");
+}
+
+/// The memory cap stops the subdivision with its own reason, and the leaves made are
+/// within the cap by the same estimate.
+#[test]
+fn the_memory_cap_stops_the_subdivision_and_says_so() {
+    let cap = 64 << 20;
+    let budget = Budget::new(u64::MAX, None).with_max_bytes(cap);
+    let t = subdivide(split_everything_grid(), 0, 9, &budget, &split_all);
+    assert!(!t.refinement_complete);
+    let stopped = t
+        .leaves
+        .iter()
+        .filter(|l| l.verdict == Verdict::Failed(MEMORY_LIMIT_REASON))
+        .count();
+    assert!(stopped > 0);
+    let boxes = (t.leaves.len() + t.internal.len()) as u64;
+    let tested = (t.leaves.len() - stopped) as u64;
+    let estimate = tested * ASSEMBLY_BYTES_PER_ACTIVE_LEAF + boxes * ASSEMBLY_BYTES_PER_BOX;
+    assert!(
+        estimate <= cap + 4096 * (ASSEMBLY_BYTES_PER_ACTIVE_LEAF + ASSEMBLY_BYTES_PER_BOX),
+        "{tested} leaves, {boxes} boxes: {estimate} bytes against a cap of {cap}"
+    );
+    assert!(MEMORY_LIMIT_REASON.contains("16 GiB"));
+}

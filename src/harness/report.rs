@@ -101,6 +101,7 @@ pub fn stop_reason(run: &Run) -> Option<String> {
     let budget = [
         crate::subdivision::BOX_BUDGET_REASON,
         crate::subdivision::TIME_LIMIT_REASON,
+        crate::subdivision::MEMORY_LIMIT_REASON,
     ];
     let from_regions = match &run.output.certificate {
         Certificate::Uncertified { regions, .. } => budget

@@ -6,7 +6,7 @@ use crate::kernel::geom::Aabb;
 use crate::mesh::{Curve2, TriMesh};
 use crate::mesher::Uncertified;
 use rayon::prelude::*;
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 /// How the crossings on a tile are paired.
@@ -197,8 +197,8 @@ pub fn assemble(
         })
         .collect();
     // 2. Unique points and segments.
-    let mut pset: HashSet<u64> = HashSet::new();
-    let mut sset: HashSet<Seg> = HashSet::new();
+    let mut pset: HashSet<u64> = HashSet::default();
+    let mut sset: HashSet<Seg> = HashSet::default();
     for lt in &tiles {
         for (_, pts, _) in lt {
             for i in 0..pts.len() {
@@ -328,7 +328,7 @@ pub fn assemble(
         })
         .collect();
     // 5. Vertex numbering.
-    let mut index: HashMap<CrossKey, u32> = HashMap::new();
+    let mut index: HashMap<CrossKey, u32> = HashMap::default();
     let mut verts: Vec<[f64; 3]> = Vec::new();
     let mut ncross = 0;
     let mut sorted_roots: Vec<(&Seg, &SegRoots)> = roots.iter().collect();
@@ -375,14 +375,14 @@ pub fn assemble(
     let mut tris: Vec<[u32; 3]> = Vec::new();
     let mut bad = 0usize;
     for (o, &c) in outs.iter().zip(&active) {
-        let mut next: HashMap<u32, u32> = HashMap::new();
+        let mut next: HashMap<u32, u32> = HashMap::default();
         let mut ok = true;
         for (a, b) in &o.segs {
             if next.insert(index[a], index[b]).is_some() {
                 ok = false;
             }
         }
-        let mut seen: HashSet<u32> = HashSet::new();
+        let mut seen: HashSet<u32> = HashSet::default();
         let mut starts: Vec<u32> = next.keys().copied().collect();
         starts.sort_unstable();
         for s in starts {
