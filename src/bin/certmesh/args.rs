@@ -118,7 +118,9 @@ pub(crate) struct OptArgs {
     /// bound the work, but near a pole or a singular point (two touching spheres, the
     /// Whitney umbrella) reaching them can take minutes. A run stopped by the limit
     /// reports "time limit reached (raise --time-limit)", refinement_complete: false,
-    /// and certifies nothing.
+    /// and certifies nothing. pv and snyder stop their subdivision early enough to
+    /// assemble what they found within the limit (an estimate, about 10 µs per box not
+    /// proven empty), and stop at any limit once that assembly would need 16 GiB.
     #[arg(long, value_name = "SECONDS")]
     pub(crate) time_limit: Option<f64>,
     /// Smallest triangle angle in degrees (bo; CGAL's facet_angle, default 30;
