@@ -204,3 +204,46 @@ fn certificate_colours_are_the_typed_claims_never_more() {
     );
     std::fs::remove_dir(&nocert).expect("nothing was written");
 }
+
+/// A title longer than a figure can hold is refused before any drawing (a 100,000-character
+/// one took 20 s), naming the limit; one at the limit is drawn.
+#[test]
+fn an_overlong_title_is_refused() {
+    let out = run(
+        "sphere",
+        "mc",
+        MesherOptions {
+            resolution: Some(6),
+            ..Default::default()
+        },
+    );
+    let Mesh::Surface(m) = &out.mesh else {
+        panic!("mc makes surfaces")
+    };
+    let d = tmp("title");
+    let with = |n: usize| RenderOptions {
+        title: "é".repeat(n),
+        ..Default::default()
+    };
+    let e = render::render(
+        &d.join("t"),
+        Input::Surface(m),
+        None,
+        &with(100_000),
+        &[Format::Svg],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("100000 characters") && e.contains("200"), "{e}");
+    assert!(!d.join("t.svg").exists());
+    render::render(
+        &d.join("t"),
+        Input::Surface(m),
+        None,
+        &with(render::MAX_TITLE_CHARS),
+        &[Format::Svg],
+    )
+    .unwrap();
+    assert!(d.join("t.svg").exists());
+    let _ = std::fs::remove_dir_all(&d);
+}

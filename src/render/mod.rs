@@ -152,6 +152,11 @@ fn cert_colour(c: CertClass) -> palette::Rgb {
     }
 }
 
+/// The longest title a rendered figure takes, in characters: one line above a column
+/// figure holds about 60 at its font size; longer text belongs in the caption. (A
+/// 100,000-character title took 20 s to lay out and draw.)
+pub const MAX_TITLE_CHARS: usize = 200;
+
 /// Render `input` to `base.<ext>` for each format.
 pub fn render(
     base: &Path,
@@ -160,6 +165,12 @@ pub fn render(
     o: &RenderOptions,
     formats: &[Format],
 ) -> Result<Rendered> {
+    let n = o.title.chars().count();
+    if n > MAX_TITLE_CHARS {
+        return Err(Error::Param(format!(
+            "render: the title has {n} characters, at most {MAX_TITLE_CHARS} (put longer text in the caption)"
+        )));
+    }
     let (faces, volume) = match input {
         Input::Surface(m) => (scene::tri_faces(m, o.cut), false),
         Input::Volume(m) => (scene::tet_faces(m, o.cut), true),
