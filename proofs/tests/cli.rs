@@ -67,6 +67,10 @@ fn unreachable_tolerance_and_out_of_range_parameters_are_input_errors() {
     let o = proofs(&["gradnormal", "--scan", "1000000"]);
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(e.contains("--max-boxes") && e.contains("--scan"), "{e}");
+    // An out-of-range a/e is echoed short (it was printed with 309 digits).
+    let o = proofs(&["gradnormal", "--a", "1e308"]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("got 1e308") && e.len() < 200, "{e}");
 }
 
 #[test]

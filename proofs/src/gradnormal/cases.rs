@@ -20,6 +20,17 @@ use num_rational::BigRational;
 use num_traits::{Signed, Zero};
 use serde::{Deserialize, Serialize};
 
+/// `x` as Rust prints it, or in scientific notation when that would be long (Rust
+/// prints 1e308 with 309 digits and 1e-300 with 300 zeros).
+fn short(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() > 24 {
+        format!("{x:e}")
+    } else {
+        plain
+    }
+}
+
 /// The Goldberg parameter a/e.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Ratio {
@@ -40,7 +51,7 @@ impl Ratio {
                 if x > 0.0 && x.is_finite() && x < 100.0 {
                     Ok(Ratio::Value(x))
                 } else {
-                    Err(format!("a/e must be in (0, 100), got {x}"))
+                    Err(format!("a/e must be in (0, 100), got {}", short(x)))
                 }
             }
         }
@@ -48,7 +59,7 @@ impl Ratio {
     pub fn label(&self) -> String {
         match self {
             Ratio::Sommerville => "sommerville".into(),
-            Ratio::Value(x) => format!("{x}"),
+            Ratio::Value(x) => short(*x),
         }
     }
     pub fn f64(&self) -> f64 {
