@@ -2077,3 +2077,39 @@ fn an_empty_zero_set_is_an_error_that_says_whether_it_is_proven() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `morse` has a wall-clock limit per search (default 60 s): with a box budget that
+/// would run for minutes on the double sphere (a degenerate critical set everywhere
+/// on S), each search stops at the limit, reports its remaining boxes as "time-limit",
+/// and certifies nothing; a non-positive limit is refused.
+#[test]
+fn morse_searches_stop_at_their_time_limit() {
+    let args = [
+        "morse",
+        "--formula",
+        "(x^2 + y^2 + z^2 - 0.25)^2",
+        "--domain",
+        "-1,-1,-1,1,1,1",
+        "--max-boxes",
+        "1000000000000",
+        "--max-depth",
+        "60",
+        "--json",
+        "--time-limit",
+    ];
+    let (code, out, err) = certmesh(&[&args[..], &["0.5"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for search in ["gradient", "height"] {
+        let n = v[search]["undecided"]["by_reason"]["time-limit"].as_u64();
+        assert!(
+            n.is_some_and(|n| n > 0),
+            "{search}: {}",
+            v[search]["undecided"]
+        );
+    }
+    assert!(v["chi"].is_null(), "{}", v["chi"]);
+    let (code, out, err) = certmesh(&[&args[..], &["0"]].concat());
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(out.contains("--time-limit"), "{out}");
+}

@@ -48,6 +48,12 @@ pub(crate) struct MorseArgs {
     /// depends on them.
     #[arg(long, value_name = "N")]
     pub(crate) max_boxes: Option<usize>,
+    /// Wall-clock limit of each search, in seconds (default 60). A search stopped by it
+    /// reports its unprocessed boxes as undecided ("time-limit") and certifies nothing
+    /// that depends on them; a degenerate critical set (two touching spheres, a double
+    /// sphere) can otherwise spend a large --max-boxes for minutes.
+    #[arg(long, value_name = "SECONDS")]
+    pub(crate) time_limit: Option<f64>,
     /// Bisection depth of the search for grad f = 0 (default 30); a box still
     /// undecided there is reported (possibly degenerate, or depth limit).
     #[arg(long, value_name = "D")]
@@ -94,6 +100,16 @@ pub(crate) fn morse_cmd(a: MorseArgs, quiet: bool) -> CliResult<()> {
         }
         opts = opts.with_max_boxes(n);
     }
+    let limit = a
+        .time_limit
+        .unwrap_or(certmesh::mesher::options::DEFAULT_TIME_LIMIT);
+    if !(limit.is_finite() && limit > 0.0) {
+        return Err(CliError::from(Error::Param(format!(
+            "--time-limit must be a positive number of seconds, got {limit}"
+        ))));
+    }
+    opts.gradient.time_limit = Some(limit);
+    opts.surface.time_limit = Some(limit);
     if let Some(d) = a.max_depth {
         if !(1..=200).contains(&d) {
             return Err(CliError::from(Error::Param(format!(

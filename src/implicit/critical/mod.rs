@@ -146,6 +146,11 @@ pub struct Budget {
     pub nonsmooth_depth: u32,
     /// Krawczyk iterations that shrink an isolating box.
     pub shrink_steps: u32,
+    /// Wall-clock limit of the search, in seconds (none by default: the box budget
+    /// bounds it; the command line's `morse --time-limit` sets one). The boxes left
+    /// when it passes are reported undecided ([`Reason::TimeLimit`]).
+    #[serde(default)]
+    pub time_limit: Option<f64>,
 }
 
 impl Default for Budget {
@@ -155,6 +160,7 @@ impl Default for Budget {
             max_boxes: 400_000,
             nonsmooth_depth: 12,
             shrink_steps: 12,
+            time_limit: None,
         }
     }
 }
@@ -170,6 +176,8 @@ pub enum Reason {
     PossiblyDegenerate,
     /// The box budget ran out before this box was processed.
     Budget,
+    /// The time limit passed before this box was processed.
+    TimeLimit,
     /// f is continuous but not proven differentiable on the box.
     NotDifferentiable,
     /// f is not proven continuous (or defined) on the box: a pole, a domain boundary.

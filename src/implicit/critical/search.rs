@@ -200,12 +200,23 @@ impl<S: System> Search<'_, S> {
     }
 
     fn run(&mut self) {
+        let deadline = self.budget.time_limit.and_then(|s| {
+            std::time::Instant::now().checked_add(std::time::Duration::try_from_secs_f64(s).ok()?)
+        });
         let mut stack: Vec<(IBox, u32, bool)> = vec![(self.domain, 0, false)];
         while let Some((x, depth, parent_smooth)) = stack.pop() {
-            if self.stats.boxes >= self.budget.max_boxes {
-                self.undecided(&x, Reason::Budget, depth);
+            // The clock every 1024 boxes (it costs ~20 ns).
+            let late = self.stats.boxes % 1024 == 0
+                && deadline.is_some_and(|d| std::time::Instant::now() > d);
+            if self.stats.boxes >= self.budget.max_boxes || late {
+                let why = if late {
+                    Reason::TimeLimit
+                } else {
+                    Reason::Budget
+                };
+                self.undecided(&x, why, depth);
                 for (y, d, _) in std::mem::take(&mut stack) {
-                    self.undecided(&y, Reason::Budget, d);
+                    self.undecided(&y, why, d);
                 }
                 break;
             }
