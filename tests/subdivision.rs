@@ -762,6 +762,14 @@ fn split_everything_grid() -> Grid {
     }
 }
 
+/// The leaves the budget stopped with `reason`.
+fn failed_by(t: &certmesh::subdivision::Tree, reason: &'static str) -> usize {
+    t.leaves
+        .iter()
+        .filter(|l| l.verdict == Verdict::Failed(reason))
+        .count()
+}
+
 /// Boxes that are split to the depth limit everywhere (a criterion that never holds, as
 /// on a singular surface): the leaves are all failed, all to be assembled.
 fn split_all(_: &Grid, _: certmesh::subdivision::Cell) -> Decision {
@@ -777,11 +785,7 @@ fn the_deadline_reserves_the_assembly_time() {
     let budget = Budget::new(u64::MAX, Some(0.5));
     let t = subdivide(split_everything_grid(), 0, 9, &budget, &split_all);
     assert!(!t.refinement_complete);
-    let stopped = t
-        .leaves
-        .iter()
-        .filter(|l| l.verdict == Verdict::Failed(TIME_LIMIT_REASON))
-        .count();
+    let stopped = failed_by(&t, TIME_LIMIT_REASON);
     let tested = t.leaves.len() - stopped;
     assert!(stopped > 0);
     // Leaves made before the stop: at most what 0.5 s of assembly covers, plus the
@@ -798,11 +802,7 @@ fn the_memory_cap_stops_the_subdivision_and_says_so() {
     let budget = Budget::new(u64::MAX, None).with_max_bytes(cap);
     let t = subdivide(split_everything_grid(), 0, 9, &budget, &split_all);
     assert!(!t.refinement_complete);
-    let stopped = t
-        .leaves
-        .iter()
-        .filter(|l| l.verdict == Verdict::Failed(MEMORY_LIMIT_REASON))
-        .count();
+    let stopped = failed_by(&t, MEMORY_LIMIT_REASON);
     assert!(stopped > 0);
     let boxes = (t.leaves.len() + t.internal.len()) as u64;
     let tested = (t.leaves.len() - stopped) as u64;

@@ -61,6 +61,18 @@ pub struct MesherOptions {
     pub extra: BTreeMap<String, String>,
 }
 
+/// A wall-clock limit must be a positive, finite number of seconds (the one check of
+/// `--time-limit` for every command and mesher).
+pub fn check_time_limit(t: f64) -> Result<()> {
+    if t.is_finite() && t > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::Param(format!(
+            "--time-limit must be a positive number of seconds, got {t}"
+        )))
+    }
+}
+
 impl MesherOptions {
     /// `--time-limit`, or [`DEFAULT_TIME_LIMIT`] without it.
     pub fn time_limit_or_default(&self) -> f64 {

@@ -153,11 +153,7 @@ impl BoissonnatOudot2 {
             m.max_vertices = n;
         }
         let t = o.time_limit_or_default();
-        if !(t.is_finite() && t > 0.0) {
-            return Err(Error::Param(format!(
-                "--time-limit must be a positive number of seconds, got {t}"
-            )));
-        }
+        crate::mesher::options::check_time_limit(t)?;
         m.time_limit = Some(t);
         if let Some(n) = o.get::<usize>("seed-lines")? {
             m.seed_lines = n.clamp(1, 1000);

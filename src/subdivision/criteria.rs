@@ -121,11 +121,7 @@ pub(crate) fn check_budget(max_boxes: u64, time_limit: Option<f64>) -> Result<()
         return Err(Error::Param("max_boxes must be at least 1".into()));
     }
     if let Some(t) = time_limit {
-        if !(t > 0.0 && t.is_finite()) {
-            return Err(Error::Param(format!(
-                "time_limit {t} must be a positive number of seconds"
-            )));
-        }
+        crate::mesher::options::check_time_limit(t)?;
     }
     Ok(())
 }

@@ -194,11 +194,7 @@ impl OptArgs {
             return Err(Error::Param("--max-boxes must be at least 1".into()));
         }
         if let Some(t) = o.time_limit {
-            if !(t.is_finite() && t > 0.0) {
-                return Err(Error::Param(format!(
-                    "--time-limit must be a positive number of seconds, got {t}"
-                )));
-            }
+            certmesh::mesher::options::check_time_limit(t)?;
         }
         for kv in &self.set {
             let (k, v) = kv

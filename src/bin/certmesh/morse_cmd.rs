@@ -103,11 +103,7 @@ pub(crate) fn morse_cmd(a: MorseArgs, quiet: bool) -> CliResult<()> {
     let limit = a
         .time_limit
         .unwrap_or(certmesh::mesher::options::DEFAULT_TIME_LIMIT);
-    if !(limit.is_finite() && limit > 0.0) {
-        return Err(CliError::from(Error::Param(format!(
-            "--time-limit must be a positive number of seconds, got {limit}"
-        ))));
-    }
+    certmesh::mesher::options::check_time_limit(limit)?;
     opts.gradient.time_limit = Some(limit);
     opts.surface.time_limit = Some(limit);
     if let Some(d) = a.max_depth {
