@@ -267,19 +267,22 @@ const MAX_F_CHARS: usize = (MAX_F_BITS as usize * 30103).div_ceil(100_000) + 1;
 /// rationals cost time quadratic in their length (a 60,000-digit interval end that
 /// still isolates its root took 15 s to verify, a 100,000-digit one over a minute).
 ///
-/// - Every number: at most 4,096 + d²(τ + 64)/3 characters. The sweep's numbers are an
+/// - Every number: at most 8,192 + d²(τ + 64)/3 characters. The sweep's numbers are an
 ///   event's polynomial (a factor of the discriminant or of f on a side: at most
 ///   2d(τ + 2 log₂ d + log₂ 2d) bits by Hadamard's bound on the Sylvester determinant,
-///   below d²(τ + 64) bits for d ≥ 2) and isolating intervals (dyadic, refined by at
-///   most `REFINE_STEPS` = 4,000 bisections per decision, about 1,200 digits), and the
-///   domain's corners (doubles: at most 1,075 bits, 325 digits).
+///   below d²(τ + 64) bits for d ≥ 2) and isolating intervals (dyadic a/2ᵏ, refined by
+///   at most `REFINE_STEPS` = 4,000 bisections per decision: about 1,200 digits for
+///   each of a and 2ᵏ per decision, so three decisions' full refinement of one number
+///   fit in 8,192), and the domain's corners (doubles: at most 1,075 bits, 325 digits).
+///   The catalog's certificates use at most 74 characters; a number at the limit costs
+///   about a third of a second.
 /// - Counts: at most d² + 4d + 2 events (the discriminant has at most d(d − 1) roots,
 ///   each of the four sides at most d crossings, and the two vertical sides), one more
 ///   fibre than events, at most d roots per fibre or event fibre, at most 4 side
 ///   crossings and d² + 1 coefficients per event polynomial, and at most
 ///   `BOX_SEARCH_STEPS` excluded boxes per event (the sweep's search visits no more).
 fn check_sizes(c: &CurveCert, d: usize, tau: u64) -> Result<()> {
-    let max_chars = 4096 + (d * d).saturating_mul(tau as usize + 64) / 3;
+    let max_chars = 8192 + (d * d).saturating_mul(tau as usize + 64) / 3;
     let long = |what: String, s: &str| -> Result<()> {
         if s.len() > max_chars {
             return Err(bad(format!(
