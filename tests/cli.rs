@@ -2112,4 +2112,31 @@ fn morse_searches_stop_at_their_time_limit() {
     let (code, out, err) = certmesh(&[&args[..], &["0"]].concat());
     assert_eq!(code, 2, "{out}{err}");
     assert!(out.contains("--time-limit"), "{out}");
+    // stander-hart's own search for grad f = 0 stops at the mesher's --time-limit.
+    let (code, out, err) = certmesh(&[
+        "mesh",
+        "--formula",
+        "(x^2 + y^2 + z^2 - 0.25)^2",
+        "--domain",
+        "-1,-1,-1,1,1,1",
+        "--algo",
+        "stander-hart",
+        "--set",
+        "gradient-boxes=1000000000000",
+        "--set",
+        "gradient-depth=60",
+        "--time-limit",
+        "0.5",
+        "--metrics",
+        "none",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["certified"], false);
+    assert!(
+        v["reason"].as_str().unwrap().contains("time-limit"),
+        "{}",
+        v["reason"]
+    );
 }

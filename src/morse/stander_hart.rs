@@ -137,7 +137,8 @@ pub struct StanderHart {
     /// Write every level mesh as `level-KK.obj` into this folder.
     pub levels_dir: Option<std::path::PathBuf>,
     /// Box budget of the search for ∇f = 0 (default 50 000, `--set gradient-boxes=N`;
-    /// a degenerate critical set spends it, and the sweep is then uncertified).
+    /// a degenerate critical set spends it, and the sweep is then uncertified). The
+    /// search also stops at the time limit of `pv` (`--time-limit`).
     pub gradient_boxes: usize,
     /// Bisection depth of that search (default 30, `--set gradient-depth=D`, 1..=200;
     /// a nearly degenerate critical point, such as the thin torus's through the
@@ -369,9 +370,12 @@ impl Mesher for StanderHart {
     fn mesh(&self, f: &dyn Implicit, domain: &Aabb, progress: &dyn Progress) -> Result<MeshOutput> {
         check_input(f, domain, 3, "stander-hart")?;
         let t0 = std::time::Instant::now();
+        // The search for ∇f = 0 has the mesher's time limit too (a degenerate critical
+        // set with a large `gradient-boxes` otherwise runs for minutes).
         let budget = Budget {
             max_depth: self.gradient_depth,
             max_boxes: self.gradient_boxes,
+            time_limit: self.pv.params.time_limit,
             ..Budget::default()
         };
         let remedy = match &self.remedy {
