@@ -95,8 +95,9 @@ pub(crate) fn mesh_cmd(a: MeshArgs, dim: usize, quiet: bool) -> CliResult<()> {
 
 /// A run whose output is empty is an error (exit 2, kind `empty-zero-set`): f = 0 does
 /// not meet the domain, or the mesher found no point of it. The message says which:
-/// proven by the mesher's certificate (Plantinga–Vegter, Snyder, the exact sweep
-/// exclude every box or fibre), or only not seen (a lattice mesher met one sign at
+/// proven by the mesher's certificate (every certifying mesher's first claim is
+/// topological: its output, here empty, is isotopic or homeomorphic to f = 0 in the
+/// domain), or only not seen (a lattice mesher met one sign at
 /// every point it read), and no mesh file is written. A run stopped by a budget is not
 /// this case: its partial, perhaps empty, output is written and its report says why it
 /// stopped.
@@ -129,9 +130,10 @@ fn empty_result(
     };
     let what = if dim == 2 { "curve" } else { "surface" };
     let message = match &run.output.certificate {
-        Certificate::Certified { .. } => format!(
-            "f = 0 does not meet the domain {dom}: proven by '{}' (its certificate excludes the whole domain), so there is no {what} to mesh; no mesh written; {hint}",
-            run.algo
+        Certificate::Certified { claims, .. } => format!(
+            "f = 0 does not meet the domain {dom}: proven by '{}', whose empty output is certified ({}), so there is no {what} to mesh; no mesh written; {hint}",
+            run.algo,
+            claims.first().map_or("", |c| c.as_str())
         ),
         Certificate::Uncertified { .. } => format!(
             "'{}' found no point of f = 0 in the domain {dom}, so it produced no {what}; not proven empty (f had one sign at every point the mesher read, and a component between those points would be missed); no mesh written; {hint}, or mesh with pv or snyder, which prove a domain empty",
