@@ -150,6 +150,14 @@ pub fn mesh_report(
     })
 }
 
+/// The domain as the reports print it: `[x0, x1] × [y0, y1] (× [z0, z1])`.
+pub fn domain_text(domain: &Aabb, dim: usize) -> String {
+    (0..dim)
+        .map(|k| format!("[{}, {}]", domain.min[k], domain.max[k]))
+        .collect::<Vec<_>>()
+        .join(" × ")
+}
+
 impl MeshReport {
     /// The readable report: the comparison row as a one-line table, the domain, why
     /// the run stopped, up to `max_regions` uncertified regions, the proven claims, the
@@ -158,11 +166,7 @@ impl MeshReport {
         let mut out = vec![compare::markdown(std::slice::from_ref(&self.row))
             .trim_end()
             .to_string()];
-        let dim = self.row.dim;
-        let dom = (0..dim)
-            .map(|k| format!("[{}, {}]", self.domain.min[k], self.domain.max[k]))
-            .collect::<Vec<_>>()
-            .join(" × ");
+        let dom = domain_text(&self.domain, self.row.dim);
         out.push(format!(
             "domain: {dom}{}",
             match self.domain_source {

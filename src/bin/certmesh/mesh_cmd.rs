@@ -118,10 +118,7 @@ fn empty_result(
     if !empty || report::stop_reason(run).is_some() {
         return None;
     }
-    let dom = (0..dim)
-        .map(|k| format!("[{}, {}]", domain.min[k], domain.max[k]))
-        .collect::<Vec<_>>()
-        .join(" × ");
+    let dom = report::domain_text(domain, dim);
     let hint = match source {
         DomainSource::Default => {
             "check the formula, or set --domain (this is the default domain of a formula)"
