@@ -364,3 +364,86 @@ fn the_scan_pre_test_agrees_with_plain_root_isolation() {
         assert_eq!(restricted, decided, "{name}");
     }
 }
+
+/// A time limit cuts the check short: the faces not checked are not proven, the report
+/// says the limit passed, and nothing is certified. The same mesh without a limit is
+/// certified (so the cut, not the mesh, is what stops it).
+#[test]
+fn a_check_cut_by_its_time_limit_certifies_nothing() {
+    let m = cdrr("sphere");
+    let e = catalog::get("sphere").unwrap();
+    let free = certify(&m, "sphere");
+    assert!(free.homeomorphic && !free.tbp.timed_out, "{}", free.verdict);
+    let o = CertifyOptions {
+        time_limit: Some(1e-9),
+        ..Default::default()
+    };
+    let (r, _) = certify_mesh(&m, &e.function(), &e.domain, &o).unwrap();
+    assert!(r.tbp.timed_out, "{:?}", r.tbp);
+    assert!(!r.tbp.holds && !r.homeomorphic);
+    assert_eq!(r.tbp.boxes, 0, "no cover may run after the deadline");
+    assert!(r.verdict.contains("time limit"), "{}", r.verdict);
+    // The check itself: a deadline already passed leaves tests (2)-(4) not run.
+    let (t, _) = Delaunay::from_points(&m.vertices, 1).unwrap();
+    let o = TbpOptions {
+        deadline: Some(std::time::Instant::now()),
+        ..Default::default()
+    };
+    let c = tbp::check(&t, &e.function(), &e.domain, &o);
+    assert!(c.report.timed_out && !c.report.holds);
+    assert_eq!(
+        c.report.skipped,
+        vec![tbp::Test::Manifold, tbp::Test::Facet, tbp::Test::Cell]
+    );
+}
+
+/// A mesh whose check would need more than the memory limit is refused before any
+/// work, naming its size (three million vertices, one triangle each).
+#[test]
+fn a_mesh_too_large_to_check_is_refused_up_front() {
+    use certmesh::restricted_delaunay::certify::{estimated_bytes, MAX_BYTES};
+    let n = (MAX_BYTES / estimated_bytes(1)) as usize + 3;
+    let n = n.div_ceil(3) * 3;
+    let vertices: Vec<[f64; 3]> = (0..n).map(|i| [i as f64 * 1e-6, 0.0, 0.0]).collect();
+    let triangles: Vec<[u32; 3]> = (0..n as u32 / 3)
+        .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
+        .collect();
+    let m = TriMesh {
+        vertices,
+        triangles,
+    };
+    let e = catalog::get("sphere").unwrap();
+    let err = certify_mesh(&m, &e.function(), &e.domain, &CertifyOptions::default())
+        .err()
+        .expect("refused");
+    let msg = err.to_string();
+    assert!(
+        msg.contains(&format!("{n} vertices")) && msg.contains("GB limit"),
+        "{msg}"
+    );
+}
+
+/// cdrr's time limit bounds its checks: a run stopped by it does not go on to the
+/// final check with the full cover budget (which took 30 s after a 5 s limit on two
+/// touching spheres), and says why it stopped.
+#[test]
+fn cdrr_stops_its_checks_at_the_time_limit() {
+    let f = Formula::surface("((x-0.5)^2+y^2+z^2-0.25)*((x+0.5)^2+y^2+z^2-0.25)").unwrap();
+    let domain = Aabb {
+        min: [-1.2; 3],
+        max: [1.2; 3],
+    };
+    let m = ChengDeyRamosRay {
+        time_limit: Some(1e-6),
+        ..Default::default()
+    };
+    let out = m.mesh(&f, &domain, &NoProgress).unwrap();
+    assert!(!out.certificate.is_certified());
+    let stats = &out.stats;
+    let stop = stats["stop_reason"].as_str().unwrap();
+    assert!(stop.contains("time limit"), "{stop}");
+    // The report is the first round's check (cut short by its failing test (1)), not
+    // a final check with every test run.
+    assert_eq!(stats["tbp"]["boxes"], 0, "no cover after the deadline");
+    assert!(!stats["tbp"]["skipped"].as_array().unwrap().is_empty());
+}

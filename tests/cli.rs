@@ -2140,3 +2140,47 @@ fn morse_searches_stop_at_their_time_limit() {
         v["reason"]
     );
 }
+
+/// `certify --time-limit`: a limit that passes before the checks leaves them not run
+/// and the verdict says so (exit 0, not certified); a limit of 0 is refused (exit 2).
+#[test]
+fn certify_stops_at_its_time_limit() {
+    let dir = tmp("certify-time");
+    let (code, _, err) = certmesh_in(
+        &dir,
+        &["mesh", "sphere", "--algo", "cdrr", "-o", "s.obj", "-q"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let certify = |limit: &str| {
+        certmesh_in(
+            &dir,
+            &[
+                "certify",
+                "s.obj",
+                "--surface",
+                "sphere",
+                "--json",
+                "--time-limit",
+                limit,
+            ],
+        )
+    };
+    let (code, out, err) = certify("1e-9");
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["homeomorphic"], false);
+    assert_eq!(v["tbp"]["timed_out"], true);
+    assert!(
+        v["verdict"].as_str().unwrap().contains("time limit"),
+        "{}",
+        v["verdict"]
+    );
+    let (code, out, err) = certify("60");
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["homeomorphic"], true, "{}", v["verdict"]);
+    let (code, out, _) = certify("0");
+    assert_eq!(code, 2, "{out}");
+    assert!(out.contains("--time-limit"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -26,7 +26,10 @@
 //! 4. **Guards**: `--max-vertices`, `--time-limit`, a round limit; a round that
 //!    inserts nothing (every point refused, or a failure with no point of S near)
 //!    stops the run. A run stopped by a guard reports the Voronoi faces where the
-//!    certificate failed, as uncertified regions.
+//!    certificate failed, as uncertified regions. The time limit counts from the
+//!    start of the run and bounds the checks too: a check that reaches it leaves its
+//!    remaining Voronoi faces unproven ([`TbpOptions::deadline`]), and the final check
+//!    with the full cover budget runs only while time is left.
 use super::bo::{seed_points, to_mesh, triangle_circumcentre};
 use super::tbp::{self, Failure, TbpOptions, TbpReport, Test};
 use crate::error::{Error, Result};
@@ -204,7 +207,12 @@ impl Mesher for ChengDeyRamosRay {
         }
         // Rounds use a small cover budget (a face not proven quickly gets a point);
         // a face proven with any budget is proven, so the cache keeps it.
+        // The time limit bounds the rounds' checks and the final one too.
+        let deadline = self
+            .time_limit
+            .map(|tl| t0 + std::time::Duration::from_secs_f64(tl));
         let opts = TbpOptions {
+            deadline,
             stop_early: true,
             cover: tbp::cover::CoverBudget {
                 max_boxes: (self.cover_boxes / 10).max(16),
@@ -214,6 +222,7 @@ impl Mesher for ChengDeyRamosRay {
             ..Default::default()
         };
         let full = TbpOptions {
+            deadline,
             stop_early: false,
             cover: tbp::cover::CoverBudget {
                 max_boxes: self.cover_boxes,
@@ -227,7 +236,8 @@ impl Mesher for ChengDeyRamosRay {
         let check = loop {
             let tc = std::time::Instant::now();
             let check = tbp::check_cached(&t, f, domain, &opts, &mut cache);
-            stats.seconds_checks += tc.elapsed().as_secs_f64();
+            let check_seconds = tc.elapsed().as_secs_f64();
+            stats.seconds_checks += check_seconds;
             stats.rounds += 1;
             progress.inc(1);
             let mut points: Vec<Candidates> = Vec::new();
@@ -242,6 +252,16 @@ impl Mesher for ChengDeyRamosRay {
                         .collect::<Vec<_>>()
                         .join("; ")
                 ));
+                break check;
+            }
+            // The time limit, before the refinement points are computed (a Newton
+            // projection or more per failure).
+            let over = |tl: f64| t0.elapsed().as_secs_f64() > tl;
+            if let Some(tl) = self
+                .time_limit
+                .filter(|&tl| !check.report.holds && over(tl))
+            {
+                stop = Some(format!("time limit reached: {tl} s (raise --time-limit)"));
                 break check;
             }
             for x in &check.failures {
@@ -270,11 +290,16 @@ impl Mesher for ChengDeyRamosRay {
                 stop = Some(format!("round limit reached: {} rounds", self.max_rounds));
                 break check;
             }
-            if let Some(tl) = self.time_limit {
-                if t0.elapsed().as_secs_f64() > tl {
-                    stop = Some(format!("time limit reached: {tl} s (raise --time-limit)"));
-                    break check;
-                }
+            // The next round's check costs about this one's times the growth of the
+            // triangulation (its scan and exact check are linear in the cells): stop
+            // now when it would end past the limit (the geometry rounds included).
+            let n = t.points().len() - crate::kernel::delaunay::FAR as usize;
+            let next = check_seconds * (n + points.len()) as f64 / n.max(1) as f64;
+            if let Some(tl) = self.time_limit.filter(|&tl| over(tl - next)) {
+                stop = Some(format!(
+                    "time limit reached: {tl} s (the next round's check would end past it, about {next:.1} s; raise --time-limit)"
+                ));
+                break check;
             }
             // One insertion per neighbourhood of a round.
             let mut chosen: Vec<[f64; 3]> = Vec::new();
@@ -317,9 +342,12 @@ impl Mesher for ChengDeyRamosRay {
             }
         };
         // A run stopped by a guard: the final check with the full budget (it may prove
-        // faces the rounds' small budget could not) and every test reported.
+        // faces the rounds' small budget could not) and every test reported, unless the
+        // time limit has passed (then the last round's check, which is cut short by the
+        // deadline too, is the report).
         let setup_failed = check.failures.iter().any(|x| x.test == Test::Setup);
-        let check = if check.report.holds || setup_failed {
+        let out_of_time = deadline.is_some_and(|d| std::time::Instant::now() >= d);
+        let check = if check.report.holds || setup_failed || out_of_time {
             check
         } else {
             let c = tbp::check_cached(&t, f, domain, &full, &mut cache);
@@ -382,7 +410,17 @@ pub fn certificate(check: &tbp::Tbp, stop: Option<&str>, diam: f64) -> Certifica
         .failures
         .first()
         .map(|x| x.reason.clone())
-        .unwrap_or_else(|| format!("tests not run: {:?}", r.skipped));
+        .unwrap_or_else(|| {
+            format!(
+                "tests not run{}: {:?}",
+                if r.timed_out {
+                    " before the time limit"
+                } else {
+                    ""
+                },
+                r.skipped
+            )
+        });
     Certificate::uncertified(
         format!(
             "topological ball property not proven ({} edge, {} manifold, {} facet, {} cell failures; first: {first}){}",

@@ -100,6 +100,10 @@ pub struct TbpOptions {
     /// Skip the later tests once one fails (the refinement driver's use: its next
     /// insertions come from the first failing test).
     pub stop_early: bool,
+    /// Stop at this instant: the Voronoi facets and cells not yet checked are not
+    /// proven, and the tests they belong to are reported as not run
+    /// ([`TbpReport::timed_out`]). `None`: no time limit.
+    pub deadline: Option<std::time::Instant>,
 }
 
 impl Default for TbpOptions {
@@ -109,6 +113,7 @@ impl Default for TbpOptions {
             segment: SegmentBudget::default(),
             directions: 3,
             stop_early: false,
+            deadline: None,
         }
     }
 }
@@ -133,8 +138,12 @@ pub struct TbpReport {
     pub cell_failures: usize,
     /// Boxes of the facet and cell covers.
     pub boxes: u64,
-    /// Tests not run because an earlier one failed (`stop_early`).
+    /// Tests not run, or not run on every face: because an earlier one failed
+    /// (`stop_early`), or because the deadline passed (`timed_out`).
     pub skipped: Vec<Test>,
+    /// The deadline ([`TbpOptions::deadline`]) passed before every test had run on
+    /// every face: the tests in `skipped` from the first cut on are incomplete.
+    pub timed_out: bool,
     /// Seconds: the exact Delaunay check, (1) edges, (2) manifold, (3) facets, (4)
     /// cells. The check runs beside (1) and (2) beside (3) (unless `stop_early`): the
     /// entries of (1) and (3) are the wall time of both together.
@@ -722,6 +731,21 @@ pub fn check_cached(
         r.skipped = vec![Test::Manifold, Test::Facet, Test::Cell];
         return finish(r, rdt, failures);
     }
+    let late = || o.deadline.is_some_and(|d| std::time::Instant::now() >= d);
+    if late() {
+        r.skipped = vec![Test::Manifold, Test::Facet, Test::Cell];
+        r.timed_out = true;
+        return finish(r, rdt, failures);
+    }
+    // Set when a task found the deadline passed and left its faces unchecked.
+    let cut = std::sync::atomic::AtomicBool::new(false);
+    let cut_here = || {
+        let l = late();
+        if l {
+            cut.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+        l
+    };
     // (2) and (3): the manifold check (serial) runs beside the covers of the Voronoi
     // facets (parallel), unless a failing (2) has to stop the checks (`stop_early`).
     // Its failures are listed before those of (3), as when run one after the other.
@@ -788,6 +812,9 @@ pub fn check_cached(
         let idx: Vec<usize> = (0..adj.edges.len()).collect();
         idx.par_chunks(CHUNK)
             .flat_map_iter(|chunk| {
+                if cut_here() {
+                    return Vec::new();
+                }
                 let todo: Vec<_> = chunk
                     .iter()
                     .map(|&i| {
@@ -824,6 +851,11 @@ pub fn check_cached(
     r.seconds[2] = manifold_seconds;
     r.boxes += record(facets, &mut failures, cache);
     r.seconds[3] = lap();
+    if cut.load(std::sync::atomic::Ordering::Relaxed) || late() {
+        r.skipped = vec![Test::Facet, Test::Cell];
+        r.timed_out = true;
+        return finish(r, rdt, failures);
+    }
     if stop(&failures) {
         r.skipped = vec![Test::Cell];
         return finish(r, rdt, failures);
@@ -834,6 +866,9 @@ pub fn check_cached(
     let cells: Vec<(Vec<u32>, FaceResult)> = verts
         .par_chunks(CHUNK)
         .flat_map_iter(|chunk| {
+            if cut_here() {
+                return Vec::new();
+            }
             let todo: Vec<_> = chunk
                 .iter()
                 .map(|&p| (cache.key(t, &[p], &adj.cells_of[p as usize]), p))
@@ -854,6 +889,10 @@ pub fn check_cached(
         .collect();
     r.boxes += record(cells, &mut failures, cache);
     r.seconds[4] = lap();
+    if cut.load(std::sync::atomic::Ordering::Relaxed) {
+        r.skipped = vec![Test::Cell];
+        r.timed_out = true;
+    }
     finish(r, rdt, failures)
 }
 
