@@ -2184,3 +2184,52 @@ fn certify_stops_at_its_time_limit() {
     assert!(out.contains("--time-limit"), "{out}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The exact sweep keeps isolated points of f = 0: a curve that is one point is not
+/// "proven empty", the point is a component of the report, and the CSV and SVG files
+/// hold it (a polyline of one row; a filled dot).
+#[test]
+fn isolated_points_of_a_curve_are_kept_and_written() {
+    let dir = tmp("isolated");
+    let run = |formula: &str, out: &str| {
+        let (code, o, err) = certmesh_in(
+            &dir,
+            &[
+                "curve",
+                "--formula",
+                formula,
+                "--algo",
+                "sweep",
+                "-o",
+                out,
+                "--json",
+            ],
+        );
+        assert_eq!(code, 0, "{formula}: {o}{err}");
+        serde_json::from_str::<serde_json::Value>(&o).unwrap()
+    };
+    // The point (0, 0) alone.
+    let v = run("x^2 + y^2", "p.csv");
+    assert_eq!(v["certified"], true, "{v}");
+    assert_eq!(v["components"], 1, "{v}");
+    let csv = std::fs::read_to_string(dir.join("p.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert_eq!(rows.len(), 1, "{csv}");
+    let f: Vec<f64> = rows[0]
+        .split(',')
+        .skip(3)
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert_eq!(f, [0.0, 0.0], "{csv}");
+    // The unit circle and its centre: two components; the SVG draws the point.
+    let v = run("(x^2 + y^2)*(x^2 + y^2 - 1)", "c.svg");
+    assert_eq!(v["components"], 2, "{v}");
+    let svg = std::fs::read_to_string(dir.join("c.svg")).unwrap();
+    assert_eq!(svg.matches("<circle").count(), 1, "{svg}");
+    // A circle touching the domain's top side from outside meets it at (1/2, 2).
+    let v = run("(x - 1/2)^2 + (y - 3)^2 - 1", "t.csv");
+    assert_eq!(v["components"], 1, "{v}");
+    let csv = std::fs::read_to_string(dir.join("t.csv")).unwrap();
+    assert!(csv.contains(",0.5,2.0"), "{csv}");
+    std::fs::remove_dir_all(&dir).ok();
+}

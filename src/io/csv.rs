@@ -5,7 +5,9 @@
 //!   polyline's number (from 0), whether it is closed (`true`/`false`), the vertex's index
 //!   in the curve, and its coordinates. A closed polyline repeats its first vertex as its
 //!   last row, so plotting each polyline's rows in order draws it completely
-//!   (e.g. pandas `groupby("polyline")`, gnuplot, spreadsheet charts).
+//!   (e.g. pandas `groupby("polyline")`, gnuplot, spreadsheet charts). An isolated
+//!   point of the curve (a vertex of no segment) is a polyline of one row, after the
+//!   others.
 //! * [`CsvLayout::Segments`]: one row per segment, columns `segment,v0,v1,x0,y0,x1,y1`.
 //!
 //! Coordinates are written in shortest round-trip form. [`read`] reads the vertex layout
@@ -35,12 +37,20 @@ pub fn write(mut w: impl Write, curve: &Curve2, layout: CsvLayout) -> Result<()>
     match layout {
         CsvLayout::Vertices => {
             writeln!(w, "{VERTEX_HEADER}").map_err(io_err)?;
-            for (p, (chain, closed)) in curve.polylines().iter().enumerate() {
+            let lines = curve.polylines();
+            for (p, (chain, closed)) in lines.iter().enumerate() {
                 for &i in chain {
                     let v = curve.vertices[i as usize];
                     writeln!(w, "{p},{closed},{i},{},{}", text::f(v[0]), text::f(v[1]))
                         .map_err(io_err)?;
                 }
+            }
+            // Isolated points: a polyline of one row each (read back as a vertex of
+            // no segment).
+            for (k, i) in curve.isolated_vertices().into_iter().enumerate() {
+                let v = curve.vertices[i as usize];
+                let p = lines.len() + k;
+                writeln!(w, "{p},false,{i},{},{}", text::f(v[0]), text::f(v[1])).map_err(io_err)?;
             }
         }
         CsvLayout::Segments => {

@@ -1,5 +1,6 @@
 //! SVG drawing of a planar curve: one `<polyline>` per open chain and one `<polygon>`
-//! per closed chain (from [`Curve2::polylines`]), black, unfilled.
+//! per closed chain (from [`Curve2::polylines`]), black, unfilled, and a filled dot per
+//! isolated point ([`Curve2::isolated_vertices`]).
 //!
 //! The `viewBox` is the bounding box of the vertices with a 2% margin, and y is flipped
 //! (points are written as `(x, -y)`) so that up is up, as in the curve's own coordinates.
@@ -79,6 +80,18 @@ pub fn write(mut w: impl Write, curve: &Curve2) -> Result<()> {
             write!(w, "{sep}{},{}", text::f(p[0]), text::f(-p[1])).map_err(io_err)?;
         }
         writeln!(w, "\"/>").map_err(io_err)?;
+    }
+    // Isolated points: filled dots of radius 0.5 % of the picture's larger side.
+    for i in curve.isolated_vertices() {
+        let p = curve.vertices[i as usize];
+        writeln!(
+            w,
+            "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" fill=\"black\" stroke=\"none\"/>",
+            text::f(p[0]),
+            text::f(-p[1]),
+            text::f(0.005 * unit)
+        )
+        .map_err(io_err)?;
     }
     writeln!(w, "</g>\n</svg>").map_err(io_err)?;
     w.flush().map_err(io_err)

@@ -218,6 +218,19 @@ impl TetMesh {
 }
 
 impl Curve2 {
+    /// The vertices of no segment, ascending: isolated points of the curve (the exact
+    /// sweep keeps an isolated real point of f = 0 as one).
+    pub fn isolated_vertices(&self) -> Vec<u32> {
+        let mut used = vec![false; self.vertices.len()];
+        for s in &self.segments {
+            for &v in s {
+                used[v as usize] = true;
+            }
+        }
+        (0..self.vertices.len() as u32)
+            .filter(|&v| !used[v as usize])
+            .collect()
+    }
     /// The polylines: maximal chains of segments, each with a flag saying whether it closes.
     pub fn polylines(&self) -> Vec<(Vec<u32>, bool)> {
         let n = self.vertices.len();

@@ -771,6 +771,9 @@ pub struct CurveTopology {
     pub degenerate_segments: usize,
     /// Segments joining the same two vertices as an earlier segment.
     pub duplicate_segments: usize,
+    /// Connected components: those of the segments, and each isolated vertex (a
+    /// point component, e.g. an isolated real point of an algebraic curve, which the
+    /// exact sweep keeps).
     pub components: usize,
     /// Components all of whose vertices have degree 2 (simple closed curves).
     pub closed_components: usize,
@@ -819,9 +822,9 @@ pub fn analyze_curve(curve: &Curve2) -> Result<CurveTopology> {
             }
         }
     }
-    let components = is_root.iter().filter(|&&r| r).count();
-    let closed_components = (0..nv).filter(|&r| is_root[r] && all2[r]).count();
     let vertices = used.iter().filter(|&&u| u).count();
+    let components = is_root.iter().filter(|&&r| r).count() + (nv - vertices);
+    let closed_components = (0..nv).filter(|&r| is_root[r] && all2[r]).count();
     let open_ends = deg.iter().filter(|&&d| d == 1).count();
     let branch_points = deg.iter().filter(|&&d| d >= 3).count();
     Ok(CurveTopology {

@@ -112,7 +112,8 @@ fn empty_result(
     let empty = match &run.output.mesh {
         Mesh::Surface(m) => m.triangles.is_empty(),
         Mesh::Volume { tets, .. } => tets.tets.is_empty(),
-        Mesh::Curve(c) => c.segments.is_empty(),
+        // (An isolated point is a vertex of no segment: not empty.)
+        Mesh::Curve(c) => c.segments.is_empty() && c.vertices.is_empty(),
     };
     // A run stopped by a budget is partial and says so in its report (exit 0).
     if !empty || report::stop_reason(run).is_some() {
