@@ -1084,3 +1084,33 @@ fn refinement_meshers_have_a_default_time_limit() {
         assert_eq!(got, [Some(want); 5], "given {given:?}");
     }
 }
+
+/// A facet size far beyond the surface's size still seeds a proper triangle at each
+/// critical point: the seed radius (facet_size / 4) is quartered until the three
+/// projected points are apart. With facet_size 1e6 on the unit sphere the three
+/// projections used to land on one point and the refinement ran to its time limit
+/// (185,107 vertices in 20 s), or with 1e20 no facet was seeded at all.
+#[test]
+fn huge_facet_sizes_still_seed_the_sphere() {
+    for size in [1e6, 1e20] {
+        let m = bo(size, 0.02, &[], |o| {
+            o.certify = false;
+            o.time_limit = Some(20.0);
+        });
+        let (_, _, out, mesh) = run("sphere", &m);
+        assert_eq!(
+            stat(&out, "refinement_complete"),
+            true,
+            "{size}: {:?}",
+            out.stats
+        );
+        assert!(
+            mesh.vertices.len() < 2_000,
+            "{size}: {} vertices",
+            mesh.vertices.len()
+        );
+        let t = analyze(&mesh).unwrap();
+        assert!(t.closed && t.manifold && t.components == 1, "{size}: {t:?}");
+        assert_eq!(t.genus, vec![0]);
+    }
+}

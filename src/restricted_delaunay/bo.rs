@@ -58,6 +58,11 @@ use std::collections::{BinaryHeap, HashMap};
 /// ε of the weak ε-sample: Theorem 3 of the chapter needs ε < 0.1 (strictly).
 pub const EPSILON: f64 = 0.099;
 
+/// Seed-triangle radii tried per critical point at most (each a quarter of the one
+/// before, down to 1e-9 of the domain's diagonal): enough to come down from any facet
+/// size to the surface's scale.
+const SEED_TRIES: usize = 40;
+
 /// Rounds of refinement after a certified scan that found grazing crossings.
 const MAX_CERTIFY_ROUNDS: usize = 3;
 
@@ -646,14 +651,36 @@ pub(crate) fn seed_points(
         let x = cp.point;
         critical_at.push(points.len());
         points.push((x, false));
-        for k in 0..3 {
-            let th = std::f64::consts::TAU * k as f64 / 3.0;
-            let q = add(x, add(scale(e1, rho * th.cos()), scale(e2, rho * th.sin())));
-            if let Some(q) = project(f, q, 30, 1e-14 * diam) {
-                if domain.contains(q) && dist(q, x) < 3.0 * rho {
-                    points.push((q, false));
-                }
+        // The seed triangle: three points of the tangent circle of radius r projected
+        // onto S. When r is large for the surface there (a facet size beyond the
+        // surface's size), the projections can land on one point, and the refinement
+        // then works on a cluster of near-duplicate vertices until its limits (found
+        // on the unit sphere with --facet-size 10). So each projection must stay at
+        // r/3 to 3r from x and the three at least r/2 apart, else r is quartered (at
+        // most SEED_TRIES times; then only x seeds this point).
+        let mut r = rho;
+        for _ in 0..SEED_TRIES {
+            if r < 1e-9 * diam {
+                break;
             }
+            let tri: Vec<[f64; 3]> = (0..3)
+                .filter_map(|k| {
+                    let th = std::f64::consts::TAU * k as f64 / 3.0;
+                    let q = add(x, add(scale(e1, r * th.cos()), scale(e2, r * th.sin())));
+                    project(f, q, 30, 1e-14 * diam)
+                        .filter(|&q| domain.contains(q) && (r / 3.0..3.0 * r).contains(&dist(q, x)))
+                })
+                .collect();
+            let apart = |a: [f64; 3], b: [f64; 3]| dist(a, b) >= 0.5 * r;
+            if tri.len() == 3
+                && apart(tri[0], tri[1])
+                && apart(tri[1], tri[2])
+                && apart(tri[0], tri[2])
+            {
+                points.extend(tri.into_iter().map(|q| (q, false)));
+                break;
+            }
+            r *= 0.25;
         }
     }
     if !crit.complete {
