@@ -1159,3 +1159,27 @@ fn stander_hart_patched_sweep_follows_the_prediction() {
         .any(|l| !l["failed"].as_array().unwrap().is_empty()));
     assert!(lv.iter().any(|l| l["chi"] != l["chi_predicted"]));
 }
+
+/// bcsv's time limit: no attempt starts after it. The torus needs attempts beyond the
+/// first grid (n = 4) to be certified; with a limit that has passed by the end of the
+/// first attempt, the run stops there, uncertified, and says why. Without it the torus
+/// is certified (so the limit, not the surface, stopped it).
+#[test]
+fn bcsv_starts_no_attempt_after_its_time_limit() {
+    use certmesh::mesher::Mesher;
+    let e = catalog::get("torus").unwrap();
+    let free = bcsv("torus");
+    assert!(free.output.certificate.is_certified());
+    let attempts = free.output.stats["attempts"].as_array().unwrap().len();
+    assert!(attempts > 1, "{attempts} attempts");
+    let o = certmesh::mesher::options::MesherOptions {
+        time_limit: Some(1e-9),
+        ..Default::default()
+    };
+    let m = certmesh::morse::bcsv::Bcsv::from_options(&o).unwrap();
+    let out = m.mesh(&e.function(), &e.domain, &NoProgress).unwrap();
+    assert!(!out.certificate.is_certified());
+    assert_eq!(out.stats["attempts"].as_array().unwrap().len(), 1);
+    let stop = out.stats["stop_reason"].as_str().unwrap();
+    assert!(stop.contains("time limit"), "{stop}");
+}

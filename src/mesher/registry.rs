@@ -159,7 +159,7 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             false,
             "Boissonnat–Cohen-Steiner–Vegter PL interpolation on a uniform Kuhn grid (--set octree=true: the tetrahedra of an adaptive 2:1 octree): isotopic when Thm 8's conditions hold, W is a 3-manifold and the certified chi(S) equals chi(S-hat) (Theorem B, bcsv.md); else W-certified at most",
             crate::morse::bcsv::Bcsv,
-            &["resolution", "max-depth", "max-boxes"]
+            &["resolution", "max-depth", "max-boxes", "time-limit"]
         ),
         entry!(
             "bo",

@@ -69,6 +69,14 @@ pub struct Bcsv {
     pub max_depth: u32,
     /// Adaptive version: box tests per attempt (default 10⁶, `--max-boxes`).
     pub max_boxes: u64,
+    /// Wall-clock limit in seconds from the start (none here; `--time-limit` or its
+    /// default from options): no attempt (nor an adaptive attempt's local round)
+    /// starts after it, and an adaptive attempt's octree stops at it. The census, a
+    /// round once its octree is built (balancing, the manifold repair, the collapse
+    /// search) and the uncertified fallback run whole: a run can end some seconds
+    /// past the limit (26 s at a 10 s limit on a torus with a sphere in its tube, an
+    /// adaptive run that took 377 s without a limit).
+    pub time_limit: Option<f64>,
 }
 
 /// Whether `--algo bcsv` is adaptive unless told (`--set octree=`). Uniform: the
@@ -110,6 +118,7 @@ impl Bcsv {
             octree,
             max_depth,
             max_boxes,
+            time_limit: Some(o.time_limit_or_default()),
         })
     }
 }
@@ -1084,17 +1093,26 @@ fn attempt_octree(
     min_level: u32,
     max_depth: u32,
     max_boxes: u64,
+    deadline: Option<std::time::Instant>,
     rep: &mut Attempt,
 ) -> Option<Success> {
     let mut force = HashSet::new();
     for round in 0.. {
+        if round > 0 && past(deadline) {
+            rep.failure = Some(format!("{TIME_LIMIT} (before local round {round})"));
+            return None;
+        }
         *rep = Attempt {
             resolution: rep.resolution,
             min_level: rep.min_level,
             local_rounds: round,
             ..Default::default()
         };
-        match try_octree(f, d, min_level, max_depth, max_boxes, &force, rep) {
+        let left = deadline.map(|d| {
+            d.saturating_duration_since(std::time::Instant::now())
+                .as_secs_f64()
+        });
+        match try_octree(f, d, min_level, max_depth, max_boxes, left, &force, rep) {
             Ok(s) => return Some(s),
             Err(cells) if round < LOCAL_ROUNDS && !cells.is_empty() => force.extend(cells),
             Err(_) => return None,
@@ -1106,6 +1124,14 @@ fn attempt_octree(
 /// Rounds of local refinement per adaptive attempt.
 const LOCAL_ROUNDS: usize = 4;
 
+/// Why a run stopped at its time limit.
+const TIME_LIMIT: &str = "time limit reached (raise --time-limit)";
+
+/// Has the deadline passed?
+fn past(deadline: Option<std::time::Instant>) -> bool {
+    deadline.is_some_and(|d| std::time::Instant::now() >= d)
+}
+
 /// One try of an adaptive attempt, the cells in `force` split once more; `Err` with
 /// the leaves to split where a local refinement may help (none: it fails as is).
 fn try_octree(
@@ -1114,10 +1140,11 @@ fn try_octree(
     min_level: u32,
     max_depth: u32,
     max_boxes: u64,
+    time_limit: Option<f64>,
     force: &HashSet<u64>,
     rep: &mut Attempt,
 ) -> std::result::Result<Success, Vec<u64>> {
-    let oct = Octree::build(f, d, min_level, max_depth, max_boxes, force);
+    let oct = Octree::build(f, d, min_level, max_depth, max_boxes, time_limit, force);
     let tree = &oct.tree;
     let grid = tree.grid;
     rep.leaves = tree.leaves.len();
@@ -1145,7 +1172,7 @@ fn try_octree(
             if tree.refinement_complete {
                 format!(" at the depth limit {max_depth}")
             } else {
-                " by the box budget (raise --max-boxes)".to_string()
+                " by its budget (boxes: raise --max-boxes; or the time limit)".to_string()
             },
             l.cell.level,
             grid.cell_aabb(l.cell).center()
@@ -1301,7 +1328,15 @@ pub fn w_complex_octree(
     max_depth: u32,
 ) -> std::result::Result<(Complex, Vec<(u32, u32)>), String> {
     let mut rep = Attempt::default();
-    match attempt_octree(f, domain, min_level, max_depth, DEFAULT_MAX_BOXES, &mut rep) {
+    match attempt_octree(
+        f,
+        domain,
+        min_level,
+        max_depth,
+        DEFAULT_MAX_BOXES,
+        None,
+        &mut rep,
+    ) {
         Some(s) => Ok((s.complex, s.seq)),
         None => Err(rep.failure.unwrap_or_default()),
     }
@@ -1338,11 +1373,22 @@ impl Mesher for Bcsv {
         let mut found = None;
         let mut w_found = None;
         progress.start("bcsv attempts", 0);
+        let deadline = self
+            .time_limit
+            .and_then(|s| t0.checked_add(std::time::Duration::try_from_secs_f64(s).ok()?));
+        let mut stopped: Option<String> = None;
         loop {
             let mut rep = Attempt {
                 resolution: n,
                 ..Default::default()
             };
+            if !attempts.is_empty() && past(deadline) {
+                stopped = Some(format!(
+                    "{TIME_LIMIT}: {} s, before the attempt at resolution {n}",
+                    self.time_limit.unwrap_or(f64::NAN)
+                ));
+                break;
+            }
             let r = if !f.is_rigorous() {
                 rep.failure = Some("the oracle's interval methods are not rigorous".into());
                 None
@@ -1355,6 +1401,7 @@ impl Mesher for Bcsv {
                     level,
                     self.max_depth.max(level),
                     self.max_boxes,
+                    deadline,
                     &mut rep,
                 )
             } else {
@@ -1407,6 +1454,15 @@ impl Mesher for Bcsv {
             serde_json::to_value(&chi_reason).expect("serialises"),
         );
         stats.insert("census_seconds".into(), census_seconds.into());
+        stats.insert(
+            "stop_reason".into(),
+            serde_json::to_value(&stopped).expect("serialises"),
+        );
+        // Appended to an uncertified outcome's reason when the time limit ended it.
+        let stop_note = stopped
+            .as_ref()
+            .map(|s| format!("; stopped: {s}"))
+            .unwrap_or_default();
         let w_statement = if self.octree {
             "W-certified on the adaptive octree (2:1 balanced, conforming tetrahedra): Theorem 8's conditions"
         } else {
@@ -1473,7 +1529,7 @@ impl Mesher for Bcsv {
                                 r.as_deref().unwrap_or("")
                             ),
                         }
-                    );
+                    ) + &stop_note;
                     stats.insert("statement".into(), statement.clone().into());
                     Certificate::uncertified(statement, claims, Vec::new())
                 };
@@ -1491,7 +1547,7 @@ impl Mesher for Bcsv {
                     .and_then(|a| a.failure.clone())
                     .unwrap_or_default();
                 let reason = format!(
-                    "no W-certified attempt up to resolution {} (last: {last})",
+                    "no W-certified attempt up to resolution {} (last: {last}){stop_note}",
                     self.max_resolution
                 );
                 // The finest attempt's marching tetrahedra on f̂ as an uncertified output.

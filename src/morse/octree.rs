@@ -199,6 +199,7 @@ impl Octree {
         min_level: u32,
         max_depth: u32,
         max_boxes: u64,
+        time_limit: Option<f64>,
         force: &HashSet<u64>,
     ) -> Octree {
         let grid = Grid {
@@ -206,7 +207,7 @@ impl Octree {
             dim: 3,
             depth: max_depth,
         };
-        let budget = Budget::new(max_boxes, None);
+        let budget = Budget::new(max_boxes, time_limit);
         let mut tree = subdivide(grid, min_level, max_depth, &budget, &|g: &Grid, c| {
             criterion(f, g, c, force)
         });

@@ -114,13 +114,16 @@ pub(crate) struct OptArgs {
     #[arg(long, value_name = "N")]
     pub(crate) max_boxes: Option<u64>,
     /// Wall-clock limit of the subdivision and refinement meshers (pv, snyder,
-    /// stander-hart, bo, cdrr), in seconds (default 60). Their box and vertex budgets
+    /// stander-hart, bcsv, bo, cdrr), in seconds (default 60). Their box and vertex budgets
     /// bound the work, but near a pole or a singular point (two touching spheres, the
     /// Whitney umbrella) reaching them can take minutes. A run stopped by the limit
     /// reports "time limit reached (raise --time-limit)", refinement_complete: false,
     /// and certifies nothing. pv and snyder stop their subdivision early enough to
     /// assemble what they found within the limit (an estimate, about 10 µs per box not
     /// proven empty), and stop at any limit once that assembly would need 16 GiB.
+    /// cdrr's checks of the topological ball property stop at it too. bcsv starts no
+    /// attempt after it and its adaptive octree (--set octree=true) stops at it; its
+    /// Morse census and its uncertified fallback (marching tetrahedra) run whole.
     #[arg(long, value_name = "SECONDS")]
     pub(crate) time_limit: Option<f64>,
     /// Smallest triangle angle in degrees (bo; CGAL's facet_angle, default 30;
