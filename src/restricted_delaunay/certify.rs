@@ -250,7 +250,7 @@ pub fn certify_mesh(
     let duplicates = bulk.duplicates.len();
     let homeomorphic = is_rdt && holds && duplicates == 0;
     let verdict = if homeomorphic {
-        "certified homeomorphic to f = 0 (topological ball property, Theorem 5; homeomorphism, not isotopy)".to_string()
+        "certified homeomorphic to f = 0 inside the domain (topological ball property, Theorem 5; homeomorphism, not isotopy)".to_string()
     } else {
         let mut why = Vec::new();
         if duplicates > 0 {
