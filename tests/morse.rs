@@ -1178,7 +1178,12 @@ fn bcsv_starts_no_attempt_after_its_time_limit() {
     };
     let m = certmesh::morse::bcsv::Bcsv::from_options(&o).unwrap();
     let out = m.mesh(&e.function(), &e.domain, &NoProgress).unwrap();
-    assert!(!out.certificate.is_certified());
+    assert!(
+        !out.certificate.is_certified(),
+        "{:?} {:?}",
+        out.stats["attempts"],
+        out.stats["stop_reason"]
+    );
     assert_eq!(out.stats["attempts"].as_array().unwrap().len(), 1);
     let stop = out.stats["stop_reason"].as_str().unwrap();
     assert!(stop.contains("time limit"), "{stop}");
