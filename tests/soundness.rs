@@ -779,6 +779,105 @@ fn a_surface_leaving_the_domain_is_not_certified() {
     assert!(pv(&f, &d, 3, 7).certificate.is_certified());
 }
 
+/// Snyder in generic position meshes a rotated box containing the domain; its claim
+/// is isotopy to f = 0 inside the domain, with the domain as the typed `inside`. Found
+/// by an adversarial test: sphere B (centre (1.08, 0, 0), r 0.02) lies outside the
+/// domain [-1, 1]³ but inside the rotated box and was meshed and certified (2
+/// components where f = 0 inside the domain is the one sphere A); sphere C (centre
+/// (1.16, -1.16, -1.12), r 0.005) lies outside the rotated box but inside the typed
+/// `inside`, which was the rotated frame's box. Either the run is uncertified, naming
+/// a region at sphere B with cause `outside_domain`, or (never today) it certifies with
+/// exactly the one component of sphere A and `inside` the domain. The 2D analogue
+/// (a circle at (1.06, 0)) likewise. Spheres well inside the domain still certify,
+/// with `inside` the domain.
+#[test]
+fn generic_position_claims_only_the_domain() {
+    use certmesh::mesher::{Cause, Claim};
+    let near = |r: &certmesh::mesher::Uncertified, p: [f64; 3], dim: usize| {
+        (0..dim).all(|k| r.region.min[k] - 0.05 <= p[k] && p[k] <= r.region.max[k] + 0.05)
+    };
+    let a = "(x^2 + y^2 + z^2 - 0.25)";
+    let b = "((x - 1.08)^2 + y^2 + z^2 - 0.0004)";
+    let c = "((x - (1.16))^2 + (y - (-1.16))^2 + (z - (-1.12))^2 - 0.000025)";
+    let a2 = "(x^2 + y^2 - 0.25)";
+    let b2 = "((x - 1.06)^2 + y^2 - 0.0004)";
+    let cases = [
+        (format!("{a}*{b}*{c}"), 3, [1.08, 0.0, 0.0]),
+        (format!("{a}*{b}"), 3, [1.08, 0.0, 0.0]),
+        (format!("{a2}*{b2}"), 2, [1.06, 0.0, 0.0]),
+    ];
+    for (t, dim, outside) in &cases {
+        let (t, dim) = (t.as_str(), *dim);
+        let f = Formula::with_dim(t, dim).unwrap();
+        let d = cube(dim, 1.0);
+        let p = SnyderParams::new(dim)
+            .with_max_depth(if dim == 3 { 14 } else { 16 })
+            .with_max_boxes(2_000_000)
+            .with_generic_shift(true);
+        let out = run_snyder(&f, &d, &p, dim, &NoProgress).unwrap().1;
+        match &out.certificate {
+            certmesh::Certificate::Uncertified { regions, .. } => {
+                assert!(
+                    regions
+                        .iter()
+                        .any(|r| r.cause == Cause::OutsideDomain && near(r, *outside, dim)),
+                    "{t}: {regions:?}"
+                );
+                assert!(!out.certificate.proves_topology(), "{t}");
+            }
+            certmesh::Certificate::Certified { claims_typed, .. } => {
+                let parts = match &out.mesh {
+                    Mesh::Surface(m) => certmesh::metrics::components(m).unwrap(),
+                    Mesh::Curve(c) => curve_components(c),
+                    _ => unreachable!(),
+                };
+                assert_eq!(parts, 1, "{t}: certified with {parts} components");
+                for cl in claims_typed {
+                    if let Claim::Isotopic { inside, .. } = cl {
+                        assert_eq!(inside, &d, "{t}");
+                    }
+                }
+            }
+        }
+    }
+    // Zero sets well inside the domain: certified, isotopic inside the domain itself.
+    for (t, dim, parts) in [
+        (format!("{a}"), 3, 1),
+        (format!("{a}*((x - 0.7)^2 + y^2 + z^2 - 0.0004)"), 3, 2),
+        (format!("{a2}"), 2, 1),
+    ] {
+        let f = Formula::with_dim(&t, dim).unwrap();
+        let d = cube(dim, 1.0);
+        let p = SnyderParams::new(dim)
+            .with_max_depth(if dim == 3 { 14 } else { 16 })
+            .with_generic_shift(true);
+        let out = run_snyder(&f, &d, &p, dim, &NoProgress).unwrap().1;
+        assert!(
+            out.certificate.proves_topology(),
+            "{t}: {:?}",
+            out.certificate.reason()
+        );
+        let found = match &out.mesh {
+            Mesh::Surface(m) => certmesh::metrics::components(m).unwrap(),
+            Mesh::Curve(c) => curve_components(c),
+            _ => unreachable!(),
+        };
+        assert_eq!(found, parts, "{t}");
+        let insides: Vec<&Aabb> = out
+            .certificate
+            .claims_typed()
+            .iter()
+            .filter_map(|c| match c {
+                Claim::Isotopic { inside, .. } | Claim::RegularZeroSet { inside, .. } => {
+                    Some(inside)
+                }
+                _ => None,
+            })
+            .collect();
+        assert_eq!(insides, vec![&d, &d], "{t}");
+    }
+}
+
 /// A pole plane between grid planes, where f changes sign (1/(x − a) − 1 at
 /// a = 0.1234): every lattice mesher refuses it, naming a point of the pole, instead of
 /// meshing the pole plane as a second surface. The point named is checked against the

@@ -227,6 +227,13 @@ fn snyder_surfaces_generic_position() {
             out.certificate.reason()
         );
         check_topology(e.name, &out, &f);
+        // The claim is about the domain, not the rotated box the grid meshed.
+        for c in out.certificate.claims_typed() {
+            if let certmesh::mesher::Claim::Isotopic { inside, .. } = c {
+                assert_eq!(inside, &e.domain, "{}", e.name);
+            }
+        }
+        assert!(out.certificate.proves_topology(), "{}", e.name);
     }
 }
 

@@ -10,8 +10,10 @@ use std::fmt;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Claim {
-    /// The output is isotopic to f = 0 inside `inside` (the domain, or with
-    /// `generic_position` a rotated box containing it), by `theorem`.
+    /// The output is isotopic to f = 0 inside `inside` (the domain), by `theorem`. With
+    /// `generic_position` the grid meshed a rotated box containing the domain, and f = 0
+    /// was proven not to meet that box outside the domain (so `inside` is still the
+    /// domain, never the rotated box or its hull).
     Isotopic {
         inside: Aabb,
         theorem: String,
@@ -110,7 +112,7 @@ impl fmt::Display for Claim {
             } => {
                 write!(f, "isotopic to f = 0 inside the domain ({theorem})")?;
                 if *generic_position {
-                    write!(f, ", grid in generic position (the meshed region is a rotated box containing the domain)")?;
+                    write!(f, ", grid in generic position (the meshed region is a rotated box containing the domain; f = 0 is proven not to meet it outside the domain)")?;
                 }
                 Ok(())
             }
@@ -239,6 +241,9 @@ pub enum Cause {
     TangentFace,
     /// f = 0 meets the boundary of the domain where the theorem needs it not to.
     DomainBoundary,
+    /// f = 0 may meet the part of the meshed region outside the domain (generic
+    /// position meshes a rotated box containing the domain).
+    OutsideDomain,
     /// The sign of f at a grid point is undecided (0 in its enclosure).
     UndecidedSign,
     /// The box budget (`--max-boxes`) ran out.
@@ -269,6 +274,8 @@ impl Cause {
             Cause::Grazing
         } else if r.starts_with("top/bottom face") {
             Cause::TangentFace
+        } else if r.starts_with(crate::subdivision::OUTSIDE_DOMAIN_REASON) {
+            Cause::OutsideDomain
         } else if r.contains("domain boundary") || r.contains("domain edge") {
             Cause::DomainBoundary
         } else if r.starts_with("sign of f") {

@@ -250,6 +250,11 @@ pub fn run_subdivision<K: Criterion>(
         for r in &mut regions {
             r.region = m.map_box(&r.region);
         }
+        // The proof is about f = 0 inside the rotated box; the claim is about the
+        // domain: f = 0 must be proven absent from the rest of the box, or the run is
+        // uncertified there (found by an adversarial test: a sphere outside the domain
+        // but inside the rotated box was meshed and certified as "inside the domain").
+        regions.extend(m.outside_domain(f, &tree, domain, budget.deadline));
         match &mut mesh {
             Mesh::Curve(c) => {
                 for v in &mut c.vertices {
@@ -265,7 +270,9 @@ pub fn run_subdivision<K: Criterion>(
             Mesh::Volume { .. } => {}
         }
     }
-    let certificate = certificate(K::THEOREM, &tree, dim, &dom, motion.is_some(), regions);
+    // The claim is about the domain, also in generic position (never the moved box
+    // `dom`, whose coordinates are the rotated frame's).
+    let certificate = certificate(K::THEOREM, &tree, dim, domain, motion.is_some(), regions);
     Ok((
         tree,
         MeshOutput {
