@@ -2233,3 +2233,35 @@ fn isolated_points_of_a_curve_are_kept_and_written() {
     assert!(csv.contains(",0.5,2.0"), "{csv}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The exact sweep stops at --time-limit: three conics meeting tangently in pairs
+/// (degree 6) ran for hours in its exact root searches; at a 1 s limit it ends with an
+/// error naming the limit (exit 2, kind too-large), and writes nothing.
+#[test]
+fn the_sweep_stops_at_its_time_limit() {
+    let dir = tmp("sweep-time");
+    let (code, out, err) = certmesh_in(
+        &dir,
+        &[
+            "curve",
+            "--formula",
+            "(x^2+y^2-1)*(x^2+4*y^2-1)*(4*x^2+y^2-1)",
+            "--algo",
+            "sweep",
+            "-o",
+            "c.csv",
+            "--json",
+            "--time-limit",
+            "1",
+        ],
+    );
+    assert_eq!(code, 2, "{out}{err}");
+    let v = json_error(&out);
+    assert_eq!(v["kind"], "too-large", "{v}");
+    assert!(
+        v["error"].as_str().unwrap().contains("time limit of 1 s"),
+        "{v}"
+    );
+    assert!(!dir.join("c.csv").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -56,6 +56,40 @@ pub struct SweepParams {
     pub tolerance: Option<f64>,
     /// Budget of extra fibres (`--set max-extra-fibres=N`, default 4000).
     pub max_extra_fibres: usize,
+    /// Wall-clock limit of [`analyse`] in seconds (none here; `--time-limit`, default
+    /// 60 s, from the command line). The root searches of the fibres check it at every
+    /// step: a curve whose exact arithmetic grows too long stops with an error naming
+    /// the limit instead of running on (three conics meeting tangently in pairs,
+    /// degree 6, ran for hours).
+    pub time_limit: Option<f64>,
+}
+
+thread_local! {
+    /// The deadline of the [`analyse`] running on this thread (the sweep is serial).
+    static DEADLINE: std::cell::Cell<Option<std::time::Instant>> = const { std::cell::Cell::new(None) };
+}
+
+/// Has the running [`analyse`]'s time limit passed?
+fn out_of_time() -> bool {
+    DEADLINE.with(|d| d.get().is_some_and(|d| std::time::Instant::now() >= d))
+}
+
+/// Sets this thread's deadline for one [`analyse`] and clears it when dropped.
+struct DeadlineGuard(Option<std::time::Instant>);
+
+impl DeadlineGuard {
+    fn set(limit: Option<f64>) -> DeadlineGuard {
+        let d = limit.and_then(|s| {
+            std::time::Instant::now().checked_add(std::time::Duration::try_from_secs_f64(s).ok()?)
+        });
+        DeadlineGuard(DEADLINE.with(|c| c.replace(d)))
+    }
+}
+
+impl Drop for DeadlineGuard {
+    fn drop(&mut self) {
+        DEADLINE.with(|c| c.set(self.0));
+    }
 }
 
 impl Default for SweepParams {
@@ -66,6 +100,7 @@ impl Default for SweepParams {
             max_shear: 6,
             tolerance: None,
             max_extra_fibres: 4000,
+            time_limit: None,
         }
     }
 }
@@ -128,6 +163,7 @@ impl Sweep {
         if let Some(v) = o.get::<usize>("max-extra-fibres")? {
             p.max_extra_fibres = v;
         }
+        p.time_limit = Some(o.time_limit_or_default());
         Ok(Sweep { params: p })
     }
 }
@@ -614,6 +650,9 @@ fn box_search<T: Clone>(
         if budget == 0 {
             return Search::Failed;
         }
+        if out_of_time() {
+            return Search::Abort;
+        }
         budget -= 1;
         match kind(&a, &b) {
             None => return Search::Abort,
@@ -981,7 +1020,17 @@ pub fn analyse(f: &BiPoly, domain: &Aabb, p: &SweepParams) -> Result<SweepResult
         shears.push(k);
         shears.push(-k);
     }
+    let _deadline = DeadlineGuard::set(p.time_limit);
+    let stopped = |p: &SweepParams| {
+        Error::TooLarge(format!(
+            "the sweep did not finish within its time limit of {} s (its exact root searches grew too long; raise --time-limit)",
+            p.time_limit.unwrap_or(f64::NAN)
+        ))
+    };
     for s in shears {
+        if out_of_time() {
+            return Err(stopped(p));
+        }
         let g = f.shear(s);
         if d > 0 && (g.deg_y() <= 0 || g.lc_y().deg() != 0) {
             rejected.push((
@@ -1009,8 +1058,12 @@ pub fn analyse(f: &BiPoly, domain: &Aabb, p: &SweepParams) -> Result<SweepResult
             Err(Error::Param(m)) if m.starts_with("__nongeneric__") => {
                 rejected.push((s, m.trim_start_matches("__nongeneric__").to_string()));
             }
+            Err(_) if out_of_time() => return Err(stopped(p)),
             Err(e) => return Err(e),
         }
+    }
+    if out_of_time() {
+        return Err(stopped(p));
     }
     Err(Error::TooLarge(format!(
         "no shear with |s| <= {} puts the curve in generic position (raise --set max-shear); tried: {}",

@@ -207,7 +207,7 @@ fn table() -> Vec<(AlgoInfo, Ctor)> {
             true,
             "González-Vega–Necula sweep: exact topology of polynomial curves, singular points included",
             crate::algebraic::Sweep,
-            &[]
+            &["time-limit"]
         ),
         entry!(
             "bo",

@@ -121,7 +121,8 @@ pub(crate) struct OptArgs {
     /// and certifies nothing. pv and snyder stop their subdivision early enough to
     /// assemble what they found within the limit (an estimate, about 10 µs per box not
     /// proven empty), and stop at any limit once that assembly would need 16 GiB.
-    /// cdrr's checks of the topological ball property stop at it too. bcsv starts no
+    /// cdrr's checks of the topological ball property stop at it too; so do the exact
+    /// sweep's root searches (curves: an error naming the limit). bcsv starts no
     /// attempt after it and its adaptive octree (--set octree=true) stops at it; its
     /// Morse census and its uncertified fallback (marching tetrahedra) run whole.
     #[arg(long, value_name = "SECONDS")]
