@@ -4,7 +4,7 @@
 //! bisection or quadratic interval refinement, compared exactly, and the sign of
 //! another polynomial at it (an f64 interval filter first, then exact).
 use super::fint;
-use super::upoly::{sign, UPoly};
+use super::upoly::{sign, sturm_count, UPoly};
 use crate::error::{Error, Result};
 use num_bigint::BigInt;
 use num_rational::BigRational;
@@ -188,9 +188,38 @@ impl RealAlg {
             hi: x,
         }
     }
-    /// The root of square-free `p` in (lo, hi); the caller guarantees a sign change.
+    /// The root of square-free `p` in (lo, hi); the caller guarantees a sign change
+    /// (p(lo)·p(hi) < 0: neither end may be a root, or [`RealAlg::bisect`] and
+    /// [`RealAlg::cmp_q`] read the root's side from a zero and move to the wrong number;
+    /// [`RealAlg::checked`] builds the number when that is not known).
     pub fn new(p: UPoly, lo: BigRational, hi: BigRational) -> Self {
         RealAlg { p, lo, hi }
+    }
+    /// The one root of `p` (any non-zero integer polynomial) in the open interval
+    /// (lo, hi), or the rational lo when lo = hi, verified: None unless (lo, hi) holds
+    /// exactly one distinct root of p (Sturm), or lo = hi is a root. The ends may be
+    /// roots of p themselves (an open interval of [`isolate`] can start at an exact
+    /// root, 0 or a Descartes midpoint, that it lists separately): they are divided out
+    /// of p's square-free part, so that the number's polynomial has opposite non-zero
+    /// signs at lo and hi, as [`RealAlg::new`] requires.
+    pub fn checked(p: &UPoly, lo: BigRational, hi: BigRational) -> Option<Self> {
+        if p.is_zero() || lo > hi {
+            return None;
+        }
+        if lo == hi {
+            return (p.sign_at(&lo) == 0).then(|| RealAlg::exact(lo));
+        }
+        let mut q = p.squarefree();
+        for e in [&lo, &hi] {
+            if q.deg() > 0 && q.sign_at(e) == 0 {
+                q = q.deflate(e);
+            }
+        }
+        let q = q.primitive();
+        if q.deg() <= 0 || q.sign_at(&lo) * q.sign_at(&hi) >= 0 || sturm_count(&q, &lo, &hi) != 1 {
+            return None;
+        }
+        Some(RealAlg::new(q, lo, hi))
     }
     pub fn is_exact(&self) -> bool {
         self.lo == self.hi

@@ -711,7 +711,7 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
                     hi: r.hi.clone(),
                 })
                 .collect();
-            verify_fibre_roots(&g, &a.lo, &ivs, ei)?;
+            verify_fibre_roots(&g, &a.lo, &ivs, &format!("event {ei}"))?;
         } else {
             let iu: Iv = (a.lo.clone(), a.hi.clone());
             let cs = coefs(&g, &iu);
@@ -1074,7 +1074,7 @@ fn verify_rational_fibre(
     dom: &Dom,
     idx: usize,
 ) -> Result<()> {
-    verify_fibre_roots(g, q, roots, idx)?;
+    verify_fibre_roots(g, q, roots, &format!("fibre {idx}"))?;
     if inside.len() != roots.len() {
         return Err(bad(format!(
             "fibre {idx}: inside flags of the wrong length"
@@ -1098,11 +1098,11 @@ fn verify_fibre_roots(
     g: &BiPoly,
     q: &BigRational,
     roots: &[CertInterval],
-    idx: usize,
+    what: &str,
 ) -> Result<()> {
     let gq = g.at_x(q);
     if gq.is_zero() {
-        return Err(bad(format!("fibre {idx}: f vanishes on the whole line")));
+        return Err(bad(format!("{what}: f vanishes on the whole line")));
     }
     let gq = gq.squarefree();
     let n = if gq.deg() <= 0 {
@@ -1113,24 +1113,17 @@ fn verify_fibre_roots(
         sturm_count(&gq, &-b.clone(), &b)
     };
     if roots.len() != n {
-        return Err(bad(format!(
-            "fibre {idx}: {n} roots, {} listed",
-            roots.len()
-        )));
+        return Err(bad(format!("{what}: {n} roots, {} listed", roots.len())));
     }
     let mut prev: Option<(BigRational, bool)> = None;
     for (i, r) in roots.iter().enumerate() {
         let (lo, hi) = (pq(&r.lo)?, pq(&r.hi)?);
         if !verify_isolating_open(&gq, &lo, &hi) {
-            return Err(bad(format!(
-                "fibre {idx}: interval {i} does not isolate a root"
-            )));
+            return Err(bad(format!("{what}: interval {i} does not isolate a root")));
         }
         if let Some((p, pexact)) = &prev {
             if p > &lo || (p == &lo && *pexact && lo == hi) {
-                return Err(bad(format!(
-                    "fibre {idx}: intervals not ordered and disjoint"
-                )));
+                return Err(bad(format!("{what}: intervals not ordered and disjoint")));
             }
         }
         prev = Some((hi.clone(), lo == hi));

@@ -1614,15 +1614,26 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
             if roots[i].boundary {
                 keep = Some(true);
             } else if ev.side {
-                // A vertical side fibre (s = 0): roots strictly within (ymin, ymax).
-                let mut r = RealAlg::new(
-                    g.at_x(&ev.u.lo).squarefree(),
-                    roots[i].lo.clone(),
-                    roots[i].hi.clone(),
-                );
-                if roots[i].lo == roots[i].hi {
-                    r = RealAlg::exact(roots[i].lo.clone());
+                // A vertical side fibre (s = 0, u = xmin or xmax exactly): roots strictly
+                // within (ymin, ymax). The interval is one of isolate()'s on g(u, ·): an
+                // open interval may start at an exact root listed before it (0, or a
+                // Descartes midpoint), which its own polynomial has divided out. The
+                // number is rebuilt with those ends divided out again and the isolation
+                // verified (with the full square-free polynomial, bisect and cmp_q read
+                // the root's side from p(lo) = 0 and moved to that other root).
+                if !ev.u.is_exact() {
+                    return Err(Error::Param(
+                        "internal: a vertical side event at an irrational x".into(),
+                    ));
                 }
+                let Some(mut r) =
+                    RealAlg::checked(&g.at_x(&ev.u.lo), roots[i].lo.clone(), roots[i].hi.clone())
+                else {
+                    return Err(Error::Param(format!(
+                        "internal: root {i} on the vertical side x = {} is not isolated by [{}, {}]",
+                        ev.u.lo, roots[i].lo, roots[i].hi
+                    )));
+                };
                 let (a, b) = (r.cmp_q(&fr.ymin), r.cmp_q(&fr.ymax));
                 if a == Ordering::Equal || b == Ordering::Equal {
                     return Err(boundary_error(
@@ -1630,11 +1641,13 @@ fn analyse_frame(f: &BiPoly, g: &BiPoly, s: i64, domain: &Aabb) -> Result<SweepR
                     ));
                 }
                 keep = Some(a == Ordering::Greater && b == Ordering::Less);
-                roots[i].lo = r.lo;
-                roots[i].hi = r.hi;
                 if keep == Some(true) {
+                    // The vertex's coordinate is the interval's midpoint.
+                    r.refine_to(&pow2q(-40));
                     roots[i].boundary = true;
                 }
+                roots[i].lo = r.lo;
+                roots[i].hi = r.hi;
             }
             let mut guard = 0;
             while keep.is_none() {
