@@ -229,21 +229,9 @@ impl GenericMotion {
             })
             .collect();
         // Group touching leaves (closed integer spans meet on every axis).
+        // (Rem's joins keep every set's root at its smallest member: the first leaf.)
         let n = failed.len();
-        let mut parent: Vec<usize> = (0..n).collect();
-        fn find(p: &mut [usize], x: usize) -> usize {
-            let mut r = x;
-            while p[r] != r {
-                r = p[r];
-            }
-            let mut y = x;
-            while p[y] != r {
-                let next = p[y];
-                p[y] = r;
-                y = next;
-            }
-            r
-        }
+        let mut sets = crate::metrics::topology::UnionFind::for_join(n);
         if n <= OUTSIDE_GROUP_MAX {
             let spans: Vec<([u32; 3], [u32; 3])> = failed
                 .iter()
@@ -254,10 +242,7 @@ impl GenericMotion {
                     let (la, ha) = spans[a];
                     let (lb, hb) = spans[b];
                     if (0..dim).all(|k| la[k] <= hb[k] && lb[k] <= ha[k]) {
-                        let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
-                        if ra != rb {
-                            parent[ra.max(rb)] = ra.min(rb);
-                        }
+                        sets.join(a as u32, b as u32);
                     }
                 }
             }
@@ -265,7 +250,7 @@ impl GenericMotion {
         let mut out: Vec<Uncertified> = Vec::new();
         let mut group_of: std::collections::HashMap<usize, usize> = Default::default();
         for a in 0..n {
-            let r = find(&mut parent, a);
+            let r = sets.find(a as u32) as usize;
             let (i, _, _) = failed[a];
             let leaf = self.map_box(&tree.grid.cell_aabb(tree.leaves[i].cell));
             match group_of.get(&r) {
