@@ -1418,8 +1418,23 @@ fn side_roots_next_to_exact_roots() {
     check_crossings(f, d, &r);
     check_side_vertices(f, d, &r).unwrap();
     assert!(r.labels.iter().all(|&l| l != Label::Isolated), "{f}");
+    // The vertices on the rational fibres (roots refined to 2^-40) and on the sides are
+    // on the curve; those of the irrational event fibres sit at the middle of their
+    // certified boxes (topology only: (-1.5957.., -0.0577..) for the root y = 0).
     let p = from_formula(f).unwrap();
-    for (i, v) in r.curve.vertices.iter().enumerate() {
+    let xs: Vec<f64> = [d.min[0], d.max[0]]
+        .into_iter()
+        .chain(r.cert.fibres.iter().map(|fb| {
+            let q: BigRational = fb.q.parse().unwrap();
+            q.to_f64().unwrap()
+        }))
+        .collect();
+    let on_fibres: Vec<usize> = (0..r.curve.vertices.len())
+        .filter(|&i| xs.contains(&r.curve.vertices[i][0]))
+        .collect();
+    assert!(on_fibres.len() >= 15, "{f}: {on_fibres:?}");
+    for &i in &on_fibres {
+        let v = &r.curve.vertices[i];
         let e = f_at(&p, *v).to_f64().unwrap();
         assert!(
             e.abs() < 1e-6,
