@@ -12,7 +12,7 @@ use certmesh::algebraic::upoly::{q, sturm_count, UPoly};
 use certmesh::metrics::embedding_signature;
 use certmesh::Aabb;
 use num_rational::BigRational;
-use num_traits::{One, Zero};
+use num_traits::{One, ToPrimitive, Zero};
 use proptest::prelude::*;
 
 fn dom(x0: f64, y0: f64, x1: f64, y1: f64) -> Aabb {
@@ -1310,5 +1310,210 @@ fn extra_fibres_report_where_the_tolerance_is_not_reached() {
             "bound {b} below the sampled deviation {dev}"
         );
         assert!(b > 1e-3);
+    }
+}
+
+// ---- Roots on the vertical sides next to exact rational roots. ----
+
+/// f at an output vertex, exactly (its f64 coordinates as rationals).
+fn f_at(p: &BiPoly, v: [f64; 2]) -> BigRational {
+    let x = BigRational::from_float(v[0]).unwrap();
+    let y = BigRational::from_float(v[1]).unwrap();
+    spec(p, &x)
+        .iter()
+        .rev()
+        .fold(BigRational::zero(), |acc, c| acc * &y + c)
+}
+
+/// Independent check of the vertices on the vertical sides (shear 0): on each side
+/// x = c, as many vertices as f(c, ·) has distinct roots in (ymin, ymax) (Sturm), all
+/// labelled Boundary, each within 1e-9 of a root (a Sturm count on a small interval
+/// around it).
+fn check_side_vertices(f: &str, d: Aabb, r: &SweepResult) -> Result<(), String> {
+    if r.shear != 0 {
+        return Ok(());
+    }
+    let p = from_formula(f).unwrap();
+    let (ylo, yhi) = (
+        BigRational::from_float(d.min[1]).unwrap(),
+        BigRational::from_float(d.max[1]).unwrap(),
+    );
+    for x in [d.min[0], d.max[0]] {
+        let px = p.at_x(&BigRational::from_float(x).unwrap());
+        let want = sturm_count(&px, &ylo, &yhi) - usize::from(px.eval_q(&yhi).is_zero());
+        let on: Vec<usize> = (0..r.curve.vertices.len())
+            .filter(|&i| r.curve.vertices[i][0] == x)
+            .collect();
+        if on.len() != want {
+            return Err(format!(
+                "{f}: side x = {x}: {} vertices {:?}, f(x, ·) has {want} roots in ({}, {})",
+                on.len(),
+                on.iter().map(|&i| r.curve.vertices[i]).collect::<Vec<_>>(),
+                d.min[1],
+                d.max[1]
+            ));
+        }
+        for &i in &on {
+            let y = r.curve.vertices[i][1];
+            let eps = 1e-9 * (1.0 + y.abs());
+            let (a, b) = (
+                BigRational::from_float(y - eps).unwrap(),
+                BigRational::from_float(y + eps).unwrap(),
+            );
+            if r.labels[i] != Label::Boundary || sturm_count(&px, &a, &b) == 0 {
+                return Err(format!(
+                    "{f}: side vertex ({x}, {y}) ({:?}) is not on the curve: f = {}",
+                    r.labels[i],
+                    f_at(&p, r.curve.vertices[i])
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A root on a vertical side whose isolating interval starts at an exact root of the
+/// side's fibre (0, or a Descartes midpoint): the side branch rebuilt the number with
+/// the fibre's full square-free polynomial, p(lo) = 0, and the comparisons with ymin
+/// and ymax moved the interval onto lo. y(y − 3) on [−1, 1]² kept (±1, 0.5), off the
+/// curve, as isolated points and certified it (its own checker rejected the
+/// certificate); y(2y − 1) on [−1, 1] × [1/4, 1] called the side roots y = 1/2 outside
+/// ("an arc inside the domain ends at a point outside"). Now: one arc from side to
+/// side, every vertex on the curve, the certificates checked.
+#[test]
+fn side_roots_next_to_exact_roots() {
+    for (f, d, y) in [
+        ("y*(y-3)", sq(1.0), 0.0),
+        ("(y-2)*(y-3)", dom(-1.0, -1.0, 1.0, 2.5), 2.0),
+        ("y*(2*y-1)", dom(-1.0, 0.25, 1.0, 1.0), 0.5),
+        ("y*(y+3)", sq(1.0), 0.0),
+    ] {
+        let r = table(f, d, 0, 0, "F[]{O2 b2 b2}");
+        assert!(r.labels.iter().all(|&l| l != Label::Isolated), "{f}");
+        assert_eq!(
+            topo(&r),
+            Topo {
+                components: 1,
+                cycles: 0,
+                special_degrees: vec![],
+                boundary: 2
+            },
+            "{f}"
+        );
+        // Three vertices (two sides, one sample) on the line y = c, exactly.
+        assert_eq!(r.curve.vertices.len(), 3, "{f}: {:?}", r.curve.vertices);
+        let p = from_formula(f).unwrap();
+        for v in &r.curve.vertices {
+            assert_eq!(v[1], y, "{f}: {:?}", r.curve.vertices);
+            assert!(f_at(&p, *v).is_zero(), "{f}: {v:?}");
+        }
+        check_side_vertices(f, d, &r).unwrap();
+    }
+    // Degree 6: the side x = −1.7 has the exact root 0 and an interval (0, …) above
+    // it; (−1.7, 1.05) was kept, f = −0.79…
+    let f = "y^4*(y^2-2) + x*y + 3*x^3*y + x^3*y^2";
+    let d = dom(-1.7, -1.9, 1.3, 2.1);
+    let r = run(f, d);
+    check_curve(&r.cert).unwrap_or_else(|e| panic!("{f}: {e}"));
+    check_crossings(f, d, &r);
+    check_side_vertices(f, d, &r).unwrap();
+    assert!(r.labels.iter().all(|&l| l != Label::Isolated), "{f}");
+    // The vertices on the rational fibres (roots refined to 2^-40) and on the sides are
+    // on the curve; those of the irrational event fibres sit at the middle of their
+    // certified boxes (topology only: (-1.5957.., -0.0577..) for the root y = 0).
+    let p = from_formula(f).unwrap();
+    let xs: Vec<f64> = [d.min[0], d.max[0]]
+        .into_iter()
+        .chain(r.cert.fibres.iter().map(|fb| {
+            let q: BigRational = fb.q.parse().unwrap();
+            q.to_f64().unwrap()
+        }))
+        .collect();
+    let on_fibres: Vec<usize> = (0..r.curve.vertices.len())
+        .filter(|&i| xs.contains(&r.curve.vertices[i][0]))
+        .collect();
+    assert!(on_fibres.len() >= 15, "{f}: {on_fibres:?}");
+    for &i in &on_fibres {
+        let v = &r.curve.vertices[i];
+        let e = f_at(&p, *v).to_f64().unwrap();
+        assert!(
+            e.abs() < 1e-6,
+            "{f}: vertex {i} {v:?} ({:?}): f = {e}",
+            r.labels[i]
+        );
+    }
+}
+
+/// The checker names a side event's failure as an event, not as a rational fibre.
+#[test]
+fn checker_names_a_side_event_failure_as_an_event() {
+    let mut c = run("y*(y-3)", sq(1.0)).cert;
+    check_curve(&c).unwrap();
+    let i = c.events.iter().position(|e| e.side).unwrap();
+    let j = c.events[i].roots.iter().position(|r| r.lo != r.hi).unwrap();
+    // (0, 1) holds no root of y(y − 3): the interval the side branch used to write.
+    c.events[i].roots[j].lo = "0".into();
+    c.events[i].roots[j].hi = "1".into();
+    let e = check_curve(&c).unwrap_err().to_string();
+    assert!(
+        e.contains(&format!("event {i}: interval {j} does not isolate a root")),
+        "{e}"
+    );
+}
+
+/// Curves (y − a)(y − b)·h with exact rational roots a, b on every fibre, the vertical
+/// sides included, at 0 or at small dyadics (Descartes midpoints), and h monic in y
+/// (shear 0), on domains whose horizontal sides lie next to them: every certificate
+/// the sweep writes passes its checker, the side vertices are the side roots inside
+/// the domain (each on the curve), the arcs cross vertical lines as often as f = 0 does,
+/// and a refusal is never an internal error.
+fn exact_root_curve() -> impl Strategy<Value = (String, Aabb)> {
+    let quarter = || (-8i64..=8).prop_map(|k| k as f64 / 4.0);
+    (
+        quarter(),
+        quarter(),
+        0usize..=2,
+        proptest::collection::vec(-3i64..=3, 6),
+        (-6i64..=6, 1i64..=8),
+        prop_oneof![Just(1.0), Just(0.75), Just(1.25), Just(2.0)],
+    )
+        .prop_filter("two distinct exact roots", |(a, b, ..)| a != b)
+        .prop_map(|(a, b, dh, c, (y0, h), x1)| {
+            // h = y^dh + (c0 + c1 x + c2 x²) y^(dh−1) + (c3 + c4 x + c5 x²) y^(dh−2).
+            let mut hs = format!("y^{dh}");
+            if dh >= 1 {
+                hs += &format!(" + ({} + {}*x + {}*x^2)*y^{}", c[0], c[1], c[2], dh - 1);
+            }
+            if dh >= 2 {
+                hs += &format!(" + ({} + {}*x + {}*x^2)", c[3], c[4], c[5]);
+            }
+            let f = format!("(y - ({a}))*(y - ({b}))*({hs})");
+            // ymin and ymax on a grid of eighths: at, next to or away from a and b.
+            let ymin = y0 as f64 / 8.0 * 2.0 - 0.125;
+            let ymax = ymin + h as f64 / 4.0;
+            (f, dom(-x1, ymin, x1, ymax))
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+    #[test]
+    fn side_roots_of_curves_with_exact_roots((f, d) in exact_root_curve()) {
+        let p = from_formula(&f).unwrap();
+        match analyse(&p, &d, &SweepParams::default()) {
+            Err(e) => {
+                let m = e.to_string();
+                prop_assert!(!m.contains("internal"), "{} on {:?}: {}", f, d, m);
+            }
+            Ok(r) => {
+                let chk = check_curve(&r.cert);
+                prop_assert!(chk.is_ok(), "{} on {:?}: certificate rejected: {}", f, d, chk.unwrap_err());
+                let side = check_side_vertices(&f, d, &r);
+                prop_assert!(side.is_ok(), "{}", side.unwrap_err());
+                if r.shear == 0 {
+                    check_crossings(&f, d, &r);
+                }
+            }
+        }
     }
 }
