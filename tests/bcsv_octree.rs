@@ -18,6 +18,7 @@ fn all_tets(name: &str, level: u32, depth: u32) -> (Octree, Vec<[u32; 3]>, Vec<[
         level,
         depth,
         1_000_000,
+        None,
         &Default::default(),
     );
     let mut vs = oct.vertices();
