@@ -721,3 +721,71 @@ fn refuted_claims_show_in_the_real_mesh() {
     assert!(claims[2].measured > 101.4455 && claims[2].valence4_only);
     assert!(claims[3].measured < 35.30035 && claims[3].valence4_only);
 }
+
+/// GradNormal and MidNormal measure their triangles' angles once (Table 1's range over
+/// every triangle) and hand the extremes to the report (`MeshOutput::angles`): the
+/// report's row is the one it computes when it measures them itself, and the
+/// statistics' range is the range over every triangle.
+#[test]
+fn the_report_takes_the_meshers_angles_unchanged() {
+    use certmesh::harness::compare::{evaluate_with, Metrics};
+    use certmesh::metrics::angles::triangle_extremes;
+    for (name, algo) in [("genus2", "gradnormal"), ("torus", "midnormal")] {
+        let entry = catalog::get(name).unwrap();
+        let f = entry.function();
+        let m: Box<dyn Mesher> = if algo == "gradnormal" {
+            Box::new(GradNormal::new(GradNormalParams::new().with_scale(0.05)))
+        } else {
+            Box::new(MidNormal::new(GradNormalParams::new().with_scale(0.05)))
+        };
+        let run = certmesh::mesher::run(m.as_ref(), &f, &entry.domain, &NoProgress).unwrap();
+        let surf = run.output.mesh.surface().unwrap();
+        let given = run
+            .output
+            .angles
+            .clone()
+            .expect("the mesher measured its angles");
+        assert_eq!(given, triangle_extremes(surf).unwrap(), "{algo}");
+        let (lo, hi) = angle_range(surf);
+        assert_eq!(run.output.stats["min_angle_deg"].as_f64(), Some(lo));
+        assert_eq!(run.output.stats["max_angle_deg"].as_f64(), Some(hi));
+        let with = evaluate_with(name, &f, &entry.domain, None, &run, Metrics::Fast).unwrap();
+        let mut fresh = run.clone();
+        fresh.output.angles = None;
+        let without = evaluate_with(name, &f, &entry.domain, None, &fresh, Metrics::Fast).unwrap();
+        let bits = |x: Option<f64>| x.map(f64::to_bits);
+        assert_eq!(
+            bits(with.min_angle_deg),
+            bits(without.min_angle_deg),
+            "{algo}"
+        );
+        assert_eq!(
+            bits(with.max_angle_deg),
+            bits(without.max_angle_deg),
+            "{algo}"
+        );
+        assert_eq!(
+            bits(with.min_angle_deg),
+            bits(given.min_angle_deg),
+            "{algo}"
+        );
+        assert!(
+            with.min_angle_deg.unwrap() > 10.0,
+            "{algo}: {:?}",
+            with.min_angle_deg
+        );
+        // The given extremes are what the row reports (not measured again), unless
+        // they describe another mesh (a different triangle count).
+        let mut marked = run.clone();
+        marked.output.angles.as_mut().unwrap().min_angle_deg = Some(1.0);
+        let row = evaluate_with(name, &f, &entry.domain, None, &marked, Metrics::Fast).unwrap();
+        assert_eq!(row.min_angle_deg, Some(1.0), "{algo}");
+        marked.output.angles.as_mut().unwrap().triangles += 1;
+        let row = evaluate_with(name, &f, &entry.domain, None, &marked, Metrics::Fast).unwrap();
+        assert_eq!(
+            bits(row.min_angle_deg),
+            bits(without.min_angle_deg),
+            "{algo}"
+        );
+    }
+}

@@ -793,6 +793,29 @@ proptest! {
         );
         prop_assert_eq!(lo.to_bits(), want_lo.to_bits());
         prop_assert_eq!(hi.to_bits(), want_hi.to_bits());
+        // What GradNormal and MidNormal measure once for Table 1 and the report: the
+        // extremes above, and the range over every triangle, with and without the
+        // degenerate ones (without them the range comes from the extremes).
+        let (given, (glo, ghi)) = angles::extremes_and_range_all(&m);
+        prop_assert_eq!(given.as_ref(), Some(&ext));
+        prop_assert_eq!((glo.to_bits(), ghi.to_bits()), (lo.to_bits(), hi.to_bits()));
+        let kept: Vec<[u32; 3]> = m
+            .triangles
+            .iter()
+            .copied()
+            .filter(|&t| {
+                let [a, b, c] = t.map(|i| m.vertices[i as usize]);
+                !TriMesh::repeats_vertex(t) && !angles::triangle_is_degenerate(a, b, c)
+            })
+            .collect();
+        let regular = TriMesh::new(m.vertices.clone(), kept);
+        let (given, (glo, ghi)) = angles::extremes_and_range_all(&regular);
+        let given = given.unwrap();
+        prop_assert_eq!(given.degenerate, 0);
+        let (lo, hi) = angles::angle_range_all(&regular);
+        prop_assert_eq!((glo.to_bits(), ghi.to_bits()), (lo.to_bits(), hi.to_bits()));
+        prop_assert_eq!(given.min_angle_deg.map(f64::to_bits), ext.min_angle_deg.map(f64::to_bits));
+        prop_assert_eq!(given.max_angle_deg.map(f64::to_bits), ext.max_angle_deg.map(f64::to_bits));
     }
 }
 

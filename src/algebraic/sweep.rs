@@ -1934,6 +1934,7 @@ impl Mesher for Sweep {
             mesh: Mesh::Curve(r.curve),
             certificate: Certificate::certified(vec![claim]),
             stats,
+            angles: None,
         })
     }
 }

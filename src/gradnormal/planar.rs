@@ -398,6 +398,7 @@ fn run2(
             "planar MidNormal/GradNormal: topology holds only for e small enough (not quantified)",
         ),
         stats: crate::mesher::stats_map(&stats),
+        angles: None,
     })
 }
 

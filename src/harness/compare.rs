@@ -279,7 +279,14 @@ pub fn evaluate_with(
             let surf = m.surface().expect("surface or volume");
             let params = level_fidelity_params(level, domain, dim, surf.triangles.len());
             let (s, report) = if level == Metrics::Fast {
-                metrics::stats_and_topology_fast(surf, Some(f), &params)?
+                // A mesher that measured the angles for its own statistics hands them
+                // on (GradNormal, MidNormal): the same extremes, not measured twice.
+                match (&run.output.mesh, &run.output.angles) {
+                    (Mesh::Surface(_), Some(a)) if a.triangles == surf.triangles.len() => {
+                        metrics::stats_and_topology_fast_given(surf, Some(f), &params, a)?
+                    }
+                    _ => metrics::stats_and_topology_fast(surf, Some(f), &params)?,
+                }
             } else {
                 metrics::stats_and_topology(surf, Some(f), &params)?
             };

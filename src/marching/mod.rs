@@ -727,6 +727,7 @@ impl<C: Cells> Mesher for Marching<C> {
                 table.misses()
             )),
             stats,
+            angles: None,
         })
     }
 }

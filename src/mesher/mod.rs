@@ -146,6 +146,14 @@ pub struct MeshOutput {
     pub mesh: Mesh,
     pub certificate: Certificate,
     pub stats: serde_json::Map<String, serde_json::Value>,
+    /// The surface's triangle angles as `--metrics fast` measures them
+    /// ([`crate::metrics::angles::triangle_extremes`]), when the mesher measured them
+    /// for its own statistics (GradNormal, MidNormal); the report then takes them
+    /// instead of measuring the same triangles again. They describe `mesh` as
+    /// returned: whoever changes the mesh afterwards sets this to `None`. Not
+    /// serialised.
+    #[serde(skip)]
+    pub angles: Option<crate::metrics::angles::TriangleAngles>,
 }
 
 /// A mesher's typed statistics (a `Serialize` struct: `SubdivisionStats`,

@@ -696,6 +696,26 @@ pub fn all_angles(m: &TriMesh) -> Vec<f64> {
         .collect()
 }
 
+/// What a mesher that reports its own angle range (GradNormal, MidNormal: Table 1's
+/// smallest and largest angle over every triangle, [`angle_range_all`]) computes once
+/// for itself and for the report: `--metrics fast`'s [`triangle_extremes`], and the
+/// range over every triangle. With no degenerate triangle the two ranges are the same
+/// values, bit for bit (both are atan2 of the same pairs: [`angle_pair`]'s at each
+/// corner, whose cross product and dot product differ from `triangle_extremes`' by a
+/// sign only, which rounding keeps exact), so the second pass is made only when some
+/// triangle is degenerate. The extremes are `None` for a mesh that `triangle_extremes`
+/// refuses (a non-finite coordinate or an index out of range: the report then says so).
+pub fn extremes_and_range_all(m: &TriMesh) -> (Option<TriangleAngles>, (f64, f64)) {
+    let Ok(ext) = triangle_extremes(m) else {
+        return (None, angle_range_all(m));
+    };
+    let all = match (ext.degenerate, ext.min_angle_deg, ext.max_angle_deg) {
+        (0, Some(lo), Some(hi)) => (lo, hi),
+        _ => angle_range_all(m),
+    };
+    (Some(ext), all)
+}
+
 /// Smallest and largest angle (degrees) over every triangle, degenerate ones included
 /// (the GradNormal paper's Table 1 measures all triangles); (NaN, NaN) for an empty mesh.
 /// [`triangle_summary`] leaves degenerate triangles out instead. The angles of

@@ -149,7 +149,7 @@ pub fn stats_and_topology(
     f: Option<&dyn Implicit>,
     params: &FidelityParams,
 ) -> Result<(Stats, TopologyReport)> {
-    stats_and_topology_at(mesh, f, params, true)
+    stats_and_topology_at(mesh, f, params, Angles::Ranges)
 }
 
 /// [`stats_and_topology`] for the report's `--metrics fast`: the angle range without
@@ -161,14 +161,37 @@ pub fn stats_and_topology_fast(
     f: Option<&dyn Implicit>,
     params: &FidelityParams,
 ) -> Result<(Stats, TopologyReport)> {
-    stats_and_topology_at(mesh, f, params, false)
+    stats_and_topology_at(mesh, f, params, Angles::Extremes)
+}
+
+/// [`stats_and_topology_fast`] with the angle range given: `angles` must be
+/// [`angles::triangle_extremes`] of `mesh` (a mesher's own measure,
+/// [`crate::mesher::MeshOutput::angles`]), which is then not computed again.
+pub fn stats_and_topology_fast_given(
+    mesh: &TriMesh,
+    f: Option<&dyn Implicit>,
+    params: &FidelityParams,
+    angles: &angles::TriangleAngles,
+) -> Result<(Stats, TopologyReport)> {
+    stats_and_topology_at(mesh, f, params, Angles::Given(angles))
+}
+
+/// Which angle measures the report computes.
+#[derive(Clone, Copy)]
+enum Angles<'a> {
+    /// [`angles::triangle_ranges`]: the range, the mean smallest angle, the ratios.
+    Ranges,
+    /// [`angles::triangle_extremes`]: the range only.
+    Extremes,
+    /// The extremes, measured already.
+    Given(&'a angles::TriangleAngles),
 }
 
 fn stats_and_topology_at(
     mesh: &TriMesh,
     f: Option<&dyn Implicit>,
     params: &FidelityParams,
-    full_angles: bool,
+    which: Angles,
 ) -> Result<(Stats, TopologyReport)> {
     // Three independent measures, side by side on rayon's threads (each is parallel
     // inside too; the serial parts of one overlap the others).
@@ -176,12 +199,10 @@ fn stats_and_topology_at(
         || analyze(mesh),
         || {
             rayon::join(
-                || {
-                    if full_angles {
-                        angles::triangle_ranges(mesh)
-                    } else {
-                        angles::triangle_extremes(mesh)
-                    }
+                || match which {
+                    Angles::Ranges => angles::triangle_ranges(mesh),
+                    Angles::Extremes => angles::triangle_extremes(mesh),
+                    Angles::Given(a) => Ok(a.clone()),
                 },
                 || {
                     f.map(|f| fidelity::surface_fidelity(mesh, f, params))

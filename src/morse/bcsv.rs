@@ -1537,6 +1537,7 @@ impl Mesher for Bcsv {
                     mesh: Mesh::Surface(s.mesh),
                     certificate,
                     stats,
+                    angles: None,
                 })
             }
             None => {
@@ -1564,6 +1565,7 @@ impl Mesher for Bcsv {
                         vec![crate::mesher::Uncertified::new(*domain, last)],
                     ),
                     stats,
+                    angles: None,
                 })
             }
         }

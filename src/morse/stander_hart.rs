@@ -559,6 +559,7 @@ impl Mesher for StanderHart {
             mesh: pv_out.mesh,
             certificate,
             stats,
+            angles: None,
         })
     }
 }

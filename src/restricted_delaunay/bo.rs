@@ -1177,5 +1177,6 @@ fn mesh_bo(
         mesh: Mesh::Surface(mesh),
         certificate,
         stats,
+        angles: None,
     })
 }

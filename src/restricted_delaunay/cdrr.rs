@@ -367,6 +367,7 @@ impl Mesher for ChengDeyRamosRay {
             mesh: Mesh::Surface(mesh),
             certificate,
             stats: stats_map(&stats),
+            angles: None,
         })
     }
 }

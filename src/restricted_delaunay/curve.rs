@@ -1042,6 +1042,7 @@ fn mesh_bo2(
         mesh: Mesh::Curve(curve),
         certificate: Certificate::uncertified(reason, claims, regions),
         stats: stats_map(&stats),
+        angles: None,
     })
 }
 

@@ -795,6 +795,7 @@ impl Mesher for Stuffing {
             },
             certificate: Certificate::uncertified(reason, claims, regions),
             stats,
+            angles: None,
         })
     }
 }

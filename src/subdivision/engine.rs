@@ -279,6 +279,7 @@ pub fn run_subdivision<K: Criterion>(
             mesh,
             certificate,
             stats,
+            angles: None,
         },
     ))
 }
