@@ -2003,6 +2003,107 @@ fn the_report_names_the_guard_that_stopped_bo() {
     std::fs::remove_dir_all(&d).unwrap();
 }
 
+/// A bo facet size below the scale of its seed triangles (radius facet-size / 4, never
+/// below 1e-9 of the domain's diagonal) is a parameter error (exit 2) that names the
+/// facet size and the smallest usable one, not "found no point of f = 0" (the sphere
+/// has points: bo placed no seed triangle and its output was empty). The smallest
+/// usable value it names is accepted, and a value just below it refused.
+#[test]
+fn a_bo_facet_size_below_the_seed_scale_is_a_parameter_error() {
+    let d = tmp("bo-tiny-facet");
+    let (code, out, err) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bo",
+            "--facet-size",
+            "1e-20",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 2, "{out}{err}");
+    let v = json_error(&out);
+    assert_eq!(v["kind"], "parameter", "{out}");
+    let msg = v["error"].as_str().unwrap();
+    assert!(
+        msg.contains("--facet-size 1e-20 is too small") && !msg.contains("found no point"),
+        "{msg}"
+    );
+    // The smallest usable value, as printed, is 4e-9 x the diagonal of the sphere's
+    // catalog domain [-1.5, 1.5]^3, rounded up.
+    let smallest = msg
+        .split("smallest usable --facet-size here is ")
+        .nth(1)
+        .and_then(|t| t.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no smallest value in: {msg}"));
+    let x: f64 = smallest.parse().unwrap();
+    let floor = 4e-9 * (27.0f64).sqrt();
+    assert!(x >= floor && x < 1.01 * floor, "{smallest} vs {floor}");
+    // --seed-radius likewise names itself.
+    let (code, out, _) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bo",
+            "--set",
+            "seed-radius=1e-12",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 2, "{out}");
+    let v = json_error(&out);
+    assert!(
+        v["error"]
+            .as_str()
+            .unwrap()
+            .contains("seed-radius=1e-12 is too small"),
+        "{out}"
+    );
+    // Just below the smallest value: refused; at it: meshed (stopped by the vertex
+    // budget, with a partial output).
+    let below = format!("{}", 0.999 * floor);
+    let (code, out, _) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bo",
+            "--facet-size",
+            &below,
+            "--json",
+        ],
+    );
+    assert_eq!(code, 2, "{out}");
+    let (code, out, err) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bo",
+            "--facet-size",
+            smallest,
+            "--max-vertices",
+            "200",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(
+        v["stopped"]
+            .as_str()
+            .is_some_and(|s| s.contains("--max-vertices")),
+        "{out}"
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
 /// An empty zero set is an error (exit 2, kind `empty-zero-set`) that says whether the
 /// emptiness is proven (pv, snyder, the exact sweep) or only not seen (a lattice mesher),
 /// and writes no file. A sphere that fits between two grid vertices of mc at resolution

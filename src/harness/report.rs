@@ -222,6 +222,19 @@ pub struct StatsReport {
     pub topology_verdict: Option<Verdict>,
 }
 
+/// A number given by the user or exact in the run (a domain bound, a parameter) for a
+/// readable text: the shortest digits that read back to `x` (Rust's float printing),
+/// plain for 1e-4 <= |x| < 1e16 and for 0, scientific otherwise (1e-100, not 100
+/// zeros and a 1). JSON keeps the numbers themselves.
+pub fn short_num(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() || a == 0.0 || (1e-4..1e16).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// A number for a readable report: scientific with `prec` digits, "undefined" for NaN.
 pub fn num(x: f64, prec: usize) -> String {
     if x.is_nan() {
