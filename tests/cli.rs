@@ -1524,6 +1524,53 @@ fn stander_hart_from_the_command_line() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// An uncertified stander-hart run lists no claim as made, in the text report (no
+/// "proven:" line) or in --json (`claims` empty): on the torus f is not proven Morse,
+/// so the sweep is not certified, though its last level is a certified PV mesh. That
+/// level's own claims are in the stats (`last_level_claims`), and the stats'
+/// `certified` list leaves out the critical data it could not certify.
+#[test]
+fn an_uncertified_stander_hart_run_lists_no_claims() {
+    let args = [
+        "mesh",
+        "torus",
+        "--algo",
+        "stander-hart",
+        "--metrics",
+        "none",
+    ];
+    let (code, out, err) = certmesh(&[&args[..], &["--json"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["certified"], false, "{out}");
+    let cert = &v["certificate"];
+    assert_eq!(cert["status"], "uncertified", "{cert}");
+    assert_eq!(cert["claims"], serde_json::json!([]), "{cert}");
+    assert!(
+        cert["claims_typed"].as_array().is_none_or(|c| c.is_empty()),
+        "{cert}"
+    );
+    let sh = &v["stats"]["stander_hart"];
+    assert_eq!(sh["critical_data_certified"], false);
+    let certified = sh["certified"].to_string();
+    assert!(!certified.contains("critical points"), "{certified}");
+    assert!(
+        sh["not_certified"].to_string().contains("critical data"),
+        "{sh}"
+    );
+    // The last level is PV's certified mesh of f = 0: its claims are kept, as its.
+    let last = sh["levels"].as_array().unwrap().last().unwrap().clone();
+    assert_eq!(last["certified"], true, "{last}");
+    assert!(
+        sh["last_level_claims"].to_string().contains("isotopic"),
+        "{sh}"
+    );
+    let (code, out, err) = certmesh(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("uncertified"), "{out}");
+    assert!(!out.contains("proven:"), "{out}");
+}
+
 /// `--algo bcsv`: certified isotopic on the sphere (Theorem B: the census χ(S) = 2
 /// equals χ(Ŝ)); with a census budget of one box only W-certified, never certified;
 /// the attempts in the JSON stats; a bad --resolution is an error.
