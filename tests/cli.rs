@@ -144,6 +144,63 @@ fn stats_json_on_a_real_mesh() {
     assert_eq!(v["closed"], true);
 }
 
+/// `stats --formula`: the mesh → surface distance of a sample is to its Newton
+/// projection, a point of f = 0 but not always the nearest (with several components it
+/// can be much farther), so the text and --json say that it is an upper bound per
+/// sample. Here a sphere of radius 1.15 against f = 0 = the spheres of radii 1 and 1.2:
+/// every vertex is 0.05 from the surface, so the maximum of per-sample upper bounds is
+/// at least that.
+#[test]
+fn stats_says_the_mesh_to_surface_distance_is_an_upper_bound_per_sample() {
+    let d = tmp("stats-upper");
+    let (code, out, err) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "--formula",
+            "x^2 + y^2 + z^2 - 1.3225",
+            "--algo",
+            "pv",
+            "-o",
+            "s.obj",
+            "-q",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    let args = [
+        "stats",
+        "s.obj",
+        "--formula",
+        "(x^2 + y^2 + z^2 - 1)*(x^2 + y^2 + z^2 - 1.44)",
+    ];
+    let (code, out, err) = certmesh_in(&d, &[&args[..], &["--json"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let kind = v["hausdorff_mesh_to_surface_kind"]
+        .as_str()
+        .unwrap_or_else(|| panic!("no hausdorff_mesh_to_surface_kind: {out}"));
+    assert!(
+        kind.contains("upper bound") && kind.contains("per sample") && kind.contains("Newton"),
+        "{kind}"
+    );
+    assert!(
+        v["hausdorff_kind"]
+            .as_str()
+            .unwrap()
+            .contains("upper bound"),
+        "{out}"
+    );
+    let h = v["hausdorff_mesh_to_surface"].as_f64().unwrap();
+    assert!(h >= 0.049, "{h}: below the vertices' distance to f = 0");
+    let (code, text, err) = certmesh_in(&d, &args);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        text.contains("(per-sample upper bounds)") && text.contains(kind),
+        "{text}"
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
 #[test]
 fn stats_reports_the_bunny_scan_defects() {
     let (code, out, err) = certmesh(&["stats", "data/stanford-bunny.obj", "--json"]);

@@ -220,6 +220,24 @@ pub struct StatsReport {
     pub stats: Stats,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub topology_verdict: Option<Verdict>,
+    /// What `hausdorff_mesh_to_surface` is, when the fidelity was measured
+    /// ([`crate::metrics::fidelity::MESH_TO_SURFACE_KIND`]: per sample an upper bound).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hausdorff_mesh_to_surface_kind: Option<&'static str>,
+}
+
+impl StatsReport {
+    pub fn new(stats: Stats, topology_verdict: Option<Verdict>) -> Self {
+        let hausdorff_mesh_to_surface_kind = stats
+            .fidelity
+            .as_ref()
+            .map(|_| crate::metrics::fidelity::MESH_TO_SURFACE_KIND);
+        StatsReport {
+            stats,
+            topology_verdict,
+            hausdorff_mesh_to_surface_kind,
+        }
+    }
 }
 
 /// A number given by the user or exact in the run (a domain bound, a parameter) for a
@@ -289,7 +307,7 @@ impl StatsReport {
         }
         if let Some(fd) = &s.fidelity {
             out.push(format!(
-                "fidelity: Hausdorff (est.) ≈ {} (mesh→surface {}, surface→mesh {}), max |f|/|∇f| = {}, normal deviation max {}",
+                "fidelity: Hausdorff (est.) ≈ {} (mesh→surface {} (per-sample upper bounds), surface→mesh {}), max |f|/|∇f| = {}, normal deviation max {}",
                 num(fd.hausdorff, 3),
                 num(fd.hausdorff_mesh_to_surface, 3),
                 num(fd.hausdorff_surface_to_mesh, 3),
@@ -299,6 +317,10 @@ impl StatsReport {
                 } else {
                     num(fd.normal_dev_max_deg, 2)
                 }
+            ));
+            out.push(format!(
+                "  mesh→surface: {}",
+                crate::metrics::fidelity::MESH_TO_SURFACE_KIND
             ));
             // The reasons of the measured fields (the means and the two-sided maximum
             // repeat them; --json has every field).
