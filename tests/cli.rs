@@ -201,6 +201,59 @@ fn stats_says_the_mesh_to_surface_distance_is_an_upper_bound_per_sample() {
     std::fs::remove_dir_all(&d).unwrap();
 }
 
+/// Tiny and huge domains print readably in text (1e-100, not a hundred zeros): the
+/// report's domain line and the empty-zero-set error; --json keeps the numbers
+/// themselves.
+#[test]
+fn tiny_and_huge_domains_print_in_scientific_notation() {
+    for (formula, domain, bound) in [
+        (
+            "x^2 + y^2 + z^2 - 1e-200",
+            "--domain=-1e-100,-1e-100,-1e-100,1e-100,1e-100,1e-100",
+            "1e-100",
+        ),
+        (
+            "x^2 + y^2 + z^2 - 1e200",
+            "--domain=-1e100,-1e100,-1e100,1e100,1e100,1e100",
+            "1e100",
+        ),
+    ] {
+        let args = ["mesh", "--formula", formula, domain, "--algo", "mc"];
+        let (code, text, err) = certmesh(&args);
+        assert_eq!(code, 0, "{err}");
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("domain: "))
+            .unwrap_or_else(|| panic!("no domain line: {text}"));
+        let b = format!("[-{bound}, {bound}]");
+        assert_eq!(
+            line.strip_prefix("domain: "),
+            Some(format!("{b} × {b} × {b}").as_str()),
+            "{line}"
+        );
+        let (code, out, err) = certmesh(&[&args[..], &["--json"]].concat());
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let x: f64 = bound.parse().unwrap();
+        assert_eq!(v["domain"]["min"], serde_json::json!([-x, -x, -x]), "{out}");
+        assert_eq!(v["domain"]["max"], serde_json::json!([x, x, x]), "{out}");
+    }
+    // The empty-zero-set error names the domain the same way.
+    let (code, _, err) = certmesh(&[
+        "mesh",
+        "--formula",
+        "x^2 + y^2 + z^2 + 1",
+        "--domain=-1e-100,-1e-100,-1e-100,1e-100,1e-100,1e-100",
+        "--algo",
+        "mc",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("[-1e-100, 1e-100] × [-1e-100, 1e-100]") && !err.contains("0000000000"),
+        "{err}"
+    );
+}
+
 #[test]
 fn stats_reports_the_bunny_scan_defects() {
     let (code, out, err) = certmesh(&["stats", "data/stanford-bunny.obj", "--json"]);

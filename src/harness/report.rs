@@ -150,10 +150,17 @@ pub fn mesh_report(
     })
 }
 
-/// The domain as the reports print it: `[x0, x1] × [y0, y1] (× [z0, z1])`.
+/// The domain as the reports print it: `[x0, x1] × [y0, y1] (× [z0, z1])`, each bound
+/// by [`short_num`] (1e-100, not a hundred zeros).
 pub fn domain_text(domain: &Aabb, dim: usize) -> String {
     (0..dim)
-        .map(|k| format!("[{}, {}]", domain.min[k], domain.max[k]))
+        .map(|k| {
+            format!(
+                "[{}, {}]",
+                short_num(domain.min[k]),
+                short_num(domain.max[k])
+            )
+        })
         .collect::<Vec<_>>()
         .join(" × ")
 }
