@@ -1115,6 +1115,71 @@ fn cli_gvn_certificate_written_checked_and_tampering_rejected() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `check-curve` says what it verified: the certificate's polynomial (integer
+/// coefficients: 2x^2 + 8y^2 - 2 is 2(x^2 + 4y^2 - 1) with the denominators cleared)
+/// and its domain, in the text (floats given as their shortest digits) and in --json
+/// (the exact rationals).
+#[test]
+fn check_curve_names_the_polynomial_and_domain_it_verified() {
+    let dir = std::env::temp_dir().join(format!("certmesh-checkpd-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cert = dir.join("ell.json");
+    let (code, out, err) = certmesh_cli(&[
+        "curve",
+        "--formula",
+        "x^2 + 4*y^2 - 1",
+        "--domain=-1.5,-0.7,1.5,0.7",
+        "--algo",
+        "gvn",
+        "--certificate",
+        cert.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+    let c: certmesh::algebraic::CurveCert =
+        serde_json::from_str(&std::fs::read_to_string(&cert).unwrap()).unwrap();
+    // The polynomial as the certificate stores it, read back from its coefficients:
+    // f[j][i] is the coefficient of x^i y^j.
+    let coef = |i: usize, j: usize| -> i64 {
+        c.f.get(j)
+            .and_then(|r| r.get(i))
+            .map_or(0, |a| a.parse().unwrap())
+    };
+    let (a, b, k) = (coef(2, 0), coef(0, 2), coef(0, 0));
+    assert!(a > 0 && b == 4 * a && k == -a, "{:?}", c.f);
+    let expected = if a == 1 {
+        "x^2 + 4*y^2 - 1".to_string()
+    } else {
+        format!("{a}*x^2 + {b}*y^2 - {a}")
+    };
+    let (code, out, err) = certmesh_cli(&["check-curve", cert.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        out.contains(&format!("f(x, y) = {expected} = 0"))
+            && out.contains("[-1.5, 1.5] × [-0.7, 0.7]")
+            && out.contains("certificate verified"),
+        "{out}"
+    );
+    let (code, out, err) = certmesh_cli(&["check-curve", cert.to_str().unwrap(), "--json"]);
+    assert_eq!(code, 0, "{out}{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["polynomial"], expected.as_str(), "{out}");
+    let bounds: Vec<f64> = v["domain"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| {
+            let t = t.as_str().unwrap();
+            match t.split_once('/') {
+                Some((n, d)) => n.parse::<f64>().unwrap() / d.parse::<f64>().unwrap(),
+                None => t.parse().unwrap(),
+            }
+        })
+        .collect();
+    assert_eq!(bounds, [-1.5, -0.7, 1.5, 0.7], "{out}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn compare_uses_signatures_for_curves() {
     use certmesh::harness::compare;

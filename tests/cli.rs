@@ -144,6 +144,116 @@ fn stats_json_on_a_real_mesh() {
     assert_eq!(v["closed"], true);
 }
 
+/// `stats --formula`: the mesh → surface distance of a sample is to its Newton
+/// projection, a point of f = 0 but not always the nearest (with several components it
+/// can be much farther), so the text and --json say that it is an upper bound per
+/// sample. Here a sphere of radius 1.15 against f = 0 = the spheres of radii 1 and 1.2:
+/// every vertex is 0.05 from the surface, so the maximum of per-sample upper bounds is
+/// at least that.
+#[test]
+fn stats_says_the_mesh_to_surface_distance_is_an_upper_bound_per_sample() {
+    let d = tmp("stats-upper");
+    let (code, out, err) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "--formula",
+            "x^2 + y^2 + z^2 - 1.3225",
+            "--algo",
+            "pv",
+            "-o",
+            "s.obj",
+            "-q",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    let args = [
+        "stats",
+        "s.obj",
+        "--formula",
+        "(x^2 + y^2 + z^2 - 1)*(x^2 + y^2 + z^2 - 1.44)",
+    ];
+    let (code, out, err) = certmesh_in(&d, &[&args[..], &["--json"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let kind = v["hausdorff_mesh_to_surface_kind"]
+        .as_str()
+        .unwrap_or_else(|| panic!("no hausdorff_mesh_to_surface_kind: {out}"));
+    assert!(
+        kind.contains("upper bound") && kind.contains("per sample") && kind.contains("Newton"),
+        "{kind}"
+    );
+    assert!(
+        v["hausdorff_kind"]
+            .as_str()
+            .unwrap()
+            .contains("upper bound"),
+        "{out}"
+    );
+    let h = v["hausdorff_mesh_to_surface"].as_f64().unwrap();
+    assert!(h >= 0.049, "{h}: below the vertices' distance to f = 0");
+    let (code, text, err) = certmesh_in(&d, &args);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        text.contains("(per-sample upper bounds)") && text.contains(kind),
+        "{text}"
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// Tiny and huge domains print readably in text (1e-100, not a hundred zeros): the
+/// report's domain line and the empty-zero-set error; --json keeps the numbers
+/// themselves.
+#[test]
+fn tiny_and_huge_domains_print_in_scientific_notation() {
+    for (formula, domain, bound) in [
+        (
+            "x^2 + y^2 + z^2 - 1e-200",
+            "--domain=-1e-100,-1e-100,-1e-100,1e-100,1e-100,1e-100",
+            "1e-100",
+        ),
+        (
+            "x^2 + y^2 + z^2 - 1e200",
+            "--domain=-1e100,-1e100,-1e100,1e100,1e100,1e100",
+            "1e100",
+        ),
+    ] {
+        let args = ["mesh", "--formula", formula, domain, "--algo", "mc"];
+        let (code, text, err) = certmesh(&args);
+        assert_eq!(code, 0, "{err}");
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("domain: "))
+            .unwrap_or_else(|| panic!("no domain line: {text}"));
+        let b = format!("[-{bound}, {bound}]");
+        assert_eq!(
+            line.strip_prefix("domain: "),
+            Some(format!("{b} × {b} × {b}").as_str()),
+            "{line}"
+        );
+        let (code, out, err) = certmesh(&[&args[..], &["--json"]].concat());
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let x: f64 = bound.parse().unwrap();
+        assert_eq!(v["domain"]["min"], serde_json::json!([-x, -x, -x]), "{out}");
+        assert_eq!(v["domain"]["max"], serde_json::json!([x, x, x]), "{out}");
+    }
+    // The empty-zero-set error names the domain the same way.
+    let (code, _, err) = certmesh(&[
+        "mesh",
+        "--formula",
+        "x^2 + y^2 + z^2 + 1",
+        "--domain=-1e-100,-1e-100,-1e-100,1e-100,1e-100,1e-100",
+        "--algo",
+        "mc",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("[-1e-100, 1e-100] × [-1e-100, 1e-100]") && !err.contains("0000000000"),
+        "{err}"
+    );
+}
+
 #[test]
 fn stats_reports_the_bunny_scan_defects() {
     let (code, out, err) = certmesh(&["stats", "data/stanford-bunny.obj", "--json"]);
@@ -1524,6 +1634,53 @@ fn stander_hart_from_the_command_line() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// An uncertified stander-hart run lists no claim as made, in the text report (no
+/// "proven:" line) or in --json (`claims` empty): on the torus f is not proven Morse,
+/// so the sweep is not certified, though its last level is a certified PV mesh. That
+/// level's own claims are in the stats (`last_level_claims`), and the stats'
+/// `certified` list leaves out the critical data it could not certify.
+#[test]
+fn an_uncertified_stander_hart_run_lists_no_claims() {
+    let args = [
+        "mesh",
+        "torus",
+        "--algo",
+        "stander-hart",
+        "--metrics",
+        "none",
+    ];
+    let (code, out, err) = certmesh(&[&args[..], &["--json"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["certified"], false, "{out}");
+    let cert = &v["certificate"];
+    assert_eq!(cert["status"], "uncertified", "{cert}");
+    assert_eq!(cert["claims"], serde_json::json!([]), "{cert}");
+    assert!(
+        cert["claims_typed"].as_array().is_none_or(|c| c.is_empty()),
+        "{cert}"
+    );
+    let sh = &v["stats"]["stander_hart"];
+    assert_eq!(sh["critical_data_certified"], false);
+    let certified = sh["certified"].to_string();
+    assert!(!certified.contains("critical points"), "{certified}");
+    assert!(
+        sh["not_certified"].to_string().contains("critical data"),
+        "{sh}"
+    );
+    // The last level is PV's certified mesh of f = 0: its claims are kept, as its.
+    let last = sh["levels"].as_array().unwrap().last().unwrap().clone();
+    assert_eq!(last["certified"], true, "{last}");
+    assert!(
+        sh["last_level_claims"].to_string().contains("isotopic"),
+        "{sh}"
+    );
+    let (code, out, err) = certmesh(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("uncertified"), "{out}");
+    assert!(!out.contains("proven:"), "{out}");
+}
+
 /// `--algo bcsv`: certified isotopic on the sphere (Theorem B: the census χ(S) = 2
 /// equals χ(Ŝ)); with a census budget of one box only W-certified, never certified;
 /// the attempts in the JSON stats; a bad --resolution is an error.
@@ -2000,6 +2157,107 @@ fn the_report_names_the_guard_that_stopped_bo() {
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     let stopped = v["stopped"].as_str().expect("stopped");
     assert!(stopped.contains("--max-vertices"), "{stopped}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// A bo facet size below the scale of its seed triangles (radius facet-size / 4, never
+/// below 1e-9 of the domain's diagonal) is a parameter error (exit 2) that names the
+/// facet size and the smallest usable one, not "found no point of f = 0" (the sphere
+/// has points: bo placed no seed triangle and its output was empty). The smallest
+/// usable value it names is accepted, and a value just below it refused.
+#[test]
+fn a_bo_facet_size_below_the_seed_scale_is_a_parameter_error() {
+    let d = tmp("bo-tiny-facet");
+    let (code, out, err) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bo",
+            "--facet-size",
+            "1e-20",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 2, "{out}{err}");
+    let v = json_error(&out);
+    assert_eq!(v["kind"], "parameter", "{out}");
+    let msg = v["error"].as_str().unwrap();
+    assert!(
+        msg.contains("--facet-size 1e-20 is too small") && !msg.contains("found no point"),
+        "{msg}"
+    );
+    // The smallest usable value, as printed, is 4e-9 x the diagonal of the sphere's
+    // catalog domain [-1.5, 1.5]^3, rounded up.
+    let smallest = msg
+        .split("smallest usable --facet-size here is ")
+        .nth(1)
+        .and_then(|t| t.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no smallest value in: {msg}"));
+    let x: f64 = smallest.parse().unwrap();
+    let floor = 4e-9 * (27.0f64).sqrt();
+    assert!(x >= floor && x < 1.01 * floor, "{smallest} vs {floor}");
+    // --seed-radius likewise names itself.
+    let (code, out, _) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bo",
+            "--set",
+            "seed-radius=1e-12",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 2, "{out}");
+    let v = json_error(&out);
+    assert!(
+        v["error"]
+            .as_str()
+            .unwrap()
+            .contains("seed-radius=1e-12 is too small"),
+        "{out}"
+    );
+    // Just below the smallest value: refused; at it: meshed (stopped by the vertex
+    // budget, with a partial output).
+    let below = format!("{}", 0.999 * floor);
+    let (code, out, _) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bo",
+            "--facet-size",
+            &below,
+            "--json",
+        ],
+    );
+    assert_eq!(code, 2, "{out}");
+    let (code, out, err) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "bo",
+            "--facet-size",
+            smallest,
+            "--max-vertices",
+            "200",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(
+        v["stopped"]
+            .as_str()
+            .is_some_and(|s| s.contains("--max-vertices")),
+        "{out}"
+    );
     std::fs::remove_dir_all(&d).unwrap();
 }
 

@@ -117,6 +117,12 @@ pub struct CurveCert {
 /// What the checker verified.
 #[derive(Clone, Debug, Serialize)]
 pub struct CheckReport {
+    /// The polynomial the certificate is about, f(x, y) with the certificate's integer
+    /// coefficients (a multiple of the formula meshed: the sweep clears denominators),
+    /// in the formula syntax of `--formula`.
+    pub polynomial: String,
+    /// The domain checked, exact rationals: xmin, ymin, xmax, ymax.
+    pub domain: [String; 4],
     pub shear: i64,
     pub degree: usize,
     pub events: usize,
@@ -126,6 +132,80 @@ pub struct CheckReport {
     pub segments: usize,
     /// Individual claims verified (signs, counts, boxes, decisions).
     pub claims: usize,
+}
+
+impl CheckReport {
+    /// The domain for a readable text, `[xmin, xmax] × [ymin, ymax]`: a bound that is
+    /// exactly a float (the sweep's bounds are the floats given) by that float's
+    /// shortest digits, another short rational ("1/3") as it is, others "≈" a float
+    /// (the JSON `domain` has the exact rationals).
+    pub fn domain_text(&self) -> String {
+        let b = |k: usize| readable_rational(&self.domain[k]);
+        format!("[{}, {}] × [{}, {}]", b(0), b(2), b(1), b(3))
+    }
+}
+
+fn readable_rational(t: &str) -> String {
+    use num_traits::ToPrimitive;
+    let Ok(q) = t.parse::<BigRational>() else {
+        return t.to_string();
+    };
+    match q.to_f64() {
+        Some(x) if x.is_finite() && BigRational::from_float(x).is_some_and(|r| r == q) => {
+            crate::harness::report::short_num(x)
+        }
+        _ if t.len() <= 20 => t.to_string(),
+        Some(x) if x.is_finite() => format!("≈{}", crate::harness::report::short_num(x)),
+        _ => t.to_string(),
+    }
+}
+
+/// f(x, y) = Σ f\[j\]\[i\]·xⁱyʲ as text in the formula syntax ("2*x^2 + 6*y^2 - 9"),
+/// terms by decreasing total degree, then decreasing degree in x.
+fn poly_text(f: &[Vec<String>]) -> Result<String> {
+    let mut terms: Vec<(usize, usize, BigInt)> = Vec::new();
+    for (j, row) in f.iter().enumerate() {
+        for (i, a) in row.iter().enumerate() {
+            let a: BigInt = a
+                .trim()
+                .parse()
+                .map_err(|_| bad(format!("'{a}' is not an integer")))?;
+            if !a.is_zero() {
+                terms.push((i, j, a));
+            }
+        }
+    }
+    terms.sort_by(|a, b| (b.0 + b.1, b.0).cmp(&(a.0 + a.1, a.0)));
+    if terms.is_empty() {
+        return Ok("0".into());
+    }
+    let mut out = String::new();
+    for (k, (i, j, a)) in terms.iter().enumerate() {
+        let mono: Vec<String> = [("x", *i), ("y", *j)]
+            .iter()
+            .filter(|(_, e)| *e > 0)
+            .map(|(v, e)| {
+                if *e == 1 {
+                    v.to_string()
+                } else {
+                    format!("{v}^{e}")
+                }
+            })
+            .collect();
+        let mag = a.abs();
+        let body = match (mono.is_empty(), mag.is_one()) {
+            (true, _) => mag.to_string(),
+            (false, true) => mono.join("*"),
+            (false, false) => format!("{mag}*{}", mono.join("*")),
+        };
+        match (k, a.is_negative()) {
+            (0, true) => out += &format!("-{body}"),
+            (0, false) => out += &body,
+            (_, true) => out += &format!(" - {body}"),
+            (_, false) => out += &format!(" + {body}"),
+        }
+    }
+    Ok(out)
 }
 
 fn bad(msg: impl std::fmt::Display) -> Error {
@@ -400,7 +480,11 @@ pub fn check_curve(c: &CurveCert) -> Result<CheckReport> {
     } else {
         (&dom.xmin - &sq * &dom.ymin, &dom.xmax - &sq * &dom.ymax)
     };
+    let polynomial = poly_text(&c.f)?;
+    let domain = [&dom.xmin, &dom.ymin, &dom.xmax, &dom.ymax].map(|q| q.to_string());
     let report = |claims| CheckReport {
+        polynomial: polynomial.clone(),
+        domain: domain.clone(),
         shear: s,
         degree: g.total_degree().max(0) as usize,
         events: c.events.len(),

@@ -150,10 +150,17 @@ pub fn mesh_report(
     })
 }
 
-/// The domain as the reports print it: `[x0, x1] × [y0, y1] (× [z0, z1])`.
+/// The domain as the reports print it: `[x0, x1] × [y0, y1] (× [z0, z1])`, each bound
+/// by [`short_num`] (1e-100, not a hundred zeros).
 pub fn domain_text(domain: &Aabb, dim: usize) -> String {
     (0..dim)
-        .map(|k| format!("[{}, {}]", domain.min[k], domain.max[k]))
+        .map(|k| {
+            format!(
+                "[{}, {}]",
+                short_num(domain.min[k]),
+                short_num(domain.max[k])
+            )
+        })
         .collect::<Vec<_>>()
         .join(" × ")
 }
@@ -220,6 +227,37 @@ pub struct StatsReport {
     pub stats: Stats,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub topology_verdict: Option<Verdict>,
+    /// What `hausdorff_mesh_to_surface` is, when the fidelity was measured
+    /// ([`crate::metrics::fidelity::MESH_TO_SURFACE_KIND`]: per sample an upper bound).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hausdorff_mesh_to_surface_kind: Option<&'static str>,
+}
+
+impl StatsReport {
+    pub fn new(stats: Stats, topology_verdict: Option<Verdict>) -> Self {
+        let hausdorff_mesh_to_surface_kind = stats
+            .fidelity
+            .as_ref()
+            .map(|_| crate::metrics::fidelity::MESH_TO_SURFACE_KIND);
+        StatsReport {
+            stats,
+            topology_verdict,
+            hausdorff_mesh_to_surface_kind,
+        }
+    }
+}
+
+/// A number given by the user or exact in the run (a domain bound, a parameter) for a
+/// readable text: the shortest digits that read back to `x` (Rust's float printing),
+/// plain for 1e-4 <= |x| < 1e16 and for 0, scientific otherwise (1e-100, not 100
+/// zeros and a 1). JSON keeps the numbers themselves.
+pub fn short_num(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() || a == 0.0 || (1e-4..1e16).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 /// A number for a readable report: scientific with `prec` digits, "undefined" for NaN.
@@ -276,7 +314,7 @@ impl StatsReport {
         }
         if let Some(fd) = &s.fidelity {
             out.push(format!(
-                "fidelity: Hausdorff (est.) ≈ {} (mesh→surface {}, surface→mesh {}), max |f|/|∇f| = {}, normal deviation max {}",
+                "fidelity: Hausdorff (est.) ≈ {} (mesh→surface {} (per-sample upper bounds), surface→mesh {}), max |f|/|∇f| = {}, normal deviation max {}",
                 num(fd.hausdorff, 3),
                 num(fd.hausdorff_mesh_to_surface, 3),
                 num(fd.hausdorff_surface_to_mesh, 3),
@@ -286,6 +324,10 @@ impl StatsReport {
                 } else {
                     num(fd.normal_dev_max_deg, 2)
                 }
+            ));
+            out.push(format!(
+                "  mesh→surface: {}",
+                crate::metrics::fidelity::MESH_TO_SURFACE_KIND
             ));
             // The reasons of the measured fields (the means and the two-sided maximum
             // repeat them; --json has every field).

@@ -22,23 +22,55 @@ use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
-/// What the Hausdorff fields are: maxima over finite samples, so estimates, not bounds.
-pub const HAUSDORFF_KIND: &str = "estimate (maximum over samples; not a bound)";
+/// What the mesh → surface distance of one sample is (the clause every
+/// `HAUSDORFF_KIND*` ends with, and [`MESH_TO_SURFACE_KIND`]).
+macro_rules! per_sample_upper_bound {
+    () => {
+        "each mesh sample's distance is to its Newton projection onto f = 0, an upper \
+         bound of its distance to f = 0 per sample (the projection is a point of f = 0, \
+         not always the nearest: with several components it can be much larger)"
+    };
+}
+
+/// What the Hausdorff fields are: maxima over finite samples, so estimates, not bounds;
+/// on the mesh → surface side each sample's distance is an upper bound of its own
+/// (the distance to its Newton projection), so the maximum can also exceed the true one.
+pub const HAUSDORFF_KIND: &str = concat!(
+    "estimate (maximum over samples; not a bound; mesh → surface: ",
+    per_sample_upper_bound!(),
+    ")"
+);
 
 /// What the Hausdorff fields are when [`FidelityParams::project_vertices`] is off (the
 /// report's `--metrics fast`): the mesh side from the fixed budget of area-proportional
 /// samples alone, so a lower estimate of the mesh → surface side than with every vertex.
-pub const HAUSDORFF_KIND_SAMPLED: &str = "sampled estimate (maximum over a fixed budget of \
-     area-proportional mesh samples, vertices left out, and over surface points; not a bound)";
+pub const HAUSDORFF_KIND_SAMPLED: &str = concat!(
+    "sampled estimate (maximum over a fixed budget of area-proportional mesh samples, \
+     vertices left out, and over surface points; not a bound; mesh → surface: ",
+    per_sample_upper_bound!(),
+    ")"
+);
 
 /// What the Hausdorff fields are when [`FidelityParams::thin_samples`] kept only part
 /// of the mesh samples (the report's `--metrics fast` on a small mesh, see
 /// [`crate::harness::compare::fast_fidelity_params`]).
-pub const HAUSDORFF_KIND_THINNED: &str = "sampled estimate (maximum over a budget sized to \
-     the mesh: every k-th of the full report's area-proportional mesh samples, then all of \
-     them and the corners on the triangles of the largest distances, the other vertices \
-     left out, and surface points from a seed grid as coarse as the mesh allows; not a \
-     bound)";
+pub const HAUSDORFF_KIND_THINNED: &str = concat!(
+    "sampled estimate (maximum over a budget sized to the mesh: every k-th of the full \
+     report's area-proportional mesh samples, then all of them and the corners on the \
+     triangles of the largest distances, the other vertices left out, and surface points \
+     from a seed grid as coarse as the mesh allows; not a bound; mesh → surface: ",
+    per_sample_upper_bound!(),
+    ")"
+);
+
+/// What [`Fidelity::hausdorff_mesh_to_surface`] is (and so the two-sided `hausdorff`
+/// when it is the larger): the maximum over samples of per-sample upper bounds. Not a
+/// bound either way: sampling can miss the farthest point, and a sample's Newton
+/// projection can land on a farther part of f = 0 than the nearest one.
+pub const MESH_TO_SURFACE_KIND: &str = concat!(
+    "maximum over samples (not a bound); ",
+    per_sample_upper_bound!()
+);
 
 /// How much sampling to do. Defaults: 50 000 mesh samples, a 48³ (curves: 256²) seed
 /// grid, 16 Newton steps, domain = mesh bounding box grown by 10% of its diagonal,
@@ -140,7 +172,10 @@ pub struct Fidelity {
     /// Mesh → surface: max over vertices and samples (samples only when
     /// [`FidelityParams::project_vertices`] is off) of the distance to their Newton
     /// projection onto f = 0. Each distance bounds the distance to the surface from
-    /// above (the projection is a point of the surface, not always the nearest one).
+    /// above (the projection is a point of the surface, not always the nearest one:
+    /// when f = 0 has several components, a projection can land on a farther one, and
+    /// this maximum then exceeds the true mesh → surface distance). See
+    /// [`MESH_TO_SURFACE_KIND`].
     pub hausdorff_mesh_to_surface: f64,
     pub mean_mesh_to_surface: f64,
     /// Surface → mesh: max over surface points (grid seeds projected by Newton) of the

@@ -37,7 +37,9 @@
 //! level's Plantinga–Vegter run is: the claims are then PV's isotopy claims for the
 //! output; the stats (`stander_hart`) state the critical values, indices, the levels
 //! and each level's own certificate. Otherwise uncertified, with why (e.g. the
-//! torus: f is not proven Morse, its circle of minima). The chapter's remedy for
+//! torus: f is not proven Morse, its circle of minima), and no claims: the last
+//! level's own PV claims are then only in the stats (`last_level_claims`), and the
+//! stats' `certified` list leaves out the critical data when they are not certified. The chapter's remedy for
 //! degenerate critical points (multiply f by a + ‖x − b‖) is offered only when asked
 //! for, `--set remedy=smooth|chapter[:A[:BX,BY,BZ]]` ([`crate::morse::remedy`]): the
 //! sweep then runs through the levels of g = f·h, which has the sign of f, so its
@@ -488,17 +490,54 @@ impl Mesher for StanderHart {
         } else {
             None
         };
-        let claims = pv_out.certificate.claims_typed().to_vec();
+        // The claims are the last level's Plantinga–Vegter claims, made by the sweep
+        // only when it is certified: an uncertified sweep lists none (a claim beside
+        // "uncertified" reads as made by the run). What the last level's own PV run
+        // proved stays in the stats: `levels[].certified` and `last_level_claims`.
+        let last_level_claims: Vec<String> = if pv_out.certificate.is_certified() {
+            pv_out.certificate.claims().to_vec()
+        } else {
+            Vec::new()
+        };
         let certificate = match &reason {
-            None => Certificate::certified(claims),
+            None => Certificate::certified(pv_out.certificate.claims_typed().to_vec()),
             Some(r) => {
                 let regions = match &pv_out.certificate {
                     Certificate::Uncertified { regions, .. } => regions.clone(),
                     _ => Vec::new(),
                 };
-                Certificate::uncertified(r.clone(), claims, regions)
+                Certificate::uncertified(r.clone(), Vec::new(), regions)
             }
         };
+        // What the sweep proved: the critical data and what follows from them only
+        // when they are certified.
+        let mut certified_items: Vec<&str> = Vec::new();
+        let mut not_certified: Vec<String> = Vec::new();
+        if morse_ok {
+            certified_items.extend([
+                "the critical points of f in the domain, their value enclosures and Morse indices (interval Krawczyk, certified Hessian inertia)",
+                "no critical point in f^-1[a_k, a_k+1] between consecutive levels: the level sets are isotopic there",
+                "chi of every level set, 2 * sum of (-1)^index below it",
+            ]);
+        } else {
+            not_certified.push(format!(
+                "the critical data (critical points, value enclosures, Morse indices), and with them the isotopy between levels and the chi of each level: {}",
+                sub.reason.clone().unwrap_or_default()
+            ));
+        }
+        certified_items.push(
+            "each level mesh to the extent of its own Plantinga-Vegter certificate (levels[].certified)",
+        );
+        not_certified.extend([
+            "which reading of an index-1 or index-2 transition happens (join vs tunnel; the chapter's Fig. 1.23)".to_string(),
+            "patched meshes (--set patch=true): the chapter's ray-shot patching, for animations only; the output is level 0 meshed afresh".to_string(),
+            if remedy.is_some() {
+                "the levels a < 0 as level sets of f: with the remedy they are g's (only a = 0 is shared)"
+            } else {
+                "the remedy for degenerate critical points (--set remedy=smooth or chapter) was not asked for"
+            }
+            .to_string(),
+        ]);
         let total_level_evals: u64 = runs.iter().map(|r| r.evaluations).sum();
         let points: Vec<serde_json::Value> = sub
             .gradient
@@ -538,21 +577,10 @@ impl Mesher for StanderHart {
                 "critical_search_seconds": critical_seconds,
                 "level_evaluations": total_level_evals,
                 "pv_alone_evaluations": final_run.evaluations,
-                "certified": [
-                    "the critical points of f in the domain, their value enclosures and Morse indices (interval Krawczyk, certified Hessian inertia)",
-                    "no critical point in f^-1[a_k, a_k+1] between consecutive levels: the level sets are isotopic there",
-                    "chi of every level set, 2 * sum of (-1)^index below it",
-                    "each level mesh to the extent of its own Plantinga-Vegter certificate (levels[].certified)",
-                ],
-                "not_certified": [
-                    "which reading of an index-1 or index-2 transition happens (join vs tunnel; the chapter's Fig. 1.23)",
-                    "patched meshes (--set patch=true): the chapter's ray-shot patching, for animations only; the output is level 0 meshed afresh",
-                    if remedy.is_some() {
-                        "the levels a < 0 as level sets of f: with the remedy they are g's (only a = 0 is shared)"
-                    } else {
-                        "the remedy for degenerate critical points (--set remedy=smooth or chapter) was not asked for"
-                    },
-                ],
+                "last_level_claims": last_level_claims,
+                "last_level_claims_are": "the claims of the last level's own Plantinga-Vegter certificate (f = 0, the output), empty when that level is not certified; the sweep's certificate makes them only when it is certified",
+                "certified": certified_items,
+                "not_certified": not_certified,
             }),
         );
         Ok(MeshOutput {

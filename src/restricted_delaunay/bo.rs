@@ -59,9 +59,14 @@ use std::collections::{BinaryHeap, HashMap};
 pub const EPSILON: f64 = 0.099;
 
 /// Seed-triangle radii tried per critical point at most (each a quarter of the one
-/// before, down to 1e-9 of the domain's diagonal): enough to come down from any facet
-/// size to the surface's scale.
+/// before, down to [`MIN_SEPARATION`] of the domain's diagonal): enough to come down
+/// from any facet size to the surface's scale.
 const SEED_TRIES: usize = 40;
+
+/// The smallest scale `bo` works at, as a fraction of the domain's diagonal: no seed
+/// triangle has a smaller radius, and no refinement point closer than this to a
+/// facet's vertices is inserted.
+pub(crate) const MIN_SEPARATION: f64 = 1e-9;
 
 /// Rounds of refinement after a certified scan that found grazing crossings.
 const MAX_CERTIFY_ROUNDS: usize = 3;
@@ -82,7 +87,8 @@ pub struct BoissonnatOudot {
     /// Smallest angle bound in degrees (CGAL's `facet_angle`, default 30; termination
     /// is proven up to 30).
     pub facet_angle: f64,
-    /// Largest surface Delaunay ball radius (`facet_size`; default diam(D)/20).
+    /// Largest surface Delaunay ball radius (`facet_size`; default diam(D)/20). Below
+    /// 4 × [`MIN_SEPARATION`] × diam(D) no seed triangle fits: refused by the run.
     pub facet_size: f64,
     /// Largest distance from a facet's circumcentre to its crossing
     /// (`facet_distance`; default diam(D)/200).
@@ -660,7 +666,7 @@ pub(crate) fn seed_points(
         // most SEED_TRIES times; then only x seeds this point).
         let mut r = rho;
         for _ in 0..SEED_TRIES {
-            if r < 1e-9 * diam {
+            if r < MIN_SEPARATION * diam {
                 break;
             }
             let tri: Vec<[f64; 3]> = (0..3)
@@ -802,6 +808,74 @@ pub(crate) fn to_mesh(t: &Delaunay, scan: &Scan) -> (TriMesh, Vec<VertexId>) {
     )
 }
 
+/// A seed triangle below [`MIN_SEPARATION`] of the domain's diagonal is never placed,
+/// and without one bo's refinement has no restricted facet to start from: its output is
+/// empty, which would read as "no point of f = 0 found". So a facet size (seed radius
+/// facet_size / 4) or `--set seed-radius` below that scale is refused up front, with
+/// the smallest usable value.
+fn check_seed_scale(p: &BoissonnatOudot, facet_size: f64, domain: &Aabb) -> Result<()> {
+    let diam = domain.diagonal();
+    let floor = MIN_SEPARATION * diam;
+    let why = format!(
+        "bo places no seed triangle of radius below {MIN_SEPARATION:e} of the domain's \
+         diagonal ({}), and from isolated seed points alone the refinement may find no restricted facet \
+         at all (then its output is empty, as if f = 0 had no point in the domain)",
+        short_num(diam)
+    );
+    match p.seed_radius {
+        Some(r) if r < floor => Err(Error::Param(format!(
+            "--set seed-radius={} is too small for this domain: {why}; the smallest usable \
+             seed-radius here is {}",
+            short_num(r),
+            round_up(floor)
+        ))),
+        Some(_) => Ok(()),
+        None if facet_size / 4.0 < floor => {
+            let given = if p.size_from_reach {
+                format!(
+                    "--set size=reach gives the facet size {} (0.99 x 0.099 x the certified \
+                     reach bound), too small for this domain",
+                    short_num(facet_size)
+                )
+            } else {
+                format!(
+                    "--facet-size {} is too small for this domain",
+                    short_num(facet_size)
+                )
+            };
+            Err(Error::Param(format!(
+                "{given}: the seed triangles have radius facet-size / 4, and {why}; the \
+                 smallest usable --facet-size here is {} (4 x {MIN_SEPARATION:e} x the diagonal)",
+                round_up(4.0 * floor)
+            )))
+        }
+        None => Ok(()),
+    }
+}
+
+/// `x` in the shortest form that reads back to it: plain for 1e-4 <= |x| < 1e16,
+/// scientific otherwise.
+fn short_num(x: f64) -> String {
+    crate::harness::report::short_num(x)
+}
+
+/// `x` rounded up to 3 significant digits (the printed value is at least `x`).
+fn round_up(x: f64) -> String {
+    if !(x.is_finite() && x > 0.0) {
+        return short_num(x);
+    }
+    let e = x.log10().floor() as i32 - 2;
+    let unit = 10f64.powi(e);
+    let mut m = (x / unit).ceil();
+    loop {
+        let s = format!("{:.0}e{e}", m);
+        match s.parse::<f64>() {
+            Ok(v) if v >= x => return short_num(v),
+            _ => m += 1.0,
+        }
+    }
+}
+
 fn mesh_bo(
     p: &BoissonnatOudot,
     f: &dyn Implicit,
@@ -838,6 +912,7 @@ fn mesh_bo(
         }
         reach = Some(rb);
     }
+    check_seed_scale(p, facet_size, domain)?;
     let params = BoissonnatOudot {
         facet_size,
         facet_distance,
@@ -860,7 +935,7 @@ fn mesh_bo(
             ..Default::default()
         },
         sin2_bound: p.facet_angle.to_radians().sin().powi(2),
-        delta_min: 1e-9 * diam,
+        delta_min: MIN_SEPARATION * diam,
         budget: SegmentBudget::default(),
         undecided_left: p.max_undecided_insertions,
         reported_undecided: Vec::new(),

@@ -163,7 +163,9 @@ pub(crate) fn check_curve_cmd(path: &std::path::Path, json: bool) -> CliResult<(
         print_json(&rep);
     } else {
         out!(
-            "certificate verified: shear {}, degree {}, {} events ({} critical), {} rational fibres, {} vertices, {} segments; {} claims re-checked with exact rationals",
+            "certificate verified for f(x, y) = {} = 0 in the domain {}: shear {}, degree {}, {} events ({} critical), {} rational fibres, {} vertices, {} segments; {} claims re-checked with exact rationals",
+            rep.polynomial,
+            rep.domain_text(),
             rep.shear,
             rep.degree,
             rep.events,

@@ -122,10 +122,7 @@ pub(crate) fn stats_cmd(a: StatsArgs, quiet: bool) -> CliResult<()> {
         angle_histogram(h, "triangle angles", "density (1/degree)", ang, true, &a)?;
     }
     bar.finish();
-    let report = report::StatsReport {
-        stats: s,
-        topology_verdict: verdict,
-    };
+    let report = report::StatsReport::new(s, verdict);
     if a.json {
         print_json(&report);
     } else {
