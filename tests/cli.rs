@@ -231,6 +231,10 @@ fn tiny_and_huge_domains_print_in_scientific_notation() {
             Some(format!("{b} × {b} × {b}").as_str()),
             "{line}"
         );
+        // The table's Hausdorff column too: neither "0.0000" nor a hundred digits.
+        let row = text.lines().nth(2).unwrap_or_default();
+        let hd = row.split('|').nth(6).unwrap_or_default().trim();
+        assert!(hd.contains('e') && hd.len() < 16, "{row}");
         let (code, out, err) = certmesh(&[&args[..], &["--json"]].concat());
         assert_eq!(code, 0, "{err}");
         let v: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -2522,4 +2526,36 @@ fn the_sweep_stops_at_its_time_limit() {
     );
     assert!(!dir.join("c.csv").exists());
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A run stopped by its budget after its check proved the output as it is (cdrr's
+/// topological ball check, then the vertex budget) keeps its certificate, and the
+/// report does not say "nothing is certified" beside it.
+#[test]
+fn a_certified_run_stopped_by_its_budget_says_what_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.ply");
+    let (code, text, err) = certmesh(&[
+        "mesh",
+        "sphere",
+        "--algo",
+        "cdrr",
+        "--facet-size",
+        "1e-20",
+        "--max-vertices",
+        "2000",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(text.contains("certified: homeomorphic"), "{text}");
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("stopped before the refinement was complete"))
+        .unwrap_or_else(|| panic!("no stop line: {text}"));
+    assert!(
+        line.contains("vertex budget") && !line.contains("nothing is certified"),
+        "{line}"
+    );
+    assert!(line.contains("proven for the output as it is"), "{line}");
 }

@@ -450,6 +450,9 @@ fn fmt_opt(x: Option<f64>, prec: usize) -> String {
         None => "–".into(),
         Some(v) if v.is_nan() => "undefined".into(),
         Some(v) if v.is_infinite() => "inf".into(),
+        // Fixed decimals for the usual sizes; scientific below 10^-3 (a tiny domain's
+        // distances are not "0.0000") and from 10^6 up (not a hundred digits).
+        Some(v) if v != 0.0 && !(1e-3..1e6).contains(&v.abs()) => format!("{v:.prec$e}"),
         Some(v) => format!("{v:.prec$}"),
     }
 }

@@ -184,9 +184,18 @@ impl MeshReport {
             }
         ));
         if let Some(why) = &self.stopped {
+            // A run can stop on a budget after its check proved the output as it is
+            // (cdrr's topological ball check before the vertex budget): then only the
+            // refinement is partial, not the certificate.
+            let what = if self.row.certificate.is_certified() {
+                "the refinement's criteria are not all met, but the certificate above was \
+                 proven for the output as it is"
+            } else {
+                "the output is partial and nothing is certified"
+            };
             out.push(format!(
                 "stopped before the refinement was complete: {why} (refinement_complete: false); \
-                 the output is partial and nothing is certified"
+                 {what}"
             ));
         }
         if let Some(n) = &self.row.hausdorff_note {
