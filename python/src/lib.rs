@@ -312,10 +312,7 @@ fn stats(
             },
             None => None,
         };
-        Ok(json(&report::StatsReport {
-            stats: s,
-            topology_verdict: verdict,
-        }))
+        Ok(json(&report::StatsReport::new(s, verdict)))
     })
 }
 
