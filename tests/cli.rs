@@ -2172,18 +2172,14 @@ fn the_report_names_the_guard_that_stopped_bo() {
 #[test]
 fn a_bo_facet_size_below_the_seed_scale_is_a_parameter_error() {
     let d = tmp("bo-tiny-facet");
-    let (code, out, err) = certmesh_in(
-        &d,
-        &[
-            "mesh",
-            "sphere",
-            "--algo",
-            "bo",
-            "--facet-size",
-            "1e-20",
-            "--json",
-        ],
-    );
+    // `certmesh mesh sphere --algo bo` with more arguments, in `d`.
+    let bo = |more: &[&str]| {
+        certmesh_in(
+            &d,
+            &[&["mesh", "sphere", "--algo", "bo"][..], more].concat(),
+        )
+    };
+    let (code, out, err) = bo(&["--facet-size", "1e-20", "--json"]);
     assert_eq!(code, 2, "{out}{err}");
     let v = json_error(&out);
     assert_eq!(v["kind"], "parameter", "{out}");
@@ -2203,18 +2199,7 @@ fn a_bo_facet_size_below_the_seed_scale_is_a_parameter_error() {
     let floor = 4e-9 * (27.0f64).sqrt();
     assert!(x >= floor && x < 1.01 * floor, "{smallest} vs {floor}");
     // --seed-radius likewise names itself.
-    let (code, out, _) = certmesh_in(
-        &d,
-        &[
-            "mesh",
-            "sphere",
-            "--algo",
-            "bo",
-            "--set",
-            "seed-radius=1e-12",
-            "--json",
-        ],
-    );
+    let (code, out, _) = bo(&["--set", "seed-radius=1e-12", "--json"]);
     assert_eq!(code, 2, "{out}");
     let v = json_error(&out);
     assert!(
@@ -2227,33 +2212,9 @@ fn a_bo_facet_size_below_the_seed_scale_is_a_parameter_error() {
     // Just below the smallest value: refused; at it: meshed (stopped by the vertex
     // budget, with a partial output).
     let below = format!("{}", 0.999 * floor);
-    let (code, out, _) = certmesh_in(
-        &d,
-        &[
-            "mesh",
-            "sphere",
-            "--algo",
-            "bo",
-            "--facet-size",
-            &below,
-            "--json",
-        ],
-    );
+    let (code, out, _) = bo(&["--facet-size", &below, "--json"]);
     assert_eq!(code, 2, "{out}");
-    let (code, out, err) = certmesh_in(
-        &d,
-        &[
-            "mesh",
-            "sphere",
-            "--algo",
-            "bo",
-            "--facet-size",
-            smallest,
-            "--max-vertices",
-            "200",
-            "--json",
-        ],
-    );
+    let (code, out, err) = bo(&["--facet-size", smallest, "--max-vertices", "200", "--json"]);
     assert_eq!(code, 0, "{out}{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert!(
@@ -2533,20 +2494,22 @@ fn the_sweep_stops_at_its_time_limit() {
 /// report does not say "nothing is certified" beside it.
 #[test]
 fn a_certified_run_stopped_by_its_budget_says_what_holds() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("s.ply");
-    let (code, text, err) = certmesh(&[
-        "mesh",
-        "sphere",
-        "--algo",
-        "cdrr",
-        "--facet-size",
-        "1e-20",
-        "--max-vertices",
-        "2000",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let d = tmp("cdrr-budget-certified");
+    let (code, text, err) = certmesh_in(
+        &d,
+        &[
+            "mesh",
+            "sphere",
+            "--algo",
+            "cdrr",
+            "--facet-size",
+            "1e-20",
+            "--max-vertices",
+            "2000",
+            "-o",
+            "s.ply",
+        ],
+    );
     assert_eq!(code, 0, "{err}");
     assert!(text.contains("certified: homeomorphic"), "{text}");
     let line = text
@@ -2558,4 +2521,5 @@ fn a_certified_run_stopped_by_its_budget_says_what_holds() {
         "{line}"
     );
     assert!(line.contains("proven for the output as it is"), "{line}");
+    std::fs::remove_dir_all(&d).unwrap();
 }

@@ -41,6 +41,7 @@
 use super::perturbed::{perturbed_isotopy, PerturbedInputs, PerturbedReport, ISOTOPY_THEOREM};
 use super::restricted::{self, key, test_segment, DualTest, Ends3, Scan};
 use crate::error::{Error, Result};
+use crate::harness::report::short_num;
 use crate::implicit::critical::{critical_points_on_surface, Budget, Bx, Problem};
 use crate::implicit::ops::{project, SegmentBudget};
 use crate::implicit::reach::{reach_lower_bound, ReachBound, ReachOptions};
@@ -851,12 +852,6 @@ fn check_seed_scale(p: &BoissonnatOudot, facet_size: f64, domain: &Aabb) -> Resu
         }
         None => Ok(()),
     }
-}
-
-/// `x` in the shortest form that reads back to it: plain for 1e-4 <= |x| < 1e16,
-/// scientific otherwise.
-fn short_num(x: f64) -> String {
-    crate::harness::report::short_num(x)
 }
 
 /// `x` rounded up to 3 significant digits (the printed value is at least `x`).
