@@ -49,5 +49,35 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// The work after generation (issue 20: at most 30 % of the run): grouping the faces,
+/// the boundary surface, the angle summary with the exact orientations, and the exact
+/// conformity check, on the sphere at resolution 42 (142,704 tetrahedra, the CGAL
+/// comparison's size), each on its own.
+fn checks(c: &mut Criterion) {
+    use certmesh::stuffing::{check_conforming_faces, quality};
+    let f = Formula::surface("x^2 + y^2 + z^2 - 1").unwrap();
+    let p = StuffingParams::new().with_resolution(42);
+    let m = certmesh::stuffing::stuff(&f, &Aabb::cube(1.5), &p)
+        .unwrap()
+        .mesh;
+    let faces = m.face_buckets(false);
+    let boundary = m.boundary_with(&faces);
+    let mut g = c.benchmark_group("stuffing_checks");
+    g.sample_size(20);
+    g.throughput(Throughput::Elements(m.tets.len() as u64));
+    g.bench_function("face_buckets", |b| b.iter(|| m.face_buckets(false)));
+    g.bench_function("boundary", |b| b.iter(|| m.boundary_with(&faces)));
+    g.bench_function("summary_from_faces", |b| {
+        b.iter(|| quality::summarize_faces(&m, &faces))
+    });
+    g.bench_function("summary_per_tetrahedron", |b| {
+        b.iter(|| quality::summarize(&m, &boundary))
+    });
+    g.bench_function("conformity", |b| {
+        b.iter(|| check_conforming_faces(&faces, &boundary).unwrap())
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench, checks);
 criterion_main!(benches);

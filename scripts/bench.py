@@ -119,12 +119,22 @@ def main():
           "-o", os.path.join(TMP, "bench-sphere.vtk")]
     s_wall, s_mesher, c_time = [], [], []
     tets, crep, srep = None, None, None
+    # Stuffing's checks (issue 20: at most 30 % of the run), per workload and thread
+    # count: lists of (checks, boundary, mesher, whole process) seconds.
+    shares = {}
+
+    def share(name, threads, wall, rep):
+        st = rep.get("stats") or {}
+        shares.setdefault((name, threads), []).append(
+            (st.get("seconds_checks", float("nan")), st.get("seconds_boundary", float("nan")),
+             rep["seconds"], wall))
     for _ in range(REPS):
         if MESH3:
             _, out = run([MESH3, "0.05", "0.05", "0.005"])
             crep = json.loads(out)
             c_time.append(crep["seconds"])
         w, s, srep = certmesh(st)
+        share("sphere, resolution 42", f"{os.cpu_count()} (default)", w, srep)
         s_wall.append(w)
         s_mesher.append(s)
         tets = srep.get("tetrahedra")
@@ -167,6 +177,8 @@ def main():
         for _ in range(REPS):
             for n in (1, 2):
                 w, s, rep = certmesh(args, {"RAYON_NUM_THREADS": str(n)})
+                if name.startswith("stuffing"):
+                    share(name.removeprefix("stuffing, "), str(n), w, rep)
                 t[n][0].append(s)
                 t[n][1].append(rep["metrics_seconds"])
                 t[n][2].append(w - s)
@@ -222,9 +234,26 @@ def main():
                      f"{x1 / x2:.2f} | {100 * x1 / m1:.0f} % | {100 * x2 / m2:.0f} % | {ms(r1)} | {ms(r2)} |")
     lines += [
         "",
+        "Stuffing's checks (issue 20: the exact conformity and orientation checks and the quality "
+        "summary, at most 30 % of the run), from the mesher's own timers (`seconds_checks`, "
+        "`seconds_boundary` in the JSON's stats), medians over the runs above. \"Boundary\" is "
+        "the grouping of the tetrahedra's faces and the boundary surface taken from it: part of "
+        "the output, and the faces the conformity check reads.",
+        "",
+        "| workload | threads | checks | boundary | mesher | whole process | checks / mesher | checks / whole process | checks + boundary / mesher |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for (name, n), xs in shares.items():
+        c, b, m, w = (med([x[k] for x in xs]) for k in range(4))
+        lines.append(f"| {name} | {n} | {ms(c)} | {ms(b)} | {ms(m)} | {ms(w)} | {100 * c / m:.0f} % | "
+                     f"{100 * c / w:.0f} % | {100 * (c + b) / m:.0f} % |")
+    lines += [
+        "",
         "Criterion benches per workload: `cargo bench --bench end_to_end` (evaluation + mesh + "
         "report + writing to a memory buffer), `--bench evaluator` (batch evaluation), "
-        "`--bench marching`, `--bench gradnormal`, `--bench stuffing`, `--bench bvh`, and "
+        "`--bench marching`, `--bench gradnormal`, `--bench stuffing` (with `stuffing_checks`: the "
+        "face grouping, the boundary, the summary and the conformity check, each on its own), "
+        "`--bench bvh`, and "
         "`--bench report` (the report part by part, on 1 and 2 threads: the 256³ MC torus, and the "
         "MC torus, the marching-tetrahedra torus and GradNormal genus 2 at their defaults, each "
         "with floors: of a report that looks at every triangle once (one gradient, or one Newton "

@@ -1,8 +1,8 @@
 //! Angle measurements used by the stuffing stats and the Table 1 checks: dihedral
 //! angles, plane angles of every tetrahedron face, plane angles of the exposed
 //! (boundary) triangles, and inverted-tetrahedron counts (exact `orient3d`).
-use crate::kernel::geom::{cross, dot, norm, sub};
-use crate::mesh::{TetMesh, TriMesh};
+use crate::kernel::geom::{cross, dot, sub, TET_EDGES_WITH_OPPOSITE};
+use crate::mesh::{Buckets, FaceItem, TetMesh, TriMesh};
 use crate::metrics::angles::{angle_pair, Extremes};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -12,21 +12,29 @@ pub fn dihedrals(p: [[f64; 3]; 4]) -> [f64; 6] {
     dihedral_pairs(p).map(deg)
 }
 
-/// Each dihedral angle of [`dihedrals`] as the pair (|a×b|, a·b) of the two face
-/// directions a, b perpendicular to the edge: the angle is atan2 of the pair.
+/// Each dihedral angle of [`dihedrals`] as a pair (y, x) with y ≥ 0 whose atan2 is the
+/// angle, in the order of [`TET_EDGES_WITH_OPPOSITE`]. With n_k the normal of the face
+/// opposite corner k (the faces of [`FACES`], one orientation for all four), the angle
+/// at edge ij between faces ijk and ijl is π minus the angle between n_l and n_k, and
+/// |n_k × n_l| = |det| |p_j − p_i| (det = 6 × the signed volume), so the pair is
+/// (|det| |p_j − p_i|, −n_k · n_l): four cross products and six square roots per
+/// tetrahedron, no division. A flat tetrahedron gives y = 0 (0° or 180°).
+///
+/// Loops rather than `array::map`, which the compiler leaves as out-of-line calls here
+/// (measured: the summary took twice as long).
+#[inline]
 fn dihedral_pairs(p: [[f64; 3]; 4]) -> [(f64, f64); 6] {
-    const E: [(usize, usize, usize, usize); 6] = crate::kernel::geom::TET_EDGES_WITH_OPPOSITE;
-    E.map(|(i, j, k, l)| {
+    let mut n = [[0.0; 3]; 4];
+    for (nk, &[a, b, c]) in n.iter_mut().zip(&FACES) {
+        *nk = cross(sub(p[b], p[a]), sub(p[c], p[a]));
+    }
+    let det = dot(n[3], sub(p[3], p[0])).abs();
+    let mut out = [(0.0, 0.0); 6];
+    for (o, &(i, j, k, l)) in out.iter_mut().zip(&TET_EDGES_WITH_OPPOSITE) {
         let e = sub(p[j], p[i]);
-        let ee = dot(e, e);
-        let perp = |q: [f64; 3]| {
-            let v = sub(q, p[i]);
-            let s = if ee > 0.0 { dot(v, e) / ee } else { 0.0 };
-            [v[0] - s * e[0], v[1] - s * e[1], v[2] - s * e[2]]
-        };
-        let (a, b) = (perp(p[k]), perp(p[l]));
-        (norm(cross(a, b)), dot(a, b))
-    })
+        *o = (det * dot(e, e).sqrt(), -dot(n[k], n[l]));
+    }
+    out
 }
 
 /// The angle of a pair, in degrees.
@@ -39,10 +47,13 @@ pub fn plane_angles(p: [[f64; 3]; 4]) -> [f64; 12] {
     plane_angle_pairs(p).map(deg)
 }
 
+/// The face opposite each corner, all four oriented alike (outward for a positively
+/// oriented tetrahedron).
+const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+
 fn plane_angle_pairs(p: [[f64; 3]; 4]) -> [(f64, f64); 12] {
-    const F: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
     let mut out = [(0.0, 0.0); 12];
-    for (fi, f) in F.iter().enumerate() {
+    for (fi, f) in FACES.iter().enumerate() {
         for k in 0..3 {
             out[3 * fi + k] = angle_pair(p[f[(k + 2) % 3]], p[f[k]], p[f[(k + 1) % 3]]);
         }
@@ -67,64 +78,21 @@ pub struct AngleSummary {
 /// Signed volume sign by the exact `orient3d` predicate: > 0 for positive tets.
 pub use crate::kernel::predicates::tet_orientation as orientation;
 
-/// Every angle and orientation of the mesh, tetrahedra and boundary triangles in
-/// parallel (min, max and counts are exact reductions: the result does not depend on
-/// the split).
-pub fn summarize(tets: &TetMesh, boundary: &TriMesh) -> AngleSummary {
-    let empty = AngleSummary {
-        tetrahedra: tets.tets.len(),
-        min_dihedral_deg: f64::INFINITY,
-        max_dihedral_deg: f64::NEG_INFINITY,
-        min_plane_deg: f64::INFINITY,
-        max_plane_deg: f64::NEG_INFINITY,
-        min_exposed_deg: f64::INFINITY,
-        max_exposed_deg: f64::NEG_INFINITY,
-        inverted: 0,
-    };
-    // Per fold: dihedral, plane and exposed extremes, and the inverted count.
-    type Acc = (Extremes, Extremes, Extremes, usize);
-    let none: Acc = (Extremes::EMPTY, Extremes::EMPTY, Extremes::EMPTY, 0);
-    let merge = |mut a: Acc, b: Acc| {
-        for (x, y) in [(&mut a.0, b.0), (&mut a.1, b.1), (&mut a.2, b.2)] {
-            x.merge(y);
-        }
-        a.3 += b.3;
-        a
-    };
-    let t = (0..tets.tets.len())
-        .into_par_iter()
-        .fold(
-            || none,
-            |mut s, t| {
-                let p = tets.corners(t);
-                dihedral_pairs(p).into_iter().for_each(|q| s.0.offer(q));
-                plane_angle_pairs(p).into_iter().for_each(|q| s.1.offer(q));
-                if orientation(p) <= 0.0 {
-                    s.3 += 1;
-                }
-                s
-            },
-        )
-        .reduce(|| none, merge);
-    let b = (0..boundary.triangles.len())
-        .into_par_iter()
-        .fold(
-            || none,
-            |mut s, t| {
-                let [a, b, c] = boundary.corners(t);
-                for q in [
-                    angle_pair(c, a, b),
-                    angle_pair(a, b, c),
-                    angle_pair(b, c, a),
-                ] {
-                    s.2.offer(q);
-                }
-                s
-            },
-        )
-        .reduce(|| none, merge);
-    let (d, p, e, inverted) = merge(t, b);
-    let s = AngleSummary {
+/// Per fold: dihedral, plane and exposed extremes, and the inverted count.
+type Acc = (Extremes, Extremes, Extremes, usize);
+const NONE: Acc = (Extremes::EMPTY, Extremes::EMPTY, Extremes::EMPTY, 0);
+
+fn merge(mut a: Acc, b: Acc) -> Acc {
+    for (x, y) in [(&mut a.0, b.0), (&mut a.1, b.1), (&mut a.2, b.2)] {
+        x.merge(y);
+    }
+    a.3 += b.3;
+    a
+}
+
+fn finish(tetrahedra: usize, (d, p, e, inverted): Acc) -> AngleSummary {
+    AngleSummary {
+        tetrahedra,
         min_dihedral_deg: d.min,
         max_dihedral_deg: d.max,
         min_plane_deg: p.min,
@@ -132,9 +100,89 @@ pub fn summarize(tets: &TetMesh, boundary: &TriMesh) -> AngleSummary {
         min_exposed_deg: e.min,
         max_exposed_deg: e.max,
         inverted,
-        ..empty
-    };
-    s
+    }
+}
+
+/// The dihedral angles and exact orientations of every tetrahedron, in parallel; with
+/// `plane`, the plane angles of every tetrahedron's faces too.
+fn tet_pass(tets: &TetMesh, plane: bool) -> Acc {
+    (0..tets.tets.len())
+        .into_par_iter()
+        .fold(
+            || NONE,
+            |mut s, t| {
+                let p = tets.corners(t);
+                dihedral_pairs(p).into_iter().for_each(|q| s.0.offer(q));
+                if plane {
+                    plane_angle_pairs(p).into_iter().for_each(|q| s.1.offer(q));
+                }
+                if orientation(p) <= 0.0 {
+                    s.3 += 1;
+                }
+                s
+            },
+        )
+        .reduce(|| NONE, merge)
+}
+
+/// The three angle pairs of a triangle, as [`plane_angle_pairs`] measures a face.
+#[inline(always)]
+fn triangle_pairs([a, b, c]: [[f64; 3]; 3]) -> [(f64, f64); 3] {
+    [
+        angle_pair(c, a, b),
+        angle_pair(a, b, c),
+        angle_pair(b, c, a),
+    ]
+}
+
+/// Every angle and orientation of the mesh, tetrahedra and boundary triangles in
+/// parallel (min, max and counts are exact reductions: the result does not depend on
+/// the split).
+pub fn summarize(tets: &TetMesh, boundary: &TriMesh) -> AngleSummary {
+    let t = tet_pass(tets, true);
+    let b = (0..boundary.triangles.len())
+        .into_par_iter()
+        .fold(
+            || NONE,
+            |mut s, t| {
+                triangle_pairs(boundary.corners(t))
+                    .into_iter()
+                    .for_each(|q| s.2.offer(q));
+                s
+            },
+        )
+        .reduce(|| NONE, merge);
+    finish(tets.tets.len(), merge(t, b))
+}
+
+/// [`summarize`] of a mesh and its boundary ([`TetMesh::boundary_with`]) from the mesh's
+/// faces grouped by [`TetMesh::face_buckets`]`(false)`: each face's plane angles are
+/// measured once rather than once per tetrahedron that has it, and the exposed angles
+/// are those of the faces in one tetrahedron. The same values bit for bit: the angle at
+/// a vertex of a triangle is computed from the same two differences whichever way the
+/// triangle is oriented (a swap only negates the cross product, exactly), and the
+/// boundary triangles are those faces, on the same coordinates.
+pub fn summarize_faces(tets: &TetMesh, faces: &Buckets<FaceItem>) -> AngleSummary {
+    let t = tet_pass(tets, false);
+    let v = &tets.vertices;
+    let f = (0..faces.len())
+        .into_par_iter()
+        .fold(
+            || NONE,
+            |mut s, k| {
+                for run in faces.runs(k, |x| x.0) {
+                    let [a, b, c] = run[0].1;
+                    let pairs = triangle_pairs([v[a as usize], v[b as usize], v[c as usize]]);
+                    pairs.into_iter().for_each(|q| s.1.offer(q));
+                    if run.len() == 1 {
+                        pairs.into_iter().for_each(|q| s.2.offer(q));
+                    }
+                }
+                s
+            },
+        )
+        .reduce(|| NONE, merge);
+    finish(tets.tets.len(), merge(t, f))
 }
 
 /// All dihedral angles (for histograms).
@@ -212,6 +260,15 @@ mod tests {
             prop_assert_eq!((bits(s.min_exposed_deg), bits(s.max_exposed_deg)), (bits(e.0), bits(e.1)));
             let inv = (0..mesh.tets.len()).filter(|&t| orientation(mesh.corners(t)) <= 0.0).count();
             prop_assert_eq!(s.inverted, inv);
+            // From the grouped faces: the summary of the mesh and its true boundary.
+            let faces = mesh.face_buckets(false);
+            let by_faces = summarize_faces(&mesh, &faces);
+            let whole = summarize(&mesh, &mesh.boundary_with(&faces));
+            let all = |s: &AngleSummary| {
+                [s.min_dihedral_deg, s.max_dihedral_deg, s.min_plane_deg, s.max_plane_deg, s.min_exposed_deg, s.max_exposed_deg].map(bits)
+            };
+            prop_assert_eq!(all(&by_faces), all(&whole));
+            prop_assert_eq!((by_faces.tetrahedra, by_faces.inverted), (whole.tetrahedra, whole.inverted));
         }
 
         /// Dihedral angles are in [0°, 180°], invariant under vertex permutations, and
@@ -230,6 +287,17 @@ mod tests {
                 prop_assert!((u - v).abs() < 1e-6);
             }
             prop_assert_eq!(orientation([b, a, c, d]).signum(), -o.signum());
+            // The same angles, edge by edge, as the metrics compute them (the angle
+            // between outward normals, atan2 of their cross product's norm and dot).
+            // Tolerance: the rounding of either, about 1e-16 over the sine of the
+            // faces' angles; the tetrahedra kept are not nearly flat.
+            let other = crate::metrics::angles::dihedral_angles(&p);
+            let v6 = o.abs();
+            let scale = [a, b, c, d].iter().map(|q| dot(sub(*q, a), sub(*q, a))).fold(0.0, f64::max);
+            prop_assume!(v6 > 1e-3 * scale.powf(1.5));
+            for (u, v) in dihedrals(p).iter().zip(other) {
+                prop_assert!((u - v).abs() < 1e-7, "{:?} vs {:?}", dihedrals(p), other);
+            }
             // Face angles of each face sum to 180°.
             let pa = plane_angles(p);
             for f in 0..4 {
