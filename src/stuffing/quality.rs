@@ -2,7 +2,7 @@
 //! angles, plane angles of every tetrahedron face, plane angles of the exposed
 //! (boundary) triangles, and inverted-tetrahedron counts (exact `orient3d`).
 use crate::kernel::geom::{cross, dot, sub, TET_EDGES_WITH_OPPOSITE};
-use crate::mesh::{Buckets, FaceItem, TetMesh, TriMesh};
+use crate::mesh::{Buckets, FaceItem, TetMesh, TriMesh, TET_FACES};
 use crate::metrics::angles::{angle_pair, Extremes};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -14,18 +14,18 @@ pub fn dihedrals(p: [[f64; 3]; 4]) -> [f64; 6] {
 
 /// Each dihedral angle of [`dihedrals`] as a pair (y, x) with y ≥ 0 whose atan2 is the
 /// angle, in the order of [`TET_EDGES_WITH_OPPOSITE`]. With n_k the normal of the face
-/// opposite corner k (the faces of [`FACES`], one orientation for all four), the angle
+/// opposite corner k (the faces of [`TET_FACES`], one orientation for all four), the angle
 /// at edge ij between faces ijk and ijl is π minus the angle between n_l and n_k, and
 /// |n_k × n_l| = |det| |p_j − p_i| (det = 6 × the signed volume), so the pair is
 /// (|det| |p_j − p_i|, −n_k · n_l): four cross products and six square roots per
 /// tetrahedron, no division. A flat tetrahedron gives y = 0 (0° or 180°).
 ///
-/// Loops rather than `array::map`, which the compiler leaves as out-of-line calls here
-/// (measured: the summary took twice as long).
+/// Loops rather than `array::map`, which the compiler left as out-of-line calls here
+/// (measured: with the maps, this arithmetic made the summary no faster).
 #[inline]
 fn dihedral_pairs(p: [[f64; 3]; 4]) -> [(f64, f64); 6] {
     let mut n = [[0.0; 3]; 4];
-    for (nk, &[a, b, c]) in n.iter_mut().zip(&FACES) {
+    for (nk, &[a, b, c]) in n.iter_mut().zip(&TET_FACES) {
         *nk = cross(sub(p[b], p[a]), sub(p[c], p[a]));
     }
     let det = dot(n[3], sub(p[3], p[0])).abs();
@@ -47,13 +47,9 @@ pub fn plane_angles(p: [[f64; 3]; 4]) -> [f64; 12] {
     plane_angle_pairs(p).map(deg)
 }
 
-/// The face opposite each corner, all four oriented alike (outward for a positively
-/// oriented tetrahedron).
-const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
-
 fn plane_angle_pairs(p: [[f64; 3]; 4]) -> [(f64, f64); 12] {
     let mut out = [(0.0, 0.0); 12];
-    for (fi, f) in FACES.iter().enumerate() {
+    for (fi, f) in TET_FACES.iter().enumerate() {
         for k in 0..3 {
             out[3 * fi + k] = angle_pair(p[f[(k + 2) % 3]], p[f[k]], p[f[(k + 1) % 3]]);
         }
