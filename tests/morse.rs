@@ -1188,3 +1188,31 @@ fn bcsv_starts_no_attempt_after_its_time_limit() {
     let stop = out.stats["stop_reason"].as_str().unwrap();
     assert!(stop.contains("time limit"), "{stop}");
 }
+
+/// Adaptive bcsv stops inside an attempt at its time limit: genus 5's first attempt
+/// (resolution 4) needs several seconds after its octree is built (the manifold check
+/// and condition (3)), which used to run whole past the limit (about 3 s past 1 s).
+/// The stop reason names the attempt and where it stopped; the run ends soon after the
+/// limit (a guard against running whole, with a wide margin for a loaded machine).
+#[test]
+fn bcsv_stops_inside_an_attempt_at_its_time_limit() {
+    use certmesh::mesher::Mesher;
+    let e = catalog::get("genus5").unwrap();
+    let mut o = certmesh::mesher::options::MesherOptions {
+        time_limit: Some(1.0),
+        ..Default::default()
+    };
+    o.extra.insert("octree".into(), "true".into());
+    let m = certmesh::morse::bcsv::Bcsv::from_options(&o).unwrap();
+    let t0 = std::time::Instant::now();
+    let out = m.mesh(&e.function(), &e.domain, &NoProgress).unwrap();
+    let secs = t0.elapsed().as_secs_f64();
+    assert!(!out.certificate.is_certified());
+    let stop = out.stats["stop_reason"].as_str().unwrap();
+    assert!(
+        stop.starts_with("time limit reached")
+            && stop.contains("during the attempt at resolution 4"),
+        "{stop}"
+    );
+    assert!(secs < 2.5, "{secs} s at a 1 s limit: {stop}");
+}

@@ -71,11 +71,14 @@ pub struct Bcsv {
     pub max_boxes: u64,
     /// Wall-clock limit in seconds from the start (none here; `--time-limit` or its
     /// default from options): no attempt (nor an adaptive attempt's local round)
-    /// starts after it, and an adaptive attempt's octree stops at it. The census, a
-    /// round once its octree is built (balancing, the manifold repair, the collapse
-    /// search) and the uncertified fallback run whole: a run can end some seconds
-    /// past the limit (26 s at a 10 s limit on a torus with a sphere in its tube, an
-    /// adaptive run that took 377 s without a limit).
+    /// starts after it, an adaptive attempt's octree stops at it, and so does the work
+    /// after the octree or grid (the excluded leaves' signs, each repair round, the
+    /// manifold check, condition (2) on repair leaves, condition (3)'s vertex values
+    /// and cut complex; checked every 1,024 items), before the collapse search and
+    /// before its replay. The census, the octree's balancing, one collapse search and
+    /// the uncertified fallback run whole. Before these checks a round ran whole once
+    /// its octree was built (26 s at a 10 s limit on a torus with a sphere in its
+    /// tube; genus 5 at a 1 s limit, about 4 s; now 1.04 s).
     pub time_limit: Option<f64>,
 }
 
@@ -574,7 +577,7 @@ pub fn w_complex(
         resolution: n,
         ..Default::default()
     };
-    match attempt(f, domain, n, &mut rep) {
+    match attempt(f, domain, n, None, &mut rep) {
         Some(s) => Ok((s.complex, s.seq)),
         None => Err(rep.failure.unwrap_or_default()),
     }
@@ -627,14 +630,22 @@ fn classify(f: &dyn Implicit, g: &Grid, lo: [usize; 3], hi: [usize; 3], state: &
 /// combinatorial 2-sphere or 2-disc (every link vertex's own link a path or a cycle,
 /// the link connected, χ = 2 without boundary, χ = 1 with boundary).
 pub fn check_manifold(tets: &[[u32; 4]]) -> std::result::Result<(), String> {
-    match manifold_defects(tets).into_iter().next() {
+    match manifold_defects(tets, None)
+        .expect("no deadline")
+        .into_iter()
+        .next()
+    {
         None => Ok(()),
         Some((_, why)) => Err(why),
     }
 }
 
-/// The vertices at which the union of `tets` is not a 3-manifold, with why.
-fn manifold_defects(tets: &[[u32; 4]]) -> Vec<(u32, String)> {
+/// The vertices at which the union of `tets` is not a 3-manifold, with why; `None` when
+/// `deadline` passed before every vertex was checked.
+fn manifold_defects(
+    tets: &[[u32; 4]],
+    deadline: Option<std::time::Instant>,
+) -> Option<Vec<(u32, String)>> {
     let mut bad = Vec::new();
     let mut links: HashMap<u32, Vec<[u32; 3]>> = HashMap::new();
     for t in tets {
@@ -653,7 +664,10 @@ fn manifold_defects(tets: &[[u32; 4]]) -> Vec<(u32, String)> {
         p.insert(x, r);
         r
     }
-    for (&v, tris) in &links {
+    for (k, (&v, tris)) in links.iter().enumerate() {
+        if k % 1024 == 0 && past(deadline) {
+            return None;
+        }
         let mut edges: HashMap<(u32, u32), usize> = HashMap::new();
         // Per link vertex x, the union-find of its neighbours joined by triangles.
         let mut fans: HashMap<u32, HashMap<u32, u32>> = HashMap::new();
@@ -724,7 +738,7 @@ fn manifold_defects(tets: &[[u32; 4]]) -> Vec<(u32, String)> {
         }
     }
     bad.sort();
-    bad
+    Some(bad)
 }
 
 /// χ of the cells of Ŝ in the cut complex (V − E + F, exact).
@@ -748,6 +762,7 @@ fn loop_w(
     f: &dyn Implicit,
     g: &Grid,
     state: &[i8],
+    deadline: Option<std::time::Instant>,
     rep: &mut Attempt,
 ) -> Option<(Vec<[usize; 3]>, HashMap<u32, i8>, Vec<[u32; 4]>)> {
     let n = g.n;
@@ -756,6 +771,9 @@ fn loop_w(
     let mut checked = vec![false; n * n * n];
     let mut round = 0usize;
     loop {
+        if timed_out(deadline, rep, &format!("in repair round {round}")) {
+            return None;
+        }
         // Proven signs of f at the vertices of ∂W: from an incident cube outside W
         // (proven free of S), or from a boundary face of the domain on which 0 ∉ □f.
         let out_sign = |c: [i64; 3]| -> Option<i8> {
@@ -858,7 +876,10 @@ fn loop_w(
         for &c in &w_cubes {
             tets.extend(kuhn(g, c));
         }
-        let defects = manifold_defects(&tets);
+        let Some(defects) = manifold_defects(&tets, deadline) else {
+            timed_out(deadline, rep, "in the manifold check");
+            return None;
+        };
         if defects.is_empty() {
             break Some((w_cubes, proven, tets));
         }
@@ -885,7 +906,13 @@ fn loop_w(
     }
 }
 
-fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Success> {
+fn attempt(
+    f: &dyn Implicit,
+    d: &Aabb,
+    n: usize,
+    deadline: Option<std::time::Instant>,
+    rep: &mut Attempt,
+) -> Option<Success> {
     let size = d.size();
     let g = Grid {
         lo: d.min,
@@ -896,8 +923,8 @@ fn attempt(f: &dyn Implicit, d: &Aabb, n: usize, rep: &mut Attempt) -> Option<Su
     let mut state = vec![0i8; n * n * n];
     classify(f, &g, [0; 3], [n; 3], &mut state);
     let empty_cubes = state.iter().filter(|&&s| s != 0).count();
-    let (_, proven, tets) = loop_w(f, &g, &state, rep)?;
-    let (mesh, complex, seq) = certify_tets(f, &tets, &|v| g.pos(v), &proven, rep)?;
+    let (_, proven, tets) = loop_w(f, &g, &state, deadline, rep)?;
+    let (mesh, complex, seq) = certify_tets(f, &tets, &|v| g.pos(v), &proven, deadline, rep)?;
     Some(Success {
         mesh,
         complex,
@@ -918,6 +945,7 @@ fn certify_tets(
     tets: &[[u32; 4]],
     pos: &dyn Fn(u32) -> [f64; 3],
     proven: &HashMap<u32, i8>,
+    deadline: Option<std::time::Instant>,
     rep: &mut Attempt,
 ) -> Option<(TriMesh, Complex, Vec<(u32, u32)>)> {
     // f̂'s values at the vertices of W: f's midpoint where its sign is proven (and equal
@@ -926,7 +954,10 @@ fn certify_tets(
     // undecided sign, any nonzero value (Theorem B of bcsv.md does not use f̂ = f
     // there).
     let mut val: HashMap<u32, f64> = HashMap::new();
-    for t in tets {
+    for (k, t) in tets.iter().enumerate() {
+        if k % 1024 == 0 && timed_out(deadline, rep, "in condition (3)'s vertex values") {
+            return None;
+        }
         for &id in t {
             if val.contains_key(&id) {
                 continue;
@@ -974,6 +1005,9 @@ fn certify_tets(
     let mut bld = Builder::default();
     let mut cuts: Vec<([u32; 4], [i8; 4], Vec<(VKey, VKey)>)> = Vec::new();
     for (ti, &t) in tets.iter().enumerate() {
+        if ti % 1024 == 0 && timed_out(deadline, rep, "in condition (3)'s cut complex") {
+            return None;
+        }
         let sg = t.map(|v| if val[&v] > 0.0 { 1i8 } else { -1 });
         if let Some(segs) = add_tet(&mut bld, (ti as u32, 0), t, sg) {
             cuts.push((t, sg, segs));
@@ -982,6 +1016,9 @@ fn certify_tets(
     rep.w_tets = tets.len();
     let cx = bld.cx;
     rep.cells = cx.cells.len();
+    if timed_out(deadline, rep, "before condition (3)'s collapse") {
+        return None;
+    }
     let (seq, alive) = greedy_run(&cx);
     if (0..cx.cells.len()).any(|i| alive[i] != cx.cells[i].in_s) {
         rep.failure = Some("condition (3): the greedy collapse of W onto the cut surface got stuck (proves nothing; refine)".into());
@@ -1001,6 +1038,9 @@ fn certify_tets(
             .collect();
         rep.stuck_tets.sort_unstable();
         rep.stuck_tets.dedup();
+        return None;
+    }
+    if timed_out(deadline, rep, "before the collapse's replay") {
         return None;
     }
     if let Err(e) = replay(&cx, &seq) {
@@ -1112,7 +1152,9 @@ fn attempt_octree(
             d.saturating_duration_since(std::time::Instant::now())
                 .as_secs_f64()
         });
-        match try_octree(f, d, min_level, max_depth, max_boxes, left, &force, rep) {
+        match try_octree(
+            f, d, min_level, max_depth, max_boxes, left, deadline, &force, rep,
+        ) {
             Ok(s) => return Some(s),
             Err(cells) if round < LOCAL_ROUNDS && !cells.is_empty() => force.extend(cells),
             Err(_) => return None,
@@ -1132,6 +1174,27 @@ fn past(deadline: Option<std::time::Instant>) -> bool {
     deadline.is_some_and(|d| std::time::Instant::now() >= d)
 }
 
+/// The stop reason when `last` ended at the time limit `limit` (seconds), inside.
+fn stopped_during(last: Option<&Attempt>, limit: f64) -> Option<String> {
+    let last = last?;
+    let why = last.failure.as_deref()?.strip_prefix(TIME_LIMIT)?;
+    Some(format!(
+        "{TIME_LIMIT}: {limit} s, during the attempt at resolution {}{why}",
+        last.resolution
+    ))
+}
+
+/// Has the deadline passed? If so, say so in the attempt's failure (`at`: where the
+/// work stopped) and leave no tetrahedra to refine: the attempt ends there.
+fn timed_out(deadline: Option<std::time::Instant>, rep: &mut Attempt, at: &str) -> bool {
+    if !past(deadline) {
+        return false;
+    }
+    rep.failure = Some(format!("{TIME_LIMIT} ({at})"));
+    rep.stuck_tets.clear();
+    true
+}
+
 /// One try of an adaptive attempt, the cells in `force` split once more; `Err` with
 /// the leaves to split where a local refinement may help (none: it fails as is).
 fn try_octree(
@@ -1141,6 +1204,7 @@ fn try_octree(
     max_depth: u32,
     max_boxes: u64,
     time_limit: Option<f64>,
+    deadline: Option<std::time::Instant>,
     force: &HashSet<u64>,
     rep: &mut Attempt,
 ) -> std::result::Result<Success, Vec<u64>> {
@@ -1189,6 +1253,9 @@ fn try_octree(
     // The proven sign of f on each excluded leaf (the criterion's proof, repeated).
     let mut leaf_sign: Vec<i8> = vec![0; nl];
     for (i, l) in tree.leaves.iter().enumerate() {
+        if i % 1024 == 0 && timed_out(deadline, rep, "in the excluded leaves' signs") {
+            return Err(Vec::new());
+        }
         if !inw[i] {
             let Some(s) = octree::sign_on(f, &grid, l.cell, None) else {
                 rep.failure =
@@ -1202,6 +1269,9 @@ fn try_octree(
     let mut cache: HashMap<usize, octree::LeafTets> = HashMap::new();
     let mut round = 0usize;
     loop {
+        if timed_out(deadline, rep, &format!("in repair round {round}")) {
+            return Err(Vec::new());
+        }
         let w: Vec<usize> = (0..nl).filter(|&i| inw[i]).collect();
         let mut tets: Vec<[u32; 4]> = Vec::new();
         let mut tet_leaf: Vec<usize> = Vec::new();
@@ -1245,10 +1315,14 @@ fn try_octree(
         }
         rep.w_cubes = w.len();
         rep.repair_rounds = round;
-        let defects = manifold_defects(&tets);
+        let Some(defects) = manifold_defects(&tets, deadline) else {
+            timed_out(deadline, rep, "in the manifold check");
+            return Err(Vec::new());
+        };
         if defects.is_empty() {
             let pos = |v: u32| vs.pos(v);
-            let Some((mesh, complex, seq)) = certify_tets(f, &tets, &pos, &proven, rep) else {
+            let Some((mesh, complex, seq)) = certify_tets(f, &tets, &pos, &proven, deadline, rep)
+            else {
                 // Refine the leaves where the collapse got stuck.
                 let mut cells: Vec<u64> = rep
                     .stuck_tets
@@ -1277,6 +1351,9 @@ fn try_octree(
             for j in oct.leaves_at(vs.coords[*v as usize]) {
                 if inw[j] {
                     continue;
+                }
+                if timed_out(deadline, rep, "in condition (2) on repair leaves") {
+                    return Err(Vec::new());
                 }
                 let b = grid.cell_ibox(tree.leaves[j].cell);
                 if proven_regular(f, &b, PROOF_DEPTH) != Ok(true) {
@@ -1377,16 +1454,16 @@ impl Mesher for Bcsv {
             .time_limit
             .and_then(|s| t0.checked_add(std::time::Duration::try_from_secs_f64(s).ok()?));
         let mut stopped: Option<String> = None;
+        let limit = self.time_limit.unwrap_or(f64::NAN);
         loop {
             let mut rep = Attempt {
                 resolution: n,
                 ..Default::default()
             };
             if !attempts.is_empty() && past(deadline) {
-                stopped = Some(format!(
-                    "{TIME_LIMIT}: {} s, before the attempt at resolution {n}",
-                    self.time_limit.unwrap_or(f64::NAN)
-                ));
+                stopped = Some(stopped_during(attempts.last(), limit).unwrap_or_else(|| {
+                    format!("{TIME_LIMIT}: {limit} s, before the attempt at resolution {n}")
+                }));
                 break;
             }
             let r = if !f.is_rigorous() {
@@ -1405,7 +1482,7 @@ impl Mesher for Bcsv {
                     &mut rep,
                 )
             } else {
-                attempt(f, domain, n, &mut rep)
+                attempt(f, domain, n, deadline, &mut rep)
             };
             if let Some(s) = r {
                 if chi_s.is_some() && chi_s == rep.chi_hat {
@@ -1440,6 +1517,10 @@ impl Mesher for Bcsv {
             n = (2 * n).min(self.max_resolution);
         }
         progress.finish();
+        if stopped.is_none() && found.is_none() {
+            // The last attempt ran out of time (the loop ended with it).
+            stopped = stopped_during(attempts.last(), limit);
+        }
         let mut stats = serde_json::Map::new();
         stats.insert(
             "attempts".into(),
@@ -1569,5 +1650,46 @@ impl Mesher for Bcsv {
                 })
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The work after the octree stops at a deadline that has passed: the manifold
+    /// check returns nothing, and condition (3) ends with the time limit as its failure
+    /// and no tetrahedra to refine.
+    #[test]
+    fn checks_stop_at_a_past_deadline() {
+        let g = Grid {
+            lo: [-1.0; 3],
+            h: [1.0; 3],
+            n: 2,
+        };
+        let tets: Vec<[u32; 4]> = (0..2)
+            .flat_map(|k| (0..2).flat_map(move |j| (0..2).map(move |i| [i, j, k])))
+            .flat_map(|c| kuhn(&g, c))
+            .collect();
+        let now = Some(std::time::Instant::now());
+        assert_eq!(manifold_defects(&tets, None), Some(Vec::new()));
+        assert_eq!(manifold_defects(&tets, now), None);
+        let f = crate::Formula::surface("x^2 + y^2 + z^2 - 0.25").unwrap();
+        let mut rep = Attempt {
+            stuck_tets: vec![1, 2],
+            ..Default::default()
+        };
+        let pos = |v: u32| g.pos(v);
+        assert!(certify_tets(&f, &tets, &pos, &HashMap::new(), now, &mut rep).is_none());
+        let why = rep.failure.unwrap();
+        assert!(why.starts_with(TIME_LIMIT), "{why}");
+        assert!(rep.stuck_tets.is_empty());
+        // Without a deadline the same work runs to its own verdict (here: the ball W
+        // does not collapse onto the sphere, so the tetrahedra are left to refine).
+        let mut rep = Attempt::default();
+        assert!(certify_tets(&f, &tets, &pos, &HashMap::new(), None, &mut rep).is_none());
+        let why = rep.failure.unwrap();
+        assert!(why.starts_with("condition (3)"), "{why}");
+        assert!(!rep.stuck_tets.is_empty());
     }
 }

@@ -123,8 +123,9 @@ pub(crate) struct OptArgs {
     /// proven empty), and stop at any limit once that assembly would need 16 GiB.
     /// cdrr's checks of the topological ball property stop at it too; so do the exact
     /// sweep's root searches (curves: an error naming the limit). bcsv starts no
-    /// attempt after it and its adaptive octree (--set octree=true) stops at it; its
-    /// Morse census and its uncertified fallback (marching tetrahedra) run whole.
+    /// attempt after it, and its adaptive octree (--set octree=true), manifold checks
+    /// and repair rounds and the build of its cut complex stop at it; its Morse census,
+    /// one collapse search and its uncertified fallback (marching tetrahedra) run whole.
     #[arg(long, value_name = "SECONDS")]
     pub(crate) time_limit: Option<f64>,
     /// Smallest triangle angle in degrees (bo; CGAL's facet_angle, default 30;
