@@ -1148,13 +1148,7 @@ fn attempt_octree(
             local_rounds: round,
             ..Default::default()
         };
-        let left = deadline.map(|d| {
-            d.saturating_duration_since(std::time::Instant::now())
-                .as_secs_f64()
-        });
-        match try_octree(
-            f, d, min_level, max_depth, max_boxes, left, deadline, &force, rep,
-        ) {
+        match try_octree(f, d, min_level, max_depth, max_boxes, deadline, &force, rep) {
             Ok(s) => return Some(s),
             Err(cells) if round < LOCAL_ROUNDS && !cells.is_empty() => force.extend(cells),
             Err(_) => return None,
@@ -1203,12 +1197,16 @@ fn try_octree(
     min_level: u32,
     max_depth: u32,
     max_boxes: u64,
-    time_limit: Option<f64>,
     deadline: Option<std::time::Instant>,
     force: &HashSet<u64>,
     rep: &mut Attempt,
 ) -> std::result::Result<Success, Vec<u64>> {
-    let oct = Octree::build(f, d, min_level, max_depth, max_boxes, time_limit, force);
+    // The octree's own limit: the seconds left.
+    let left = deadline.map(|d| {
+        d.saturating_duration_since(std::time::Instant::now())
+            .as_secs_f64()
+    });
+    let oct = Octree::build(f, d, min_level, max_depth, max_boxes, left, force);
     let tree = &oct.tree;
     let grid = tree.grid;
     rep.leaves = tree.leaves.len();
